@@ -1,0 +1,26 @@
+"""Errors about the user's input: each names the file and the place, and reads as one line."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+class InputError(Exception):
+    """Bad input from the user: a file, a place in it (line, frame, field) and what was expected.
+
+    ``str(error)`` is the one line the command line prints (exit code 2) and the workbench shows.
+    """
+
+    def __init__(self, path: str | Path | None, message: str, *, place: str | None = None) -> None:
+        self.path = str(path) if path is not None else None
+        self.place = place
+        self.message = message
+        super().__init__(str(self))
+
+    def __str__(self) -> str:
+        where = ""
+        if self.path:
+            where = self.path + (f":{self.place}" if self.place else "") + ": "
+        elif self.place:
+            where = f"{self.place}: "
+        return where + self.message

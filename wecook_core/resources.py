@@ -1,0 +1,15 @@
+"""Where shipped data lives: `assets/` beside the packages, and the team's `../shared` data (read in place)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+REPO_DIR = Path(__file__).resolve().parents[1]
+ASSETS_DIR = REPO_DIR / "assets"
+"""Shipped data: knowledge tables, object categories, skills, the demo scenario."""
+
+
+def shared_dir() -> Path:
+    """`$WECOOK_SHARED`, else the `shared/` folder beside the checkout."""
+    return Path(os.environ.get("WECOOK_SHARED", REPO_DIR.parent / "shared"))

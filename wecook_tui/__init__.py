@@ -1,0 +1,1 @@
+"""wecook's user-facing side: the command line and the Textual workbench."""

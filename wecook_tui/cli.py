@@ -1,0 +1,51 @@
+"""The `wecook` command line. Subcommands live in `wecook_tui.commands`, imported lazily by name."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+
+from wecook_core.errors import InputError
+
+COMMAND_MODULES: tuple[str, ...] = (
+)
+"""Modules of `wecook_tui.commands`, in the order their commands are listed by `wecook --help`."""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="wecook",
+        description="Turn cooking videos into robot plans: analyse, review, export, execute.",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMAND_MODULES:
+        module = importlib.import_module(f"wecook_tui.commands.{name}")
+        module.register(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    func = getattr(args, "func", None)
+    if func is None:
+        if "sessions" in COMMAND_MODULES:  # `wecook` alone lists the sessions to pick from
+            from wecook_tui.commands import sessions
+
+            return int(sessions.pick(args))
+        parser.print_help()
+        return 0
+    try:
+        return int(func(args) or 0)
+    except InputError as error:
+        print(f"wecook: error: {error}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("wecook: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())
