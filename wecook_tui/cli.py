@@ -10,6 +10,7 @@ from collections.abc import Sequence
 from wecook_core.errors import InputError
 
 COMMAND_MODULES: tuple[str, ...] = (
+    "evaluate",
 )
 """Modules of `wecook_tui.commands`, in the order their commands are listed by `wecook --help`."""
 
@@ -31,10 +32,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     func = getattr(args, "func", None)
     if func is None:
-        if "sessions" in COMMAND_MODULES:  # `wecook` alone lists the sessions to pick from
-            from wecook_tui.commands import sessions
+        if "session" in COMMAND_MODULES:  # `wecook` alone lists the sessions to pick from
+            from wecook_tui.commands import session
 
-            return int(sessions.pick(args))
+            return int(session.pick(args))
         parser.print_help()
         return 0
     try:
