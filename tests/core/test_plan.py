@@ -1,0 +1,241 @@
+"""Plan YAML in and out, validation of every bad case, and building a plan from an action graph."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from wecook_core.errors import InputError
+from wecook_core.model import (
+    ActionGraph,
+    Category,
+    GraphEdge,
+    GraphNode,
+    ObjectTrack,
+    Observations,
+    TreeSpan,
+    VideoInfo,
+)
+from wecook_core.plan import (
+    Act,
+    Agent,
+    Plan,
+    PlanAction,
+    Scene,
+    SceneObject,
+    Table,
+    dump_plan,
+    load_plan,
+    plan_from_graph,
+    plan_problems,
+    read_plan,
+    validate,
+    write_plan,
+)
+from wecook_core.trees import action_of, parse_tree
+
+TABLE = Table()
+
+
+def small_plan() -> Plan:
+    objects = (
+        SceneObject("knife", Category.TOOL, "box", (0.2, 0.03, 0.025), -0.1, 0.1, math.pi / 2),
+        SceneObject("tomato", Category.INGREDIENT, "sphere", (0.05, 0.05, 0.05), 0.0, 0.0),
+        SceneObject("chopping_board", Category.CONTAINER, "box", (0.25, 0.18, 0.02), 0.0, 0.0),
+        SceneObject("pot", Category.CONTAINER, "cylinder", (0.18, 0.18, 0.12), 0.1, -0.15),
+        SceneObject("spoon", Category.TOOL, "box", (0.16, 0.03, 0.025), 0.15, 0.15),
+    )
+    actions = (
+        PlanAction("a1", ("P1",), "cut", "knife", ("tomato",), "chopping_board", frames=(0, 40),
+                   tree="(HP (HP (H RH_P1) (O knife)) (AP (A cut) (OP (O tomato) (O chopping_board))))"),
+        PlanAction("a2", ("P1", "P2"), "handover", "knife", after=("a1",), frames=(40, 60)),
+        PlanAction("a3", ("P2", "P1"), "holding", "pot",
+                   partner=Act("stir", "spoon", (), "pot"), after=("a2",), frames=(60, 90)),
+        PlanAction("a4", ("P2",), "transfer", "spoon", ("tomato",), "pot", "chopping_board", after=("a3",)),
+    )
+    agents = (Agent("P1", base_position=(-0.5, 0.0, 0.0)), Agent("P2", base_position=(0.5, 0.0, 0.0),
+                                                                base_yaw=math.pi))
+    return Plan(agents, Scene(TABLE, objects, (("tomato", "chopping_board"),)), actions)
+
+
+def test_round_trip_write_read_is_identity(tmp_path: Path) -> None:
+    plan = small_plan()
+    path = write_plan(plan, tmp_path / "plans" / "plan.yaml")
+    assert read_plan(path) == plan
+    assert "wecook_plan: 1" in path.read_text()
+
+
+def test_valid_plan_has_no_problems() -> None:
+    assert plan_problems(small_plan()) == []
+
+
+def _with_action(plan: Plan, index: int, **changes: object) -> Plan:
+    actions = list(plan.actions)
+    actions[index] = replace(actions[index], **changes)  # type: ignore[arg-type]
+    return replace(plan, actions=tuple(actions))
+
+
+@pytest.mark.parametrize(("change", "place", "words"), [
+    (lambda p: _with_action(p, 0, verb="juggle"), "actions[0] (a1).verb", "unknown verb 'juggle'"),
+    (lambda p: _with_action(p, 0, tool="fork"), "actions[0] (a1).tool", "'fork' is not in the scene"),
+    (lambda p: _with_action(p, 3, ingredients=("onion",)), "actions[3] (a4).ingredients[0]", "not in the scene"),
+    (lambda p: _with_action(p, 2, partner=Act("stir", "ladle", (), "pot")), "actions[2] (a3).partner.tool",
+     "'ladle'"),
+    (lambda p: _with_action(p, 0, pids=("P3",)), "actions[0] (a1).pid", "unknown pid 'P3'"),
+    (lambda p: _with_action(p, 3, after=("a9",)), "actions[3] (a4).after", "unknown action id 'a9'"),
+    (lambda p: _with_action(p, 1, id="a1"), "actions[1] (a1).id", "duplicate action id 'a1'"),
+    (lambda p: replace(p, version=2), "wecook_plan", "unsupported plan version 2"),
+    (lambda p: _with_action(p, 1, pids=("P1",)), "actions[1] (a2).pid", "two different agents"),
+])
+def test_each_bad_case_names_action_and_field(change, place: str, words: str) -> None:  # type: ignore[no-untyped-def]
+    problems = plan_problems(change(small_plan()), "plan.yaml")
+    assert problems, "the bad plan passed validation"
+    assert any(e.place == place and words in e.message for e in problems), [str(e) for e in problems]
+    with pytest.raises(InputError) as info:
+        validate(change(small_plan()), "plan.yaml")
+    assert str(info.value).startswith("plan.yaml:")
+
+
+def test_cycle_in_after_is_named() -> None:
+    plan = _with_action(small_plan(), 0, after=("a4",))
+    problems = plan_problems(plan)
+    cycles = [e for e in problems if "cycle" in e.message]
+    assert len(cycles) == 1
+    message = cycles[0].message
+    assert "a1 -> a4 -> a3 -> a2 -> a1" in message or "a4 -> a3 -> a2 -> a1 -> a4" in message, message
+
+
+def test_pose_off_the_table() -> None:
+    plan = small_plan()
+    objects = list(plan.scene.objects)
+    objects[4] = replace(objects[4], x=0.6)
+    problems = plan_problems(replace(plan, scene=replace(plan.scene, objects=tuple(objects))))
+    assert [e.place for e in problems] == ["scene.objects[4] (spoon).pose"]
+    assert "off the table" in problems[0].message
+
+
+def test_reading_bad_yaml_names_the_place(tmp_path: Path) -> None:
+    text = dump_plan(small_plan())
+    with pytest.raises(InputError, match=r"p.yaml:actions\[0\] \(a1\).verb: unknown verb 'juggle'"):
+        load_plan(text.replace("verb: cut", "verb: juggle"), "p.yaml")
+    with pytest.raises(InputError, match="not a wecook plan"):
+        load_plan("hello: 1\n", "p.yaml")
+    with pytest.raises(InputError, match=r"scene.objects\[1\] \(tomato\).size: expected 3 numbers"):
+        load_plan(text.replace("size: [0.05, 0.05, 0.05]", "size: [0.05]"), "p.yaml")
+    with pytest.raises(InputError, match="line"):
+        load_plan("wecook_plan: [1\n", "p.yaml")
+    with pytest.raises(InputError, match="cannot read"):
+        read_plan(tmp_path / "missing.yaml")
+
+
+# ----------------------------------------------------------------------------------- from a graph
+
+W, H = 640, 480
+
+
+def track(tid: int, name: str, box: tuple[float, float, float, float], first: int = 0) -> ObjectTrack:
+    frames = np.arange(first, first + 20, dtype=np.int64)
+    return ObjectTrack(tid, name.replace("_", " "), name, frames, np.tile(np.array(box, dtype=float), (20, 1)))
+
+
+def node(nid: str, person: str, start: int, end: int, tree: str) -> GraphNode:
+    t = parse_tree(tree)
+    return GraphNode(nid, person, TreeSpan(start, end, t), action_of(t, start, end))
+
+
+def scenario() -> tuple[ActionGraph, Observations]:
+    objects = (
+        track(1, "knife", (100, 300, 220, 320)),
+        track(2, "chopping_board", (90, 200, 300, 330)),       # the knife lies on the board in the image
+        track(3, "tomato", (150, 230, 190, 270)),
+        track(4, "pot", (400, 150, 520, 260)),
+        track(5, "spoon", (420, 160, 470, 250), first=30),     # inside the pot's box, seen later
+        track(6, "bowl", (380, 300, 470, 380)),
+    )
+    categories = {"knife": Category.TOOL, "chopping_board": Category.CONTAINER, "tomato": Category.INGREDIENT,
+                  "pot": Category.CONTAINER, "spoon": Category.TOOL, "bowl": Category.CONTAINER}
+    obs = Observations(VideoInfo("v.mp4", 30.0, 200, W, H), objects, (), categories)
+    nodes = (
+        node("a1", "P1", 0, 10, "(HP (H RH_P1) (O knife))"),
+        node("a2", "P1", 10, 50, "(HP (HP (H RH_P1) (O knife)) (AP (A cut) (OP (O tomato) (O chopping_board))))"),
+        node("a3", "P1", 50, 70, "(HP (HP (H RH_P1) (O knife)) (CP (C handover) (HP (H LH_P2) (O knife))))"),
+        node("a4", "P2", 40, 60, "(HP (HP (H RH_P2) (O spoon)) (AP (A stir) (O pot)))"),
+        node("a5", "P2", 80, 120, "(HP (HP (H LH_P2) (O knife)) (AP (A cut) (OP (O tomato) (O chopping_board))))"),
+        node("a6", "P1", 90, 130, "(HP (HP (H LH_P1) (O pot)) (CP (C holding) "
+                                  "(HP (HP (H RH_P2) (O spoon)) (AP (A stir) (O pot)))))"),
+        node("a7", "P1", 140, 170, "(HP (HP (H RH_P1) (O spoon)) (AP (A transfer) "
+                                   "(OP (O tomato) (OP (O chopping_board) (O pot)))))"),
+    )
+    sequences = {"P1": ("a1", "a2", "a3", "a6", "a7"), "P2": ("a4", "a5")}
+    edges = (GraphEdge("a3", "a5", "handover"),)
+    return ActionGraph(nodes, sequences, edges), obs
+
+
+def test_plan_from_graph_actions_and_order() -> None:
+    graph, obs = scenario()
+    plan = plan_from_graph(graph, obs)
+    validate(plan)
+    by_id = {a.id: a for a in plan.actions}
+    assert list(by_id) == ["a2", "a4", "a3", "a5", "a6", "a7"]  # grasp-only a1 left out, by start frame
+    assert by_id["a2"] == replace(by_id["a2"], pids=("P1",), verb="cut", tool="knife", ingredients=("tomato",),
+                                  location="chopping_board", source=None, frames=(10, 50))
+    assert by_id["a3"].pids == ("P1", "P2") and by_id["a3"].verb == "handover" and by_id["a3"].tool == "knife"
+    assert set(by_id["a3"].after) == {"a2", "a4"}          # giver's previous action and the receiver's
+    assert by_id["a5"].after == ("a3",)                    # the receiver cuts after the handover
+    assert by_id["a6"].pids == ("P1", "P2") and by_id["a6"].partner == Act("stir", "spoon", (), "pot")
+    assert set(by_id["a6"].after) == {"a3", "a5"}          # holding waits for both arms
+    assert by_id["a7"] == replace(by_id["a7"], verb="transfer", tool="spoon", ingredients=("tomato",),
+                                  source="chopping_board", location="pot", after=("a6",))
+    assert [a.pid for a in plan.agents] == ["P1", "P2"]
+
+
+def test_layout_maps_the_video_onto_the_table_without_overlaps() -> None:
+    graph, obs = scenario()
+    plan = plan_from_graph(graph, obs)
+    scene = plan.scene
+    assert dict(scene.containing) == {"tomato": "chopping_board"}
+    objects = {o.name: o for o in scene.objects}
+    assert set(objects) == {"knife", "chopping_board", "tomato", "pot", "spoon", "bowl"}
+    # left of the image (P1) -> -x; the image top -> +y
+    assert objects["chopping_board"].x < 0 < objects["pot"].x
+    assert objects["pot"].y > objects["bowl"].y
+    # the contained ingredient sits inside its container
+    board, tomato = objects["chopping_board"], objects["tomato"]
+    bx, by = board.half_extents()
+    assert abs(tomato.x - board.x) <= bx and abs(tomato.y - board.y) <= by
+    # categories: tools long and thin, containers wide, ingredients small
+    assert objects["knife"].size[0] >= 0.14 and objects["knife"].size[1] <= 0.04
+    assert objects["pot"].shape == "cylinder" and objects["pot"].size[0] >= 0.1
+    assert max(tomato.size) <= 0.08
+    free = [o for o in scene.objects if o.name not in dict(scene.containing)]
+    for i, a in enumerate(free):
+        ax, ay = a.half_extents()
+        assert scene.table.holds(a.x, a.y, ax, ay)
+        for b in free[i + 1:]:
+            bx, by = b.half_extents()
+            overlap = abs(a.x - b.x) < ax + bx and abs(a.y - b.y) < ay + by
+            assert not overlap, f"{a.name} overlaps {b.name}"
+
+
+def test_crowded_video_is_pushed_apart_inside_the_table() -> None:
+    names = [f"bowl_{k}" for k in range(8)]
+    objects = tuple(track(k, n, (300 + k, 200, 340 + k, 240)) for k, n in enumerate(names))  # all on top
+    obs = Observations(VideoInfo("v.mp4", 30.0, 100, W, H), objects, (), dict.fromkeys(names, Category.CONTAINER))
+    plan = plan_from_graph(ActionGraph((), {}, ()), obs)
+    validate(plan)
+    placed = plan.scene.objects
+    for i, a in enumerate(placed):
+        for b in placed[i + 1:]:
+            ax, ay = a.half_extents()
+            bx, by = b.half_extents()
+            assert abs(a.x - b.x) >= ax + bx or abs(a.y - b.y) >= ay + by
+
+
+def test_generated_plan_round_trips(tmp_path: Path) -> None:
+    graph, obs = scenario()
+    plan = plan_from_graph(graph, obs)
+    assert read_plan(write_plan(plan, tmp_path / "p.yaml")) == plan
