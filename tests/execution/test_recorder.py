@@ -1,0 +1,114 @@
+"""The MCAP recorder: topics, Foxglove schemas, attachment, metadata, and files readable while unfinished."""
+
+from __future__ import annotations
+
+import base64
+import json
+from pathlib import Path
+
+import pytest
+from mcap.exceptions import EndOfFile
+from mcap.reader import NonSeekingReader, make_reader
+
+from wecook_core.execution import foxglove
+from wecook_core.execution.observer import FrameInfo, RunEvent, Shape
+from wecook_core.execution.recorder import McapRecorder
+from wecook_core.execution.synthetic_run import synthetic_run
+
+
+def read_all(path: Path) -> list[tuple[str, str, dict]]:
+    with open(path, "rb") as f:
+        reader = make_reader(f, validate_crcs=True)
+        return [(c.topic, s.name if s else "", json.loads(m.data)) for s, c, m in reader.iter_messages()]
+
+
+def test_a_recorded_run_has_every_topic_with_its_schema(tmp_path: Path) -> None:
+    path = tmp_path / "run.mcap"
+    stats = synthetic_run(McapRecorder(path, time_origin_ns=0), actions=3, seconds_per_action=1.0,
+                          fail=("a2",), plan_yaml="wecook_plan: 1\nactions: []\n", seed=7)
+    messages = read_all(path)
+    topics = {topic: schema for topic, schema, _ in messages}
+    assert topics == foxglove.TOPIC_SCHEMAS
+    tf = [m for t, _, m in messages if t == "/tf"]
+    assert len(tf) == stats.states
+    first = tf[0]["transforms"][0]
+    assert set(first) == {"timestamp", "parent_frame_id", "child_frame_id", "translation", "rotation"}
+    assert first["parent_frame_id"] == "world" and set(first["rotation"]) == {"x", "y", "z", "w"}
+    assert set(first["timestamp"]) == {"sec", "nsec"}
+    joints = [m for t, _, m in messages if t == "/joint_states"]
+    assert len(joints) == 2 * stats.states and {j["agent"] for j in joints} == {"P1", "P2"}
+    assert len(joints[0]["name"]) == len(joints[0]["position"]) == 7
+    events = [m for t, _, m in messages if t == "/plan/events"]
+    kinds = [(e["kind"], e["action_id"]) for e in events if e["kind"].startswith("action")]
+    assert kinds == [("action_start", "a1"), ("action_end", "a1"), ("action_start", "a2"),
+                     ("action_failed", "a2"), ("action_start", "a3"), ("action_end", "a3")]
+    assert events[-1]["kind"] == "run_end"
+    failed = next(e for e in events if e["kind"] == "action_failed")
+    assert failed["detail"] == "synthetic failure" and failed["agent"] == "P2"
+    logs = [m for t, _, m in messages if t == "/log"]
+    assert logs and all(m["level"] == 2 for m in logs)
+    image = next(m for t, _, m in messages if t == "/camera")
+    assert base64.b64decode(image["data"]) == b"\xff\xd8synthetic\xff\xd9" and image["format"] == "jpeg"
+    with open(path, "rb") as f:
+        reader = make_reader(f)
+        attachments = {a.name: a.data for a in reader.iter_attachments()}
+    with open(path, "rb") as f:
+        meta = {m.name: m.metadata for m in make_reader(f).iter_metadata()}
+    assert attachments == {"plan.yaml": b"wecook_plan: 1\nactions: []\n"}
+    assert meta["wecook"]["seed"] == "7"
+    assert {"wecook", "pybullet", "ompl", "mcap", "python"} <= set(meta["wecook"])
+
+
+def test_scene_entities_draw_shapes_in_their_frames(tmp_path: Path) -> None:
+    path = tmp_path / "run.mcap"
+    frames = (FrameInfo("table", (Shape("box", (1.0, 0.8, 0.04)),)),
+              FrameInfo("P1/link3", (Shape("cylinder", (0.1, 0.1, 0.2)), Shape("sphere", (0.05, 0.05, 0.05)))),
+              FrameInfo("P1/link4"))
+    with McapRecorder(path, time_origin_ns=1_500_000_000) as rec:
+        rec.on_start(frames, "wecook_plan: 1\n", 0, {})
+        rec.on_state(0.25, {"table": ((0, 0, 0), (0, 0, 0, 1))}, {})
+        rec.on_event(0.25, RunEvent("run_end"))
+    scene = next(m for t, _, m in read_all(path) if t == "/scene")
+    entities = {e["id"]: e for e in scene["entities"]}
+    assert set(entities) == {"table", "P1/link3"}           # a frame without shapes has no entity
+    link = entities["P1/link3"]
+    assert link["frame_id"] == "P1/link3" and link["frame_locked"] is True
+    assert link["cylinders"][0]["size"] == {"x": 0.1, "y": 0.1, "z": 0.2}
+    assert len(link["spheres"]) == 1 and link["cubes"] == []
+    assert entities["table"]["cubes"][0]["size"] == {"x": 1.0, "y": 0.8, "z": 0.04}
+    tf = next(m for t, _, m in read_all(path) if t == "/tf")
+    assert tf["transforms"][0]["timestamp"] == {"sec": 1, "nsec": 750_000_000}
+
+
+def test_schemas_are_json_schemas_naming_foxglove_fields() -> None:
+    scene = foxglove.SCHEMAS["foxglove.SceneUpdate"]
+    entity = scene["properties"]["entities"]["items"]["properties"]
+    assert {"frame_id", "id", "timestamp", "cubes", "cylinders", "spheres", "frame_locked"} <= set(entity)
+    tf = foxglove.SCHEMAS["foxglove.FrameTransforms"]["properties"]["transforms"]["items"]["properties"]
+    assert set(tf) == {"timestamp", "parent_frame_id", "child_frame_id", "translation", "rotation"}
+    assert foxglove.SCHEMAS["foxglove.CompressedImage"]["properties"]["data"]["contentEncoding"] == "base64"
+    for name, schema in foxglove.SCHEMAS.items():
+        assert schema["title"] == name and schema["type"] == "object"
+
+
+def test_unfinished_file_reads_back_up_to_the_last_flush(tmp_path: Path) -> None:
+    path = tmp_path / "run.mcap"
+    rec = McapRecorder(path, flush_every_s=3600)
+    synthetic_run(rec, actions=2, seconds_per_action=0.5, end=False)
+    rec.flush()
+    flushed = rec.flushed_messages
+    rec.on_log(99.0, "info", "after the flush")  # buffered in the open chunk, never flushed
+    got = 0
+    with open(path, "rb") as f, pytest.raises(EndOfFile):  # no footer: reading ends at the end of the data
+        for _ in NonSeekingReader(f).iter_messages(log_time_order=False):
+            got += 1
+    assert got == flushed == rec.message_count - 1
+    rec.close()
+
+
+def test_flushes_about_every_interval(tmp_path: Path) -> None:
+    flushes: list[int] = []
+    rec = McapRecorder(tmp_path / "run.mcap", flush_every_s=0.05, on_flush=flushes.append)
+    synthetic_run(rec, actions=2, seconds_per_action=0.5, state_hz=20, wall_per_sim=0.5)  # ~0.5 s wall
+    assert 4 <= len(flushes) <= 14, flushes
+    assert flushes == sorted(flushes)

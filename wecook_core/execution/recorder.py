@@ -1,0 +1,192 @@
+"""Recording a run into one MCAP file (JSON messages, Foxglove schemas), readable even if the run is killed.
+
+Topics: ``/tf`` (foxglove.FrameTransforms: every frame's pose in ``world``), ``/scene`` (foxglove.SceneUpdate:
+the shapes of every frame, so Foxglove's 3D panel draws the run without a URDF; repeated at every flush so a
+viewer that seeks still has it), ``/joint_states`` (wecook.JointState, one message per arm), ``/plan/events``
+(wecook.RunEvent), ``/log`` (foxglove.Log), ``/camera`` (foxglove.CompressedImage, at action boundaries). The
+plan goes in as the attachment ``plan.yaml``; versions, seed and the time origin as metadata ``wecook``.
+
+Durability: at most every ``flush_every_s`` seconds of wall time the writer closes the chunk in progress and
+flushes the file (mcap 1.6.0 ``Writer.flush``), so a process killed with SIGKILL leaves every message up to the
+last flush in complete chunks. The file then lacks its summary and footer: the seeking reader rejects it, a
+``NonSeekingReader`` reads it, and :func:`wecook_core.execution.runs.recover_recording` rewrites it whole.
+
+Log times are ``time_origin_ns + t * 1e9`` where ``t`` is the simulated time the executor reports; the origin is
+the wall clock when recording starts unless given (pass 0 for byte-identical recordings of identical runs).
+"""
+
+from __future__ import annotations
+
+import json
+import platform
+import threading
+import time
+from collections.abc import Callable, Mapping, Sequence
+from importlib import metadata as importlib_metadata
+from pathlib import Path
+from typing import IO, Any, Literal
+
+from mcap.well_known import MessageEncoding, SchemaEncoding
+from mcap.writer import CompressionType, Writer
+
+from wecook_core.execution import foxglove
+from wecook_core.execution.observer import FrameInfo, Quat, RunEvent, Vec3
+
+PACKAGES: tuple[str, ...] = ("wecook", "pybullet", "ompl", "mcap")
+
+
+def software_versions() -> dict[str, str]:
+    """Versions of wecook, the libraries a run depends on, and Python."""
+    versions = {}
+    for package in PACKAGES:
+        try:
+            versions[package] = importlib_metadata.version(package)
+        except importlib_metadata.PackageNotFoundError:
+            versions[package] = "not installed"
+    versions["python"] = platform.python_version()
+    return versions
+
+
+def _dumps(message: Mapping[str, Any]) -> bytes:
+    return json.dumps(message, separators=(",", ":"), default=str).encode()
+
+
+class McapRecorder:
+    """A :class:`~wecook_core.execution.observer.RunObserver` writing an MCAP file.
+
+    Use it as a context manager or call :meth:`close` (``on_end`` closes it too): a recorder that is never
+    closed leaves a file that only a non-seeking reader (or ``wecook runs recover``) reads.
+    """
+
+    def __init__(self, path: str | Path, *, flush_every_s: float = 1.0, time_origin_ns: int | None = None,
+                 compression: Literal["zstd", "lz4", "none"] = "zstd",
+                 on_flush: Callable[[int], None] | None = None) -> None:
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.flush_every_s = flush_every_s
+        self.time_origin_ns = time.time_ns() if time_origin_ns is None else int(time_origin_ns)
+        self.on_flush = on_flush
+        """Called after each flush with :attr:`flushed_messages`."""
+        self.message_count = 0
+        """Messages handed to the writer so far."""
+        self.flushed_messages = 0
+        """Messages that were in the file (flushed to the OS) at the last flush."""
+        self._stream: IO[bytes] = open(self.path, "wb")  # noqa: SIM115 (closed in close())
+        kind = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4, "none": CompressionType.NONE}[compression]
+        self._writer = Writer(self._stream, compression=kind, enable_data_crcs=True)
+        self._writer.start(profile="", library="wecook")
+        self._channels: dict[str, int] = {}
+        schema_ids = {name: self._writer.register_schema(name, SchemaEncoding.JSONSchema,
+                                                         json.dumps(schema).encode())
+                      for name, schema in foxglove.SCHEMAS.items()}
+        for topic, schema_name in foxglove.TOPIC_SCHEMAS.items():
+            self._channels[topic] = self._writer.register_channel(topic, MessageEncoding.JSON,
+                                                                  schema_ids[schema_name])
+        self._frames: tuple[FrameInfo, ...] = ()
+        self._last_ns = 0
+        self._last_flush = time.monotonic()
+        self._saw_run_end = False
+        self._closed = False
+        self._lock = threading.Lock()
+
+    # ------------------------------------------------------------------------------------ writing
+
+    def _ns(self, t: float) -> int:
+        ns = self.time_origin_ns + max(round(t * 1e9), 0)
+        self._last_ns = max(self._last_ns, ns)
+        return ns
+
+    def _write(self, topic: str, ns: int, message: Mapping[str, Any]) -> None:
+        if self._closed:
+            return
+        self._writer.add_message(self._channels[topic], log_time=ns, data=_dumps(message), publish_time=ns)
+        self.message_count += 1
+
+    def _maybe_flush(self) -> None:
+        if time.monotonic() - self._last_flush >= self.flush_every_s:
+            self._flush()
+
+    def _flush(self) -> None:
+        if self._closed:
+            return
+        if self._frames:  # repeat the scene so every flushed piece of the file can draw it
+            self._write("/scene", self._last_ns, foxglove.scene_update(self._last_ns, self._frames))
+        self._writer.flush()
+        self._last_flush = time.monotonic()
+        self.flushed_messages = self.message_count
+        if self.on_flush is not None:
+            self.on_flush(self.flushed_messages)
+
+    def flush(self) -> None:
+        """Close the chunk in progress and flush the file now."""
+        with self._lock:
+            self._flush()
+
+    # ------------------------------------------------------------------------------- RunObserver
+
+    def on_start(self, frames: Sequence[FrameInfo], plan_yaml: str, seed: int,
+                 metadata: Mapping[str, str]) -> None:
+        with self._lock:
+            self._frames = tuple(frames)
+            ns = self._ns(0.0)
+            self._writer.add_attachment(create_time=ns, log_time=ns, name="plan.yaml",
+                                        media_type="application/yaml", data=plan_yaml.encode())
+            info = {**software_versions(), "seed": str(seed), "time_origin_ns": str(self.time_origin_ns),
+                    **{str(k): str(v) for k, v in metadata.items()}}
+            self._writer.add_metadata("wecook", info)
+            self._write("/scene", ns, foxglove.scene_update(ns, self._frames))
+            self._flush()
+
+    def on_state(self, t: float, poses: Mapping[str, tuple[Vec3, Quat]],
+                 joints: Mapping[str, tuple[Sequence[str], Sequence[float]]]) -> None:
+        with self._lock:
+            ns = self._ns(t)
+            self._write("/tf", ns, foxglove.frame_transforms(ns, poses))
+            for agent, (names, positions) in joints.items():
+                self._write("/joint_states", ns, foxglove.joint_state(ns, agent, names, positions))
+            self._maybe_flush()
+
+    def on_event(self, t: float, event: RunEvent) -> None:
+        with self._lock:
+            ns = self._ns(t)
+            self._write("/plan/events", ns, foxglove.run_event(ns, event))
+            self._saw_run_end = self._saw_run_end or event.kind == "run_end"
+            self._maybe_flush()
+
+    def on_log(self, t: float, level: Literal["debug", "info", "warning", "error"], message: str) -> None:
+        with self._lock:
+            ns = self._ns(t)
+            self._write("/log", ns, foxglove.log(ns, level, message))
+            self._maybe_flush()
+
+    def on_image(self, t: float, jpeg: bytes, width: int, height: int) -> None:
+        with self._lock:
+            ns = self._ns(t)
+            self._write("/camera", ns, foxglove.compressed_image(ns, jpeg))
+            self._maybe_flush()
+
+    def on_end(self, t: float) -> None:
+        with self._lock:
+            if not self._closed and not self._saw_run_end:
+                ns = self._ns(t)
+                self._write("/plan/events", ns, foxglove.run_event(ns, RunEvent("run_end")))
+                self._saw_run_end = True
+        self.close()
+
+    # ------------------------------------------------------------------------------------ closing
+
+    def close(self) -> None:
+        """Write the summary and footer and close the file (idempotent)."""
+        with self._lock:
+            if self._closed:
+                return
+            self._writer.finish()
+            self._stream.close()
+            self._closed = True
+            self.flushed_messages = self.message_count
+
+    def __enter__(self) -> McapRecorder:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
