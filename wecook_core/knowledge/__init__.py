@@ -1,0 +1,11 @@
+"""Learning the commonsense tables from a corpus of (action, objects) records.
+
+- :mod:`.corpus`: reading corpora (EPIC-KITCHENS folders, ``action,objects`` CSV files) into records
+- :mod:`.synonyms`: folding corpus verbs into wecook's vocabulary (chop -> cut)
+- :mod:`.nouns`: normalising and matching object names (shared with the runtime and the categories)
+- :mod:`.learning`: counting P(A) and P(O | A)
+- :mod:`.evaluation`: held-out verb prediction against a majority baseline
+- :mod:`.build`: rebuilding ``assets/knowledge/`` (tables, derived categories, SOURCE.md)
+
+The run-time side (loading the tables, ranking) is :mod:`wecook_core.recognize`.
+"""

@@ -1,0 +1,251 @@
+"""Corpora of (action, objects) records: the EPIC-KITCHENS annotations, or a user's own CSV.
+
+A corpus is read as it is written: verbs stay raw (``"chop-into"``) and are folded into wecook's
+vocabulary when learning (:mod:`wecook_core.knowledge.synonyms`). Objects become wecook names
+(``"chopping_board"``); a corpus that has its own noun classes (EPIC) maps every noun to its class and
+lists the class's instances as aliases, so free-text labels find the class later.
+"""
+
+from __future__ import annotations
+
+import ast
+import csv
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from wecook_core.errors import InputError
+from wecook_core.knowledge.nouns import epic_name, normalise
+
+EPIC_LICENCE = "CC BY-NC 4.0"
+EPIC_CITATION = (
+    'Damen et al., "Scaling Egocentric Vision: The EPIC-KITCHENS Dataset" (ECCV 2018) and '
+    '"Rescaling Egocentric Vision" (IJCV 2022)'
+)
+
+
+@dataclass(frozen=True)
+class Record:
+    """One annotated action: what was done to which objects."""
+
+    action: str
+    """The corpus's own verb, unfolded (``"chop-into"``)."""
+    objects: tuple[str, ...]
+    """Objects named in the record, as wecook names (lowercase, ``_`` for spaces), order kept."""
+    group: str
+    """What the record belongs to for held-out splits (EPIC: the video id; CSV: the file and line)."""
+    context: tuple[str, ...] = ()
+    """Objects picked up just before the action (EPIC: nouns of the preceding "take" records), most
+    likely what the hand holds while acting: the tool the narration leaves out ("cut tomato")."""
+
+
+@dataclass(frozen=True)
+class Corpus:
+    """Records plus what the corpus knows about its own words."""
+
+    records: tuple[Record, ...]
+    nouns: Mapping[str, str] = field(default_factory=dict)
+    """Normalised alias -> object name (every object maps to itself). Empty for a plain CSV corpus."""
+    verb_classes: Mapping[str, str] = field(default_factory=dict)
+    """Raw verb -> the corpus's verb class key (EPIC: ``"chop" -> "cut"``). Empty for a plain CSV."""
+    noun_categories: Mapping[str, str] = field(default_factory=dict)
+    """Object name -> the corpus's own category word (EPIC: ``"cutlery"``, ``"vegetables"``)."""
+    vocabulary: tuple[str, ...] = ()
+    """Object names the corpus defines, seen in a record or not (EPIC: every noun class)."""
+    sources: tuple[str, ...] = ()
+    """One line per file read, for SOURCE.md."""
+    licences: tuple[str, ...] = ()
+    """Licences of the data read (EPIC: CC BY-NC 4.0); empty when unknown (a user's CSV)."""
+
+
+def merge(corpora: Sequence[Corpus]) -> Corpus:
+    """One corpus from several; on conflicting aliases, verb classes or categories the earlier wins."""
+    nouns: dict[str, str] = {}
+    verb_classes: dict[str, str] = {}
+    noun_categories: dict[str, str] = {}
+    vocabulary: dict[str, None] = {}
+    for corpus in corpora:
+        for source, target in ((corpus.nouns, nouns), (corpus.verb_classes, verb_classes),
+                               (corpus.noun_categories, noun_categories)):
+            for key, value in source.items():
+                target.setdefault(key, value)
+        vocabulary.update(dict.fromkeys(corpus.vocabulary))
+    return Corpus(
+        records=tuple(r for c in corpora for r in c.records),
+        nouns=nouns,
+        verb_classes=verb_classes,
+        noun_categories=noun_categories,
+        vocabulary=tuple(vocabulary),
+        sources=tuple(s for c in corpora for s in c.sources),
+        licences=tuple(dict.fromkeys(lic for c in corpora for lic in c.licences)),
+    )
+
+
+def read_corpus(path: Path) -> Corpus:
+    """A corpus from a path: an EPIC-KITCHENS folder (holding ``epic55/`` and/or ``epic100/``) or a CSV file."""
+    if path.is_dir():
+        if (path / "epic55").is_dir() or (path / "epic100").is_dir():
+            return read_epic(path)
+        raise InputError(path, "expected an EPIC-KITCHENS folder (with epic55/ or epic100/) or a CSV file")
+    if not path.is_file():
+        raise InputError(path, "no such corpus file or folder")
+    return read_csv(path)
+
+
+# ------------------------------------------------------------------------------------------------ CSV
+
+
+def read_csv(path: Path) -> Corpus:
+    """A corpus from a CSV file, one record per row: ``action,objects[,group]``.
+
+    ``objects`` is a ``;``-separated list (``knife;tomato;chopping board``). A first row reading
+    ``action,objects`` is a header. Blank rows and rows starting with ``#`` are skipped. Without a group
+    column each row is its own group.
+    """
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(path, f"cannot read the corpus: {error}") from None
+    records = []
+    for number, row in enumerate(csv.reader(text.splitlines()), start=1):
+        if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):
+            continue
+        if number == 1 and [c.strip().lower() for c in row[:2]] == ["action", "objects"]:
+            continue
+        if len(row) not in (2, 3):
+            raise InputError(path, f"expected 2 or 3 columns (action,objects[,group]), found {len(row)}",
+                             place=f"line {number}")
+        action = row[0].strip().lower()
+        if not action:
+            raise InputError(path, "empty action", place=f"line {number}")
+        objects = tuple(name for name in (normalise(o) for o in row[1].split(";")) if name)
+        group = row[2].strip() if len(row) == 3 and row[2].strip() else f"{path.name}:{number}"
+        records.append(Record(action, objects, group))
+    if not records:
+        raise InputError(path, "no records (expected rows action,objects)")
+    return Corpus(records=tuple(records), sources=(f"{path} ({len(records)} records, CSV)",))
+
+
+# ------------------------------------------------------------------------------------------- EPIC
+
+
+def _literal_list(text: str, path: Path, place: str) -> list[str]:
+    try:
+        value = ast.literal_eval(text)
+    except (ValueError, SyntaxError):
+        raise InputError(path, f"expected a list like ['a', 'b'], found {text[:40]!r}", place=place) from None
+    if not isinstance(value, list):
+        raise InputError(path, f"expected a list, found {text[:40]!r}", place=place)
+    return [str(v) for v in value]
+
+
+def _rows(path: Path, columns: Iterable[str]) -> list[dict[str, str]]:
+    try:
+        with path.open(newline="", encoding="utf-8") as f:
+            reader = csv.DictReader(f)
+            missing = set(columns) - set(reader.fieldnames or ())
+            if missing:
+                raise InputError(path, f"missing columns: {', '.join(sorted(missing))}", place="line 1")
+            return list(reader)
+    except OSError as error:
+        raise InputError(path, f"cannot read: {error}") from None
+
+
+def _with_context(rows: list[tuple[str, int, str, tuple[str, ...]]], verb_classes: Mapping[str, str],
+                  context: int) -> list[Record]:
+    """Records in file order, each with the objects of the "take" records among the ``context`` before it
+    in the same video (by start frame)."""
+    order = sorted(range(len(rows)), key=lambda i: (rows[i][0], rows[i][1], i))
+    taken: dict[int, tuple[str, ...]] = {}
+    for position, i in enumerate(order):
+        video = rows[i][0]
+        held: list[str] = []
+        for j in order[max(0, position - context):position]:
+            if rows[j][0] == video and verb_classes.get(rows[j][2]) == "take":
+                held.extend(rows[j][3])
+        taken[i] = tuple(dict.fromkeys(held))
+    return [Record(verb, objects, video, taken[i]) for i, (video, _, verb, objects) in enumerate(rows)]
+
+
+def read_epic(root: Path, *, context: int = 2) -> Corpus:
+    """The EPIC-KITCHENS annotations: EPIC-55 train action labels and EPIC-100 validation.
+
+    Objects are EPIC-100 noun classes (``all_nouns``, each mapped to its class), named the wecook way
+    (``board:chopping`` -> ``chopping_board``); class instances become aliases. Groups are video ids.
+    Narrations rarely name the tool ("cut tomato"), so each record's ``context`` holds the nouns of the
+    "take" records among the ``context`` records before it in its video (by start frame): "take knife",
+    then "cut tomato" gives knife as context of the cut. ``context=0`` turns that off.
+    Files that are absent are skipped; a folder with none of them is an error.
+    """
+    nouns: dict[str, str] = {}
+    categories: dict[str, str] = {}
+    verb_classes: dict[str, str] = {}
+    sources: list[str] = []
+    class_names: dict[int, str] = {}
+
+    noun_file = root / "epic100" / "EPIC_100_noun_classes.csv"
+    if noun_file.is_file():
+        rows = _rows(noun_file, ("id", "key", "instances", "category"))
+        for row in rows:
+            name = epic_name(row["key"])
+            class_names[int(row["id"])] = name
+            nouns[name] = name
+            categories[name] = row["category"].strip()
+        for number, row in enumerate(rows, start=2):
+            for instance in _literal_list(row["instances"], noun_file, f"line {number}"):
+                nouns.setdefault(epic_name(instance), epic_name(row["key"]))
+    old_nouns = root / "epic55" / "EPIC_noun_classes.csv"
+    if old_nouns.is_file():
+        for number, row in enumerate(_rows(old_nouns, ("class_key", "nouns")), start=2):
+            target = nouns.get(epic_name(row["class_key"]))
+            if target is None:
+                continue
+            for noun in _literal_list(row["nouns"], old_nouns, f"line {number}"):
+                nouns.setdefault(epic_name(noun), target)
+    for file, key_column, list_column in (
+        (root / "epic100" / "EPIC_100_verb_classes.csv", "key", "instances"),
+        (root / "epic55" / "EPIC_verb_classes.csv", "class_key", "verbs"),
+    ):
+        if file.is_file():
+            for number, row in enumerate(_rows(file, (key_column, list_column)), start=2):
+                key = row[key_column].strip()
+                verb_classes.setdefault(key, key)
+                for verb in _literal_list(row[list_column], file, f"line {number}"):
+                    verb_classes.setdefault(verb.strip(), key)
+
+    records: list[Record] = []
+    for file, use_class_ids in (
+        (root / "epic55" / "EPIC_train_action_labels.csv", False),
+        (root / "epic100" / "EPIC_100_validation.csv", True),
+    ):
+        if not file.is_file():
+            continue
+        rows = _rows(file, ("video_id", "start_frame", "verb", "all_nouns", "all_noun_classes"))
+        parsed: list[tuple[str, int, str, tuple[str, ...]]] = []
+        for number, row in enumerate(rows, start=2):
+            place = f"line {number}"
+            if use_class_ids:
+                ids = _literal_list(row["all_noun_classes"], file, place)
+                objects = [class_names.get(int(i), "") for i in ids]
+            else:
+                objects = [nouns.get(epic_name(n), "") for n in _literal_list(row["all_nouns"], file, place)]
+            try:
+                start = int(row["start_frame"])
+            except ValueError:
+                raise InputError(file, f"expected a frame number, found {row['start_frame']!r}",
+                                 place=f"{place}, start_frame") from None
+            parsed.append((row["video_id"], start, row["verb"].strip(), tuple(o for o in objects if o)))
+        records.extend(_with_context(parsed, verb_classes, context))
+        sources.append(f"{file.relative_to(root)} ({len(rows)} records)")
+    if not records:
+        raise InputError(root, "no EPIC-KITCHENS action labels found (epic55/EPIC_train_action_labels.csv, "
+                               "epic100/EPIC_100_validation.csv)")
+    return Corpus(
+        records=tuple(records),
+        nouns=nouns,
+        verb_classes=verb_classes,
+        noun_categories=categories,
+        vocabulary=tuple(class_names[i] for i in sorted(class_names)),
+        sources=tuple(sources),
+        licences=(EPIC_LICENCE,),
+    )

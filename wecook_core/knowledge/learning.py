@@ -1,0 +1,95 @@
+"""Learning the commonsense tables P(A) and P(O | A) from a corpus of (action, objects) records."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from wecook_core.knowledge.corpus import Corpus, Record
+from wecook_core.knowledge.nouns import match
+from wecook_core.knowledge.synonyms import RECOGNISED, VerbFolder, load_synonyms
+from wecook_core.recognize import Knowledge
+
+
+@dataclass(frozen=True)
+class Example:
+    """A record folded into wecook's words: an action of the vocabulary and object names."""
+
+    action: str
+    """A wecook verb."""
+    objects: tuple[str, ...]
+    """Object names, each once: the record's objects then its context (vocabulary names after matching)."""
+    group: str
+
+
+def fold(corpus: Corpus, folder: VerbFolder | None = None,
+         verbs: Sequence[str] = RECOGNISED) -> tuple[tuple[Example, ...], tuple[str, ...]]:
+    """The corpus's records whose verb folds into ``verbs``, and the object vocabulary.
+
+    Objects are matched to the corpus's nouns (aliases, head noun, plural); an object the corpus does
+    not define becomes a vocabulary entry of its own (a user's CSV defines its vocabulary by use).
+    The vocabulary is the corpus's defined objects, in order, then new ones in order of appearance.
+    """
+    folder = (folder or load_synonyms()).with_classes(corpus.verb_classes)
+    wanted = set(verbs)
+    vocabulary: dict[str, None] = dict.fromkeys(corpus.vocabulary)
+    cache: dict[str, str] = {}
+    examples = []
+    for record in corpus.records:
+        action = folder.fold(record.action)
+        if action is None or action not in wanted:
+            continue
+        objects = tuple(dict.fromkeys(_object(o, corpus, cache) for o in (*record.objects, *record.context)))
+        vocabulary.update(dict.fromkeys(objects))
+        examples.append(Example(action, objects, record.group))
+    return tuple(examples), tuple(vocabulary)
+
+
+def _object(name: str, corpus: Corpus, cache: dict[str, str]) -> str:
+    found = cache.get(name)
+    if found is None:
+        found = match(name, corpus.nouns) if corpus.nouns else None
+        found = cache[name] = found or name
+    return found
+
+
+def count(examples: Sequence[Example], verbs: Sequence[str],
+          vocabulary: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
+    """Records per verb ``(len(verbs),)`` and records per (verb, object) ``(len(verbs), len(vocabulary))``."""
+    verb_index = {v: i for i, v in enumerate(verbs)}
+    object_index = {o: i for i, o in enumerate(vocabulary)}
+    actions = np.zeros(len(verbs), dtype=np.int64)
+    pairs = np.zeros((len(verbs), len(vocabulary)), dtype=np.int64)
+    for example in examples:
+        a = verb_index[example.action]
+        actions[a] += 1
+        for obj in example.objects:
+            pairs[a, object_index[obj]] += 1
+    return actions, pairs
+
+
+def learn(corpus: Corpus, *, alpha: float = 1.0, folder: VerbFolder | None = None,
+          verbs: Sequence[str] = RECOGNISED, source: str = "") -> Knowledge:
+    """The commonsense tables of a corpus: counts of the records whose verb folds into ``verbs``.
+
+    ``alpha`` is the additive smoothing pseudo-count (see :class:`~wecook_core.recognize.Knowledge`).
+    The corpus's aliases are kept so that run-time labels find their nouns.
+    """
+    examples, vocabulary = fold(corpus, folder, verbs)
+    return from_examples(examples, vocabulary, corpus, alpha=alpha, verbs=verbs, source=source)
+
+
+def from_examples(examples: Sequence[Example], vocabulary: Sequence[str], corpus: Corpus, *, alpha: float = 1.0,
+                  verbs: Sequence[str] = RECOGNISED, source: str = "") -> Knowledge:
+    actions, pairs = count(examples, verbs, vocabulary)
+    known = set(vocabulary)
+    aliases = {a: o for a, o in corpus.nouns.items() if o in known and a != o}
+    source = source or "; ".join(corpus.sources)
+    return Knowledge(tuple(verbs), tuple(vocabulary), actions, pairs, alpha=alpha, aliases=aliases, source=source)
+
+
+def records(examples: Sequence[Example]) -> tuple[Record, ...]:
+    """Examples back as plain records (for writing a folded corpus as CSV)."""
+    return tuple(Record(e.action, e.objects, e.group) for e in examples)

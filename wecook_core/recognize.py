@@ -1,0 +1,279 @@
+"""The commonsense model at run time: rank actions by P(A | O1..On) ∝ P(A) ∏ P(Ok | A).
+
+The tables come from a corpus of (action, objects) records (:mod:`wecook_core.knowledge`); the shipped
+ones are learned from EPIC-KITCHENS (``assets/knowledge/``). Object labels are free text: each is matched
+to a corpus noun (exact, the corpus's own aliases, shorter tails down to the head noun, singular/plural);
+labels that match nothing are ignored and reported by :func:`unknown_objects`.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from wecook_core.errors import InputError
+from wecook_core.knowledge.nouns import match
+from wecook_core.resources import ASSETS_DIR
+
+KNOWLEDGE_PATH = ASSETS_DIR / "knowledge" / "commonsense.json"
+"""The shipped tables (learned from EPIC-KITCHENS, see ``assets/knowledge/SOURCE.md``)."""
+
+FORMAT_KEY = "wecook_knowledge"
+FORMAT_VERSION = 1
+
+Ranking = tuple[tuple[str, float], ...]
+"""(verb, probability) pairs, best first, probabilities summing to 1."""
+
+
+@dataclass(frozen=True, eq=False)
+class Knowledge:
+    """Counts learned from a corpus and the smoothed log-probability tables derived from them.
+
+    P(A) = (n_A + alpha) / (N + alpha |verbs|) and P(O | A) = (n_{A,O} + alpha) / (Σ_O n_{A,O} + alpha |objects|):
+    additive smoothing over the whole object vocabulary, so an object never seen with an action only
+    lowers that action's score, it never rules it out.
+    """
+
+    verbs: tuple[str, ...]
+    """The actions ranked, in table order."""
+    objects: tuple[str, ...]
+    """The object vocabulary (wecook names, ``chopping_board``), in table order."""
+    action_counts: np.ndarray
+    """int64 ``(len(verbs),)``: records per action."""
+    pair_counts: np.ndarray
+    """int64 ``(len(verbs), len(objects))``: records of an action that name an object."""
+    alpha: float = 1.0
+    """Additive smoothing constant (pseudo-count), for the prior and the likelihoods."""
+    aliases: Mapping[str, str] = field(default_factory=dict)
+    """Alias -> object name (EPIC class instances: ``cherry_tomato -> tomato``). Keys are normalised
+    (:func:`wecook_core.knowledge.nouns.normalise`); aliases of objects outside the vocabulary are ignored."""
+    source: str = ""
+    """Where the counts come from, one line."""
+    log_prior: np.ndarray = field(init=False, repr=False)
+    """float64 ``(len(verbs),)``: natural log of P(A)."""
+    log_likelihood: np.ndarray = field(init=False, repr=False)
+    """float64 ``(len(objects), len(verbs))``: natural log of P(O | A); one row per object, so a ranking
+    sums rows."""
+    index: Mapping[str, int] = field(init=False, repr=False)
+    """Normalised name or alias -> row of ``log_likelihood``."""
+
+    def __post_init__(self) -> None:
+        counts = np.asarray(self.pair_counts, dtype=np.int64).reshape(len(self.verbs), len(self.objects))
+        actions = np.asarray(self.action_counts, dtype=np.int64).reshape(len(self.verbs))
+        if self.alpha <= 0:
+            raise ValueError("alpha must be positive")
+        if (counts < 0).any() or (actions < 0).any():
+            raise ValueError("counts must be non-negative")
+        prior = (actions + self.alpha) / (actions.sum() + self.alpha * len(self.verbs))
+        likelihood = (counts + self.alpha) / (counts.sum(axis=1, keepdims=True) + self.alpha * len(self.objects))
+        rows = {name: i for i, name in enumerate(self.objects)}
+        index = {alias: rows[name] for alias, name in self.aliases.items() if name in rows}
+        index.update(rows)
+        object.__setattr__(self, "action_counts", actions)
+        object.__setattr__(self, "pair_counts", counts)
+        object.__setattr__(self, "log_prior", np.log(prior))
+        object.__setattr__(self, "log_likelihood", np.ascontiguousarray(np.log(likelihood).T))
+        object.__setattr__(self, "index", index)
+
+    def prior(self) -> dict[str, float]:
+        """P(A) for every verb."""
+        return dict(zip(self.verbs, np.exp(self.log_prior).tolist(), strict=True))
+
+    def likelihood(self, obj: str, verb: str) -> float:
+        """P(O | A) for a vocabulary object (wecook name) and a verb."""
+        return math.exp(self.log_likelihood[self.objects.index(obj), self.verbs.index(verb)])
+
+
+# ------------------------------------------------------------------------------------ loading / saving
+
+
+def knowledge_to_json(knowledge: Knowledge) -> str:
+    """The tables as JSON text: counts (not probabilities) so the file stays small, exact and diffable."""
+    head = {
+        FORMAT_KEY: FORMAT_VERSION,
+        "source": knowledge.source,
+        "alpha": knowledge.alpha,
+        "verbs": list(knowledge.verbs),
+        "action_counts": knowledge.action_counts.tolist(),
+        "objects": list(knowledge.objects),
+    }
+    lines = ["{"]
+    lines += [f" {json.dumps(k)}: {json.dumps(v)}," for k, v in head.items()]
+    lines.append(' "pair_counts": [')
+    rows = [f"  {json.dumps(row)}" for row in knowledge.pair_counts.tolist()]
+    lines.append(",\n".join(rows))
+    lines.append(" ],")
+    lines.append(f' "aliases": {json.dumps(dict(sorted(knowledge.aliases.items())), indent=None)}')
+    lines.append("}")
+    return "\n".join(lines) + "\n"
+
+
+def save_knowledge(knowledge: Knowledge, path: Path) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(knowledge_to_json(knowledge), encoding="utf-8")
+
+
+def _parse(data: Any, path: Path) -> Knowledge:
+    if not isinstance(data, dict) or data.get(FORMAT_KEY) != FORMAT_VERSION:
+        raise InputError(path, f"not a wecook knowledge file (expected {FORMAT_KEY}: {FORMAT_VERSION})")
+    for key, kind in (("verbs", list), ("objects", list), ("action_counts", list), ("pair_counts", list)):
+        if not isinstance(data.get(key), kind):
+            raise InputError(path, f"expected a list under {key!r}", place=key)
+    verbs, objects = tuple(map(str, data["verbs"])), tuple(map(str, data["objects"]))
+    try:
+        counts = np.asarray(data["pair_counts"], dtype=np.int64)
+        actions = np.asarray(data["action_counts"], dtype=np.int64)
+    except (ValueError, TypeError):
+        raise InputError(path, "counts must be integers", place="pair_counts") from None
+    if counts.shape != (len(verbs), len(objects)) or actions.shape != (len(verbs),):
+        raise InputError(path, f"expected pair_counts of shape {len(verbs)}x{len(objects)} and "
+                               f"{len(verbs)} action_counts", place="pair_counts")
+    aliases = data.get("aliases") or {}
+    if not isinstance(aliases, dict):
+        raise InputError(path, "expected a mapping alias -> object", place="aliases")
+    try:
+        return Knowledge(verbs, objects, actions, counts, alpha=float(data.get("alpha", 1.0)),
+                         aliases={str(k): str(v) for k, v in aliases.items()}, source=str(data.get("source", "")))
+    except ValueError as error:
+        raise InputError(path, str(error)) from None
+
+
+_CACHE: dict[tuple[str, int], Knowledge] = {}
+
+
+def load_knowledge(path: Path | None = None) -> Knowledge:
+    """The tables of a knowledge file (default: the shipped ones), cached until the file changes."""
+    path = Path(path) if path is not None else KNOWLEDGE_PATH
+    try:
+        key = (str(path.resolve()), path.stat().st_mtime_ns)
+    except OSError as error:
+        raise InputError(path, f"cannot read the knowledge tables: {error.strerror or error}") from None
+    cached = _CACHE.get(key)
+    if cached is not None:
+        return cached
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(path, f"cannot read the knowledge tables: {error}") from None
+    except json.JSONDecodeError as error:
+        raise InputError(path, f"invalid JSON: {error.msg}", place=f"line {error.lineno}") from None
+    knowledge = _parse(data, path)
+    _CACHE[key] = knowledge
+    return knowledge
+
+
+# --------------------------------------------------------------------------------------------- ranking
+
+
+def match_object(knowledge: Knowledge, label: str) -> str | None:
+    """The vocabulary object a free-text label means (``"Cherry_Tomatoes_2" -> "tomato"``), or None."""
+    row = match(label, knowledge.index)
+    return None if row is None else knowledge.objects[row]
+
+
+def unknown_objects(knowledge: Knowledge, objects: Iterable[str]) -> tuple[str, ...]:
+    """The labels :func:`rank` ignores because they match no object of the vocabulary, in input order."""
+    return tuple(label for label in objects if match(label, knowledge.index) is None)
+
+
+def _columns(knowledge: Knowledge, candidates: Sequence[str] | None) -> np.ndarray:
+    if candidates is None:
+        return np.arange(len(knowledge.verbs))
+    try:
+        return np.array([knowledge.verbs.index(c) for c in candidates], dtype=np.int64)
+    except ValueError:
+        unknown = [c for c in candidates if c not in knowledge.verbs]
+        raise ValueError(f"not verbs of the knowledge tables: {', '.join(unknown)}") from None
+
+
+def _posterior(scores: np.ndarray) -> np.ndarray:
+    """Normalised probabilities from log scores (last axis), stable for very negative logs."""
+    shifted = np.exp(scores - scores.max(axis=-1, keepdims=True))
+    result: np.ndarray = shifted / shifted.sum(axis=-1, keepdims=True)
+    return result
+
+
+def _ordered(verbs: Sequence[str], probabilities: Sequence[float]) -> Ranking:
+    order = sorted(range(len(verbs)), key=lambda i: -probabilities[i])  # stable: ties keep table order
+    return tuple((verbs[i], float(probabilities[i])) for i in order)
+
+
+def rank(knowledge: Knowledge, objects: Sequence[str], candidates: Sequence[str] | None = None) -> Ranking:
+    """Verbs ranked by P(A | O1..On) ∝ P(A) ∏ P(Ok | A), normalised over the candidates, best first.
+
+    ``objects`` are free-text labels; each known one counts once per occurrence, unknown ones are ignored
+    (see :func:`unknown_objects`); with no known object the ranking is the prior. ``candidates``
+    restricts the verbs (default: every verb of the tables); an unknown candidate is a ValueError.
+    """
+    columns = _columns(knowledge, candidates)
+    if len(columns) == 0:
+        return ()
+    rows = [r for r in (match(label, knowledge.index) for label in objects) if r is not None]
+    scores = knowledge.log_prior[columns] + knowledge.log_likelihood[rows][:, columns].sum(axis=0)
+    verbs = [knowledge.verbs[c] for c in columns]
+    return _ordered(verbs, _posterior(scores).tolist())
+
+
+@dataclass(frozen=True)
+class BatchItem:
+    """One line of a batch ranking."""
+
+    ranking: Ranking
+    """Empty for an empty object list."""
+    unknown: tuple[str, ...]
+    """Labels of the line that matched nothing (ignored)."""
+
+
+def rank_batch(knowledge: Knowledge, lines: Iterable[Sequence[str]], candidates: Sequence[str] | None = None, *,
+               chunk: int = 4096) -> Iterator[BatchItem]:
+    """Rank many object lists, streaming, in order: one :class:`BatchItem` per list.
+
+    Vectorised per chunk of lists: labels are matched once each (cached), the chunk becomes a count
+    matrix (lists x objects) and one matrix product with the log-likelihood table gives every score.
+    An empty list gives an empty ranking (not the prior), so that a blank input line stays visible.
+    ``candidates`` restricts the verbs as in :func:`rank`. Chunks are ranked when full, so a slow stream
+    sees results by the chunk.
+    """
+    columns = _columns(knowledge, candidates)
+    matched: dict[str, int | None] = {}
+    table, prior = knowledge.log_likelihood[:, columns], knowledge.log_prior[columns]
+    verbs = [knowledge.verbs[c] for c in columns]
+    n_objects = len(knowledge.objects)
+
+    def flush(pending: list[tuple[list[int], tuple[str, ...], bool]]) -> Iterator[BatchItem]:
+        counts = np.zeros((len(pending), n_objects))
+        for i, (rows, _, _) in enumerate(pending):
+            np.add.at(counts[i], rows, 1.0)
+        probabilities = _posterior(counts @ table + prior)
+        order = np.argsort(-probabilities, axis=1, kind="stable")
+        for i, (_, unknown, empty) in enumerate(pending):
+            if empty:
+                yield BatchItem((), unknown)
+                continue
+            p = probabilities[i]
+            yield BatchItem(tuple((verbs[j], float(p[j])) for j in order[i].tolist()), unknown)
+
+    pending: list[tuple[list[int], tuple[str, ...], bool]] = []
+    for labels in lines:
+        rows: list[int] = []
+        unknown: list[str] = []
+        for label in labels:
+            if label not in matched:
+                matched[label] = match(label, knowledge.index)
+            row = matched[label]
+            if row is None:
+                unknown.append(label)
+            else:
+                rows.append(row)
+        pending.append((rows, tuple(unknown), not labels))
+        if len(pending) >= chunk:
+            yield from flush(pending)
+            pending = []
+    if pending:
+        yield from flush(pending)

@@ -1,0 +1,188 @@
+"""`wecook knowledge learn|evaluate` and `wecook recognize`: the commonsense model from the command line."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+from typing import Any, TextIO
+
+BATCH_HELP = (
+    "rank many object lists: FILE ('-' for stdin) has one comma-separated object list per line; prints one "
+    "JSON ranking per line, in order. An empty line gives an empty ranking `[]`; a line whose objects are "
+    "all unknown gives the prior. Unknown objects are summed up on stderr at the end."
+)
+
+
+def register(sub: Any) -> None:
+    knowledge = sub.add_parser("knowledge", help="learn or evaluate the commonsense tables",
+                               description="Learn the commonsense model P(action | objects) from a corpus of "
+                                           "(action, objects) records, or evaluate it on held-out records.")
+    actions = knowledge.add_subparsers(dest="knowledge_command", metavar="ACTION", required=True)
+
+    learn = actions.add_parser("learn", help="learn the tables from corpora and write them (and SOURCE.md)",
+                               description="Read corpora (EPIC-KITCHENS folders or CSV files `action,objects`, "
+                                           "objects separated by `;`), fold their verbs into wecook's actions, "
+                                           "count, and write commonsense.json, epic_categories.yaml and SOURCE.md.")
+    _corpus_options(learn)
+    learn.add_argument("-o", "--out", type=Path, default=None,
+                       help="output folder (default: the shipped assets/knowledge)")
+    learn.set_defaults(func=run_learn)
+
+    evaluate = actions.add_parser("evaluate", help="held-out accuracy, macro precision and recall",
+                                  description="Split the corpus by group (EPIC: video) with a seed, learn on "
+                                              "the rest, predict the verb of each held-out record from its "
+                                              "objects, and compare with always predicting the majority verb.")
+    _corpus_options(evaluate)
+    evaluate.add_argument("--fraction", type=float, default=0.2, help="fraction of groups held out (0.2)")
+    evaluate.add_argument("--json", action="store_true", help="print one JSON object")
+    evaluate.set_defaults(func=run_evaluate)
+
+    recognize = sub.add_parser("recognize", help="rank actions for a set of objects",
+                               description="Rank wecook's actions by P(A | objects) with the commonsense tables. "
+                                           "Objects are free text ('chopping board', cherry_tomato, bowl_2).")
+    recognize.add_argument("objects", nargs="*", metavar="OBJECT", help="object labels (commas also separate)")
+    recognize.add_argument("--json", action="store_true", help="print a JSON list of {action, p}")
+    recognize.add_argument("--batch", metavar="FILE", help=BATCH_HELP)
+    recognize.add_argument("--knowledge", type=Path, default=None,
+                           help="knowledge tables (default: the shipped assets/knowledge/commonsense.json)")
+    recognize.add_argument("--candidates", default=None,
+                           help="comma-separated verbs to rank among (default: all)")
+    recognize.set_defaults(func=run_recognize)
+
+
+def _corpus_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--corpus", type=Path, action="append", default=None, metavar="PATH",
+                        help="EPIC-KITCHENS folder or CSV file; repeat to combine "
+                             "(default: ../shared/data/epic-kitchens)")
+    parser.add_argument("--alpha", type=float, default=1.0, help="additive smoothing pseudo-count (1.0)")
+    parser.add_argument("--context", type=int, default=2,
+                        help="EPIC: objects of 'take' records among this many before an action count as its "
+                             "objects (the held tool); 0 turns it off (2)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the held-out split (0)")
+
+
+def _corpora(args: argparse.Namespace) -> list[Path]:
+    from wecook_core.knowledge.build import default_corpus
+
+    return list(args.corpus or [default_corpus()])
+
+
+def run_learn(args: argparse.Namespace) -> int:
+    from wecook_core.knowledge.build import KNOWLEDGE_DIR, build
+
+    out = args.out or KNOWLEDGE_DIR
+    built = build(_corpora(args), out, alpha=args.alpha, context=args.context, seed=args.seed)
+    k = built.knowledge
+    counts = ", ".join(f"{v} {n}" for v, n in zip(k.verbs, k.action_counts.tolist(), strict=True))
+    print(f"learned from {int(k.action_counts.sum())} records ({counts}); "
+          f"{len(k.objects)} objects, {len(k.aliases)} aliases")
+    if built.evaluation is not None:
+        m, b = built.evaluation.model, built.evaluation.baseline
+        print(f"held out: accuracy {m.accuracy:.3f} (majority {b.accuracy:.3f}), macro precision "
+              f"{m.macro_precision:.3f} ({b.macro_precision:.3f}), macro recall {m.macro_recall:.3f} "
+              f"({b.macro_recall:.3f})")
+    for path in built.files:
+        print(f"wrote {path}")
+    return 0
+
+
+def run_evaluate(args: argparse.Namespace) -> int:
+    from dataclasses import asdict
+
+    from wecook_core.errors import InputError
+    from wecook_core.knowledge.build import metrics_table, read_corpora
+    from wecook_core.knowledge.evaluation import evaluate
+
+    corpus = read_corpora(_corpora(args), context=args.context)
+    try:
+        result = evaluate(corpus, seed=args.seed, fraction=args.fraction, alpha=args.alpha)
+    except ValueError as error:
+        raise InputError(None, str(error)) from None
+    if args.json:
+        print(json.dumps(asdict(result)))
+    else:
+        print(f"{result.test_groups} groups held out (seed {result.seed}): {result.train_records} training "
+              f"records, {result.test_records} held-out records\n")
+        print(metrics_table(result))
+    return 0
+
+
+def _split(values: Sequence[str]) -> list[str]:
+    return [item.strip() for value in values for item in value.split(",") if item.strip()]
+
+
+def run_recognize(args: argparse.Namespace) -> int:
+    from wecook_core.errors import InputError
+    from wecook_core.recognize import load_knowledge, rank, unknown_objects
+
+    knowledge = load_knowledge(args.knowledge)
+    candidates = _split([args.candidates]) if args.candidates else None
+    if candidates:
+        wrong = [c for c in candidates if c not in knowledge.verbs]
+        if wrong:
+            raise InputError(None, f"--candidates: not verbs of the tables: {', '.join(wrong)} "
+                                   f"(expected some of {', '.join(knowledge.verbs)})")
+    if args.batch:
+        if args.objects:
+            raise InputError(None, "give objects or --batch FILE, not both")
+        return _run_batch(knowledge, args.batch, candidates)
+    objects = _split(args.objects)
+    if not objects:
+        raise InputError(None, "no objects given (e.g. `wecook recognize knife tomato`, or --batch FILE)")
+    ranking = rank(knowledge, objects, candidates)
+    unknown = unknown_objects(knowledge, objects)
+    if unknown:
+        print(f"wecook: ignored unknown objects: {', '.join(unknown)}", file=sys.stderr)
+    if args.json:
+        print(json.dumps([{"action": verb, "p": p} for verb, p in ranking]))
+        return 0
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title=f"P(action | {', '.join(o for o in objects if o not in unknown) or 'no known object'})")
+    table.add_column("action")
+    table.add_column("p", justify="right")
+    for verb, p in ranking:
+        table.add_row(verb, f"{p:.4f}")
+    Console().print(table)
+    return 0
+
+
+def _lines(stream: TextIO) -> Iterator[list[str]]:
+    for line in stream:
+        yield [item.strip() for item in line.split(",") if item.strip()]
+
+
+def _run_batch(knowledge: Any, name: str, candidates: list[str] | None) -> int:
+    from wecook_core.errors import InputError
+    from wecook_core.recognize import rank_batch
+
+    try:
+        stream: TextIO = sys.stdin if name == "-" else open(name, encoding="utf-8")  # noqa: SIM115
+    except OSError as error:
+        raise InputError(name, f"cannot read: {error.strerror}") from None
+    unknown: dict[str, int] = {}
+    out = sys.stdout
+    try:
+        for number, item in enumerate(rank_batch(knowledge, _lines(stream), candidates, chunk=1024), start=1):
+            out.write(_json(item.ranking))
+            for label in item.unknown:
+                unknown.setdefault(label, number)
+    except UnicodeDecodeError as error:
+        raise InputError(name, f"not UTF-8 text: {error.reason}") from None
+    finally:
+        if stream is not sys.stdin:
+            stream.close()
+    out.flush()
+    if unknown:
+        shown = ", ".join(f"{label!r} (line {line})" for label, line in list(unknown.items())[:10])
+        more = f" and {len(unknown) - 10} more" if len(unknown) > 10 else ""
+        print(f"wecook: ignored {len(unknown)} unknown objects: {shown}{more}", file=sys.stderr)
+    return 0
+
+
+def _json(ranking: Sequence[tuple[str, float]]) -> str:
+    return "[" + ", ".join(f'{{"action": "{verb}", "p": {p!r}}}' for verb, p in ranking) + "]\n"
