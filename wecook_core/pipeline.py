@@ -1,20 +1,33 @@
 """The whole perception pipeline as one pure function: observations + corrections -> trees and graph.
 
-Each stage lives in its own module; this one only chains them and applies the user's corrections.
+Each stage lives in its own module; this one only chains them and applies the user's corrections:
+segment (:mod:`wecook_core.segment`) -> associate (:mod:`wecook_core.associate`) -> actions
+(:mod:`wecook_core.actions`) -> merged trees and graph (:mod:`wecook_core.graph`).
 """
 
 from __future__ import annotations
 
+import itertools
+import time
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from wecook_core.model import (
     Action,
     ActionGraph,
     Associations,
     Corrections,
+    Segment,
     Segmentation,
+    SegmentStatus,
     TreeSpan,
 )
+
+if TYPE_CHECKING:
+    from wecook_core.actions import SegmentActions
+    from wecook_core.model import Observations
+    from wecook_core.recognize import Knowledge
 
 
 @dataclass(frozen=True)
@@ -31,6 +44,18 @@ class Params:
     """An association is kept only when it holds for at least this many consecutive frames."""
     seed: int = 0
     """Seed for anything random in the pipeline."""
+    contain_fraction: float = 0.5
+    """An ingredient lies in a container when at least this fraction of its box is inside the container's box
+    (among several such containers, the highest Jaccard index wins)."""
+    near_fraction: float = 0.02
+    """Object-object: a held object acts on objects whose boxes come within this fraction of the image diagonal."""
+    still_fraction: float = 0.004
+    """A hand holding an ingredient acts on it by itself (squeeze) only while its median speed is below this
+    fraction of the image diagonal per frame; faster, it carries it (a grasp)."""
+    handover_gap: int = 30
+    """Frames: a handover's receiver grasps the object at most this long after the giver releases it."""
+    handover_overlap: int = 60
+    """Frames: two persons holding one object longer than this together is a holding, not a handover."""
 
 
 @dataclass(frozen=True)
@@ -38,12 +63,86 @@ class Analysis:
     """The result of every stage for one video, after corrections."""
 
     segmentation: Segmentation
+    """Segments after the user's splits and merges (``per_hand`` stays GGS's own breakpoints)."""
     associations: tuple[Associations, ...]
-    """One per segment, in order."""
-    actions: tuple[Action | None, ...]
-    """Per segment: the action recognised for each hand that does something, flattened in
-    (segment, hand) order; see `actions_by_segment` for the grouped view."""
+    """One per segment, in order (corrected hand-object and object-object links applied)."""
+    segment_actions: tuple[SegmentActions, ...]
+    """One per segment, in order: each hand's action there and its commonsense ranking."""
+    actions: tuple[Action, ...]
+    """Merged actions (consecutive compatible segments joined, grasp to release), by start frame; rejected
+    segments give none."""
     trees: tuple[TreeSpan, ...]
-    """Merged trees (consecutive identical trees joined), in order of start frame."""
+    """The tree of each of ``actions``, same order."""
     graph: ActionGraph
     corrections: Corrections = field(default_factory=Corrections)
+    seconds: Mapping[str, float] = field(default_factory=dict)
+    """Wall time of each stage (``segment``, ``associate``, ``actions``, ``graph``), seconds."""
+
+    def segment_index(self, frame: int) -> int | None:
+        """Index of the segment holding ``frame``, None outside the video."""
+        import bisect
+
+        segments = self.segmentation.segments
+        i = bisect.bisect_right([s.start for s in segments], frame) - 1
+        if 0 <= i < len(segments) and segments[i].start <= frame < segments[i].end:
+            return i
+        return None
+
+
+def apply_cuts(segmentation: Segmentation, corrections: Corrections) -> Segmentation:
+    """The segments with the user's splits added and merged breakpoints removed."""
+    if not segmentation.segments:
+        return segmentation
+    start, end = segmentation.segments[0].start, segmentation.segments[-1].end
+    cuts = {s.start for s in segmentation.segments[1:]}
+    cuts |= {f for f in corrections.splits if start < f < end}
+    cuts -= set(corrections.merges)
+    edges = [start, *sorted(cuts), end]
+    segments = tuple(Segment(a, b) for a, b in itertools.pairwise(edges))
+    if segments == segmentation.segments:
+        return segmentation
+    return Segmentation(segmentation.per_hand, segments, segmentation.interpolated)
+
+
+def analyze(
+    obs: Observations,
+    knowledge: Knowledge,
+    params: Params | None = None,
+    corrections: Corrections | None = None,
+    *,
+    segmentation: Segmentation | None = None,
+) -> Analysis:
+    """Every stage on one video, with the user's corrections applied.
+
+    ``segmentation``: reuse a segmentation already computed for these observations and ``params`` (the
+    workbench does, since corrections never change GGS's own result); otherwise GGS runs.
+    """
+    from wecook_core.actions import recognize_actions
+    from wecook_core.associate import associate_segments
+    from wecook_core.graph import build_graph, merge_actions, tree_spans
+    from wecook_core.segment import segment_hands
+
+    params = params or Params()
+    corrections = corrections or Corrections()
+    seconds: dict[str, float] = {}
+    clock = time.perf_counter()
+    if segmentation is None:
+        segmentation = segment_hands(obs, params)
+    segmentation = apply_cuts(segmentation, corrections)
+    seconds["segment"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    associations, timeline = associate_segments(obs, segmentation.segments, params, corrections)
+    seconds["associate"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    segment_actions = recognize_actions(obs, segmentation, associations, knowledge, params, corrections, timeline)
+    seconds["actions"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    rejected = {start for start, status in corrections.status.items() if status is SegmentStatus.REJECTED}
+    actions = merge_actions(segment_actions, obs.categories, rejected)
+    trees = tree_spans(actions)
+    graph = build_graph(actions)
+    seconds["graph"] = time.perf_counter() - clock
+    return Analysis(segmentation, associations, segment_actions, actions, trees, graph, corrections, seconds)

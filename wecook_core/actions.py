@@ -1,0 +1,416 @@
+"""Action recognition per segment (paper, "Action Recognition"): individual, transfer, collaborative.
+
+- Individual: a held tool acts on the ingredient it comes near (in its container) or else on a container; a
+  held ingredient acts on a container (pour oil into the pot) or, held still with nothing near, is worked by
+  the hand itself (squeeze the lemon). The verb is the argmax over candidate verbs of P(A) prod_k P(O_k | A)
+  (:func:`wecook_core.recognize.rank`) over the held object and the targets.
+- Transfer: an ingredient whose container changes (tracked over the whole video) while a hand, or the object
+  it holds, moves it: targets ``(ingredient, source, destination)``.
+- Collaborative: a handover when an object passes from one person's hand to the other's; a holding when one
+  person holds an object that the other acts on (or holds too).
+
+A hand that holds something without acting is a GRASP: no action, but it tells the graph when the action's
+grasp starts and its release ends.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from wecook_core.associate import (
+    NONE,
+    Timeline,
+    _gap,
+    associate_segments,
+    frame_boxes,
+    kept_runs,
+    video_diagonal,
+)
+from wecook_core.model import (
+    HANDS,
+    Action,
+    ActionKind,
+    Associations,
+    Category,
+    Corrections,
+    Observations,
+    Segment,
+    Segmentation,
+    person_of,
+)
+
+if TYPE_CHECKING:
+    from wecook_core.pipeline import Params
+    from wecook_core.recognize import Knowledge
+
+Ranking = tuple[tuple[str, float], ...]
+
+HAND_VERBS: tuple[str, ...] = ("squeeze", "peel", "roll", "wrap")
+"""Verbs a bare hand performs on the ingredient it holds (the candidates of a HAND action)."""
+
+
+@dataclass(frozen=True)
+class SegmentActions:
+    """What every hand does during one segment."""
+
+    segment: Segment
+    actions: tuple[Action, ...]
+    """One per acting hand (GRASP included), in :data:`HANDS` order of ``Action.hand``. A hand whose action
+    is the partner of a collaboration appears only inside it."""
+    rankings: Mapping[str, Ranking] = field(default_factory=dict)
+    """Hand -> the commonsense ranking of its individual action (empty when nothing was ranked)."""
+    partners: tuple[str, ...] = ()
+    """Hands whose action is the partner inside a collaboration of this segment."""
+
+    def action_of(self, hand: str) -> Action | None:
+        for action in self.actions:
+            if action.hand == hand:
+                return action
+        return None
+
+
+@dataclass(frozen=True)
+class TransferEvent:
+    """An ingredient moved from one container to another by a hand, found on the whole video's timeline."""
+
+    ingredient: str
+    source: str
+    destination: str
+    hand: str
+    carrier: str | None
+    """What the hand holds while moving it (spoon, the tipped bowl); None when the hand carries it directly."""
+    start: int
+    end: int
+    """Frames ``[start, end)`` the hand's segments take the transfer: from the carrier's grasp to the arrival."""
+
+
+@dataclass(frozen=True)
+class HandoverEvent:
+    """An object passed from one person's hand to the other person's."""
+
+    obj: str
+    giver: str
+    receiver: str
+    start: int
+    end: int
+    """Frames ``[start, end)`` of the exchange: the receiver's grasp to the giver's release."""
+
+
+# ------------------------------------------------------------------------------------------ individual
+
+
+def _candidates(knowledge: Knowledge, allowed: Sequence[str] | None = None) -> list[str]:
+    verbs = [v for v in knowledge.verbs if v != "transfer"]
+    if allowed is not None:
+        verbs = [v for v in verbs if v in allowed] or verbs
+    return verbs
+
+
+def _rank(knowledge: Knowledge, objects: Sequence[str], allowed: Sequence[str] | None = None) -> Ranking:
+    from wecook_core.recognize import rank
+
+    return rank(knowledge, list(objects), _candidates(knowledge, allowed))
+
+
+def _with_container(name: str, assoc: Associations) -> tuple[str, ...]:
+    container = assoc.containment.get(name)
+    return (name, container) if container is not None else (name,)
+
+
+def individual_action(
+    hand: str,
+    assoc: Associations,
+    categories: Mapping[str, Category],
+    knowledge: Knowledge,
+    *,
+    still: bool = True,
+    verb: str | None = None,
+) -> tuple[Action | None, Ranking]:
+    """The action of one hand in one segment from its associations (no transfer, no collaboration).
+
+    ``still``: the hand hardly moves during the segment (a held ingredient is worked, not carried).
+    ``verb``: the user's choice, replacing the recognised verb."""
+    segment = assoc.segment
+    held = assoc.hand_object.get(hand)
+    if held is None:
+        return None, ()
+    category = categories.get(held, Category.INGREDIENT)
+    links = assoc.object_object.get(held, ())
+    ingredients = [o for o in links if categories.get(o, Category.INGREDIENT) is Category.INGREDIENT]
+    containers = [o for o in links if categories.get(o) is Category.CONTAINER]
+    grasp = Action(ActionKind.GRASP, hand, segment.start, segment.end, held=held)
+    targets: tuple[str, ...] = ()
+    kind = ActionKind.TOOL
+    allowed: Sequence[str] | None = None
+    if category is Category.TOOL:
+        if ingredients:
+            targets = _with_container(ingredients[0], assoc)
+        elif containers:
+            targets = (containers[0],)
+    elif category is Category.INGREDIENT:
+        if containers:
+            targets = (containers[0],)
+        elif ingredients:
+            targets = _with_container(ingredients[0], assoc)
+        elif still:
+            kind, targets, allowed = ActionKind.HAND, (held,), HAND_VERBS
+    if not targets:
+        if verb is None:
+            return grasp, ()
+        # the user named a verb for a hand that only holds: the hand works the object it holds
+        return Action(ActionKind.HAND, hand, segment.start, segment.end, verb=verb, targets=(held,)), ()
+    objects = targets if kind is ActionKind.HAND else (held, *targets)
+    ranking = _rank(knowledge, objects, allowed)
+    chosen = verb or (ranking[0][0] if ranking else None)
+    if chosen is None:
+        return grasp, ranking
+    if kind is ActionKind.HAND:
+        return Action(kind, hand, segment.start, segment.end, verb=chosen, targets=targets, scores=ranking), ranking
+    return Action(kind, hand, segment.start, segment.end, verb=chosen, held=held, targets=targets,
+                  scores=ranking), ranking
+
+
+def hand_speed(obs: Observations, hand: str, segment: Segment) -> float:
+    """Median speed of a hand during a segment, pixels per frame (0 when it is seen on fewer than 2 frames)."""
+    track = obs.hand(hand)
+    if track is None:
+        return 0.0
+    lo, hi = np.searchsorted(track.frames, [segment.start, segment.end])
+    if hi - lo < 2:
+        return 0.0
+    xy = track.xy[lo:hi]
+    steps = np.diff(track.frames[lo:hi]).astype(float)
+    speed = np.linalg.norm(np.diff(xy, axis=0), axis=1) / np.maximum(steps, 1.0)
+    return float(np.median(speed))
+
+
+# ---------------------------------------------------------------------------------- timeline events
+
+
+def hold_spans(labels: np.ndarray, value: int, min_frames: int) -> list[tuple[int, int]]:
+    """Frames ``[start, end)`` where ``labels == value``, runs joined across gaps shorter than ``min_frames``,
+    keeping spans of at least ``min_frames``."""
+    mask = labels == value
+    if not mask.any():
+        return []
+    padded = np.concatenate([[False], mask, [False]])
+    change = np.flatnonzero(np.diff(padded.astype(np.int8)))
+    starts, ends = change[0::2], change[1::2]
+    spans: list[list[int]] = []
+    for start, end in zip(starts.tolist(), ends.tolist(), strict=True):
+        if spans and start - spans[-1][1] < min_frames:
+            spans[-1][1] = end
+        else:
+            spans.append([start, end])
+    return [(s, e) for s, e in spans if e - s >= min_frames]
+
+
+def transfer_events(obs: Observations, timeline: Timeline, params: Params) -> tuple[TransferEvent, ...]:
+    """Every change of an ingredient's container that a hand caused, over the whole video."""
+    diagonal = video_diagonal(obs)
+    near = params.near_fraction * diagonal
+    events = []
+    total = len(timeline.held)
+    for column, category in enumerate(timeline.categories):
+        if category is not Category.INGREDIENT:
+            continue
+        kept = kept_runs(timeline.container[:, column], params.min_frames)
+        for (_, end1, source), (start2, _, destination) in itertools.pairwise(kept):
+            if source == destination:
+                continue
+            lo = max(0, end1 - params.min_frames)
+            hi = min(total, start2 + params.min_frames)
+            event = _mover(obs, timeline, column, lo, hi, near, params)
+            if event is None:
+                continue
+            hand, carrier, span_start = event
+            events.append(TransferEvent(
+                timeline.names[column], timeline.names[source], timeline.names[destination], HANDS[hand],
+                timeline.names[carrier] if carrier != NONE else None, span_start, hi,
+            ))
+    return tuple(events)
+
+
+def _mover(
+    obs: Observations, timeline: Timeline, ingredient: int, lo: int, hi: int, near: float, params: Params
+) -> tuple[int, int, int] | None:
+    """(hand column, carrier column or NONE, start of the carrier's hold) of the hand that moved an ingredient
+    during ``[lo, hi)``, or None when no hand did."""
+    if hi <= lo:
+        return None
+    boxes = frame_boxes(obs, lo, hi)
+    ingredient_boxes = boxes.objects[:, ingredient, :]
+    rows = np.arange(hi - lo)
+    best: tuple[float, int, int] | None = None
+    for hand in range(len(HANDS)):
+        held = timeline.held[lo:hi, hand].astype(np.int64)
+        touched = timeline.touched[lo:hi, hand].astype(np.int64)
+        direct = (touched == ingredient) | (held == ingredient)
+        carried_box = boxes.objects[rows, np.maximum(held, 0), :]
+        with np.errstate(invalid="ignore"):
+            via = (held != NONE) & (held != ingredient) & (_gap(carried_box, ingredient_boxes) <= near)
+        score = float(np.mean(direct | via))
+        if score < 0.5:
+            continue
+        if via.sum() >= direct.sum():
+            values, counts = np.unique(held[via], return_counts=True)
+            carrier = int(values[np.argmax(counts)])
+        else:
+            carrier = NONE
+        if best is None or score > best[0]:
+            best = (score, hand, carrier)
+    if best is None:
+        return None
+    _, hand, carrier = best
+    label = timeline.held[:, hand] if carrier != NONE else timeline.touched[:, hand]
+    value = carrier if carrier != NONE else ingredient
+    start = lo
+    for span_start, span_end in hold_spans(label, value, params.min_frames):
+        if span_start < hi and lo < span_end:
+            start = min(span_start, lo)
+            break
+    return hand, carrier, start
+
+
+def handover_events(timeline: Timeline, params: Params) -> tuple[HandoverEvent, ...]:
+    """Every object that passed from one person's hand to the other's over the whole video."""
+    events = []
+    for column in range(len(timeline.names)):
+        spans = [
+            (hand, start, end)
+            for hand in range(len(HANDS))
+            for start, end in hold_spans(timeline.held[:, hand], column, params.min_frames)
+        ]
+        spans.sort(key=lambda s: s[1])
+        for giver, g_start, g_end in spans:
+            for receiver, r_start, r_end in spans:
+                if person_of(HANDS[giver]) == person_of(HANDS[receiver]):
+                    continue
+                if not (g_start < r_start <= g_end + params.handover_gap and r_end > g_end):
+                    continue
+                if g_end - r_start > params.handover_overlap:
+                    continue  # both held it a long time: a holding, not a handover
+                start, end = min(r_start, g_end - 1), max(g_end, r_start + 1)
+                events.append(HandoverEvent(timeline.names[column], HANDS[giver], HANDS[receiver], start, end))
+                break
+    return tuple(events)
+
+
+# ------------------------------------------------------------------------------------------- segments
+
+
+def _without(targets: tuple[str, ...], obj: str) -> tuple[str, ...]:
+    rest = tuple(t for t in targets if t != obj)
+    return rest or targets
+
+
+def _holding(
+    acts: dict[str, Action],
+    assoc: Associations,
+    categories: Mapping[str, Category],
+    partners: set[str],
+) -> None:
+    """Rewrite ``acts`` (hand -> action) for the holdings of a segment, in place."""
+    holders = {hand: obj for hand, obj in assoc.hand_object.items()}
+    for actor, action in sorted(acts.items(), key=lambda item: HANDS.index(item[0])):
+        if actor in partners or action.kind not in (ActionKind.TOOL, ActionKind.HAND):
+            continue
+        reached = set(action.targets)
+        reached |= {assoc.containment[t] for t in action.targets if t in assoc.containment}
+        for holder, obj in holders.items():
+            if person_of(holder) == person_of(actor) or holder in partners or obj not in reached:
+                continue
+            if obj == action.held or categories.get(obj) is Category.TOOL:
+                continue
+            partner = replace(action, targets=_without(action.targets, obj))
+            acts[holder] = Action(ActionKind.HOLDING, holder, action.start, action.end, held=obj, partner=partner)
+            partners.add(actor)
+            break
+
+
+def _same_object_holding(acts: dict[str, Action], assoc: Associations, timeline: Timeline, params: Params,
+                         partners: set[str]) -> None:
+    """Both persons' hands on one object without a handover: the one who grasped it first holds it."""
+    segment = assoc.segment
+    by_object: dict[str, list[str]] = {}
+    for hand, obj in assoc.hand_object.items():
+        by_object.setdefault(obj, []).append(hand)
+    for obj, hands in by_object.items():
+        persons = {person_of(h) for h in hands}
+        if len(persons) < 2 or any(h in partners or acts.get(h) is None for h in hands):
+            continue
+        if any(acts[h].kind in (ActionKind.HANDOVER, ActionKind.HOLDING) for h in hands):
+            continue
+        column = timeline.column(obj)
+
+        def grasped(hand: str, column: int = column) -> int:
+            labels = timeline.held[: segment.end, HANDS.index(hand)]
+            spans = hold_spans(labels, column, params.min_frames)
+            return spans[-1][0] if spans else segment.start
+
+        ordered = sorted(hands, key=lambda h: (grasped(h), HANDS.index(h)))
+        holder = ordered[0]
+        actor = next(h for h in ordered if person_of(h) != person_of(holder))
+        partner_action = acts[actor]
+        acts[holder] = Action(ActionKind.HOLDING, holder, segment.start, segment.end, held=obj,
+                              partner=partner_action)
+        partners.add(actor)
+
+
+def recognize_actions(
+    obs: Observations,
+    segmentation: Segmentation,
+    associations: Sequence[Associations],
+    knowledge: Knowledge,
+    params: Params,
+    corrections: Corrections | None = None,
+    timeline: Timeline | None = None,
+) -> tuple[SegmentActions, ...]:
+    """Each segment's actions, from its associations and the whole video's per-frame links (``timeline``,
+    recomputed from ``segmentation`` when not given). ``corrections.verbs`` replace recognised verbs."""
+    if timeline is None:
+        _, timeline = associate_segments(obs, segmentation.segments, params, corrections)
+    corrections = corrections or Corrections()
+    categories = obs.categories
+    still_speed = params.still_fraction * video_diagonal(obs)
+    transfers = transfer_events(obs, timeline, params)
+    handovers = handover_events(timeline, params)
+    result = []
+    for assoc in associations:
+        segment = assoc.segment
+        acts: dict[str, Action] = {}
+        rankings: dict[str, Ranking] = {}
+        partners: set[str] = set()
+        for hand in HANDS:
+            verb = corrections.verbs.get((segment.start, hand))
+            still = hand_speed(obs, hand, segment) <= still_speed
+            action, ranking = individual_action(hand, assoc, categories, knowledge, still=still, verb=verb)
+            if action is not None:
+                acts[hand] = action
+            if ranking:
+                rankings[hand] = ranking
+        for event in transfers:
+            if event.start < segment.end and segment.start < event.end and event.hand in acts:
+                current = acts[event.hand]
+                if event.carrier is not None and current.held != event.carrier:
+                    continue
+                acts[event.hand] = Action(
+                    ActionKind.TRANSFER, event.hand, segment.start, segment.end, verb="transfer",
+                    held=event.carrier, targets=(event.ingredient, event.source, event.destination),
+                )
+        for handover in handovers:
+            if handover.start < segment.end and segment.start < handover.end and handover.giver in acts:
+                receiver = Action(ActionKind.GRASP, handover.receiver, segment.start, segment.end, held=handover.obj)
+                acts[handover.giver] = Action(ActionKind.HANDOVER, handover.giver, segment.start, segment.end,
+                                              held=handover.obj, partner=receiver)
+                partners.add(handover.receiver)
+        _holding(acts, assoc, categories, partners)
+        _same_object_holding(acts, assoc, timeline, params, partners)
+        ordered = tuple(acts[h] for h in HANDS if h in acts and h not in partners)
+        result.append(SegmentActions(segment, ordered, rankings, tuple(h for h in HANDS if h in partners)))
+    return tuple(result)

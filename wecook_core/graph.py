@@ -1,0 +1,312 @@
+"""Merging and the action graph (paper, "Action Graph Generation").
+
+GGS over-segments: one action spans several segments. Per acting hand, consecutive segments merge when their
+actions are identical up to ingredients that are not visible in some of them; a segment where the hand only
+holds the same object (a grasp) joins the action next to it, so an action's frames run from the grasp that
+starts it to the release that ends it. The merged actions become the graph's nodes (``a1``, ``a2``, ... by
+start frame), one sequence per person, with an edge for each collaboration to the partner's actions before
+and after it.
+
+The graph file (YAML, ``wecook_graph: 1``)::
+
+    wecook_graph: 1
+    nodes:
+    - {id: a1, person: P1, start: 0, end: 140, tree: "(HP (HP (H RH_P1) (O knife)) (AP (A cut) (O tomato)))"}
+    sequences:
+      P1: [a1, a3]
+      P2: [a2]
+    edges:
+    - {source: a1, target: a3, kind: sequence}
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import yaml
+
+from wecook_core.errors import InputError
+from wecook_core.model import (
+    HANDS,
+    PERSONS,
+    Action,
+    ActionGraph,
+    ActionKind,
+    Category,
+    GraphEdge,
+    GraphNode,
+    TreeSpan,
+    person_of,
+)
+from wecook_core.trees import TreeSyntaxError, action_of, format_tree, parse_tree, tree_of
+
+if TYPE_CHECKING:
+    from wecook_core.actions import SegmentActions
+
+FORMAT_KEY = "wecook_graph"
+FORMAT_VERSION = 1
+
+PARTNER = "partner"
+"""Marks a segment where a hand acts inside another hand's collaboration."""
+
+
+# -------------------------------------------------------------------------------------------- merging
+
+
+def _grip(action: Action) -> str | None:
+    if action.held is not None:
+        return action.held
+    return action.targets[0] if action.targets else None
+
+
+def _key(action: Action) -> str:
+    return format_tree(tree_of(action))
+
+
+def _ingredients(action: Action, categories: Mapping[str, Category]) -> tuple[str, ...]:
+    names = list(action.targets)
+    if action.partner is not None:
+        names += list(action.partner.targets)
+    return tuple(n for n in names if categories.get(n, Category.INGREDIENT) is Category.INGREDIENT)
+
+
+def _skeleton(action: Action, categories: Mapping[str, Category]) -> tuple[Any, ...]:
+    """An action with its ingredient targets left out (what must agree for two segments to merge)."""
+    partner = _skeleton(action.partner, categories) if action.partner is not None else None
+    kept = tuple(t for t in action.targets if categories.get(t, Category.INGREDIENT) is not Category.INGREDIENT)
+    return (action.kind, action.hand, action.verb, action.held, kept, partner)
+
+
+def compatible(a: Action, b: Action, categories: Mapping[str, Category]) -> bool:
+    """Identical up to ingredients that are not visible in one of them (one's ingredients contain the other's)."""
+    if _skeleton(a, categories) != _skeleton(b, categories):
+        return False
+    ia, ib = set(_ingredients(a, categories)), set(_ingredients(b, categories))
+    return ia <= ib or ib <= ia
+
+
+def _span(action: Action, start: int, end: int) -> Action:
+    partner = _span(action.partner, start, end) if action.partner is not None else None
+    return replace(action, start=start, end=end, partner=partner)
+
+
+@dataclass
+class _Block:
+    start: int
+    end: int
+    variants: dict[str, tuple[Action, int]] = field(default_factory=dict)
+    """Tree text -> (an action with that tree, frames it covers)."""
+
+    def add(self, action: Action, frames: int) -> None:
+        key = _key(action)
+        old = self.variants.get(key)
+        self.variants[key] = (old[0] if old else action, (old[1] if old else 0) + frames)
+
+    def best(self) -> Action:
+        action, _ = max(self.variants.values(), key=lambda v: (len(v[0].targets) + (
+            len(v[0].partner.targets) if v[0].partner is not None else 0), v[1]))
+        return _span(action, self.start, self.end)
+
+    def sample(self) -> Action:
+        return next(iter(self.variants.values()))[0]
+
+
+def merge_lane(
+    items: Sequence[tuple[int, int, Action | str | None]], categories: Mapping[str, Category]
+) -> list[Action]:
+    """Merge one hand's consecutive segments ``(start, end, action | PARTNER | None)`` into actions."""
+    out: list[Action] = []
+    current: _Block | None = None
+    lead: tuple[str | None, int, int] | None = None  # a run of grasps not yet given to an action
+
+    def flush_lead() -> None:
+        nonlocal lead
+        if lead is not None and lead[0] is not None and lead_action is not None:
+            out.append(_span(lead_action, lead[1], lead[2]))
+        lead = None
+
+    lead_action: Action | None = None
+    for start, end, item in items:
+        if item is None:
+            if current is not None:
+                out.append(current.best())
+                current = None
+            flush_lead()
+            continue
+        if isinstance(item, str):  # partner inside a collaboration: neutral, extends what is open
+            if current is not None:
+                current.end = end
+            elif lead is not None:
+                lead = (lead[0], lead[1], end)
+            continue
+        if item.kind is ActionKind.GRASP:
+            if current is not None and _grip(current.sample()) == item.held:
+                current.end = end
+                continue
+            if current is not None:
+                out.append(current.best())
+                current = None
+            if lead is not None and lead[0] == item.held:
+                lead = (lead[0], lead[1], end)
+            else:
+                flush_lead()
+                lead, lead_action = (item.held, start, end), item
+            continue
+        if current is not None and compatible(current.sample(), item, categories):
+            current.end = end
+            current.add(item, end - start)
+            continue
+        if current is not None:
+            out.append(current.best())
+            current = None
+        block_start = start
+        if lead is not None and lead[0] == _grip(item):
+            block_start = lead[1]
+            lead = None
+        else:
+            flush_lead()
+        current = _Block(block_start, end)
+        current.add(item, end - start)
+    if current is not None:
+        out.append(current.best())
+    flush_lead()
+    return out
+
+
+def merge_actions(
+    segment_actions: Sequence[SegmentActions],
+    categories: Mapping[str, Category],
+    rejected: Iterable[int] = (),
+) -> tuple[Action, ...]:
+    """The merged actions of a video, in order of start frame (then hand). Segments whose start frame is in
+    ``rejected`` give nothing and break merges."""
+    rejected = set(rejected)
+    merged: list[Action] = []
+    for hand in HANDS:
+        items: list[tuple[int, int, Action | str | None]] = []
+        for entry in segment_actions:
+            segment = entry.segment
+            if segment.start in rejected:
+                items.append((segment.start, segment.end, None))
+            elif hand in entry.partners:
+                items.append((segment.start, segment.end, PARTNER))
+            else:
+                items.append((segment.start, segment.end, entry.action_of(hand)))
+        merged += merge_lane(items, categories)
+    return tuple(sorted(merged, key=lambda a: (a.start, HANDS.index(a.hand), a.end)))
+
+
+def tree_spans(actions: Iterable[Action]) -> tuple[TreeSpan, ...]:
+    """One tree per action, in the order given."""
+    return tuple(TreeSpan(a.start, a.end, tree_of(a)) for a in actions)
+
+
+# ---------------------------------------------------------------------------------------------- graph
+
+
+def build_graph(actions: Iterable[Action]) -> ActionGraph:
+    """Nodes ``a1, a2, ...`` by start frame (then hand); one sequence per person; ``sequence`` edges between a
+    person's consecutive actions; for each collaboration, an edge from the partner's previous action to it and
+    from it to the partner's next action (kind ``handover`` or ``holding``)."""
+    ordered = sorted(actions, key=lambda a: (a.start, HANDS.index(a.hand) if a.hand in HANDS else 9, a.end))
+    nodes = tuple(
+        GraphNode(f"a{i + 1}", person_of(a.hand), TreeSpan(a.start, a.end, tree_of(a)), a)
+        for i, a in enumerate(ordered)
+    )
+    return _graph_of(nodes)
+
+
+def _graph_of(nodes: Sequence[GraphNode]) -> ActionGraph:
+    sequences: dict[str, list[GraphNode]] = {}
+    for node in nodes:
+        sequences.setdefault(node.person, []).append(node)
+    edges: list[GraphEdge] = []
+    for seq in sequences.values():
+        edges += [GraphEdge(a.id, b.id, "sequence") for a, b in itertools.pairwise(seq)]
+    for node in nodes:
+        action = node.action
+        if action.kind not in (ActionKind.HANDOVER, ActionKind.HOLDING) or action.partner is None:
+            continue
+        partner_seq = sequences.get(person_of(action.partner.hand), [])
+        before = [n for n in partner_seq if n.span.start < node.span.start]
+        after = [n for n in partner_seq if n.span.start > node.span.start]
+        if before:
+            edges.append(GraphEdge(before[-1].id, node.id, str(action.kind)))
+        if after:
+            edges.append(GraphEdge(node.id, after[0].id, str(action.kind)))
+    order = [p for p in PERSONS if p in sequences] + sorted(p for p in sequences if p not in PERSONS)
+    return ActionGraph(nodes=tuple(nodes), sequences={p: tuple(n.id for n in sequences[p]) for p in order},
+                       edges=tuple(edges))
+
+
+# ------------------------------------------------------------------------------------------ graph file
+
+
+def dump_graph(graph: ActionGraph) -> str:
+    """The graph file's text (see the module docstring): one node or edge a line, trees in bracket notation."""
+    lines = [f"{FORMAT_KEY}: {FORMAT_VERSION}", "nodes:" if graph.nodes else "nodes: []"]
+    for node in graph.nodes:
+        tree = format_tree(node.span.tree)
+        lines.append(f'- {{id: {node.id}, person: {node.person}, start: {node.span.start}, end: {node.span.end}, '
+                     f'tree: "{tree}"}}')
+    lines.append("sequences:" if graph.sequences else "sequences: {}")
+    for person, ids in graph.sequences.items():
+        lines.append(f"  {person}: [{', '.join(ids)}]")
+    lines.append("edges:" if graph.edges else "edges: []")
+    for edge in graph.edges:
+        lines.append(f"- {{source: {edge.source}, target: {edge.target}, kind: {edge.kind}}}")
+    return "\n".join(lines) + "\n"
+
+
+def write_graph_file(path: str | Path, graph: ActionGraph) -> None:
+    Path(path).write_text(dump_graph(graph), encoding="utf-8")
+
+
+def read_graph_file(path: str | Path) -> ActionGraph:
+    """Read a graph file; bad content raises :class:`InputError` naming the entry and the field."""
+    path = Path(path)
+    try:
+        data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError(path, "file not found") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(path, f"cannot read: {error}") from None
+    except yaml.YAMLError as error:
+        mark = getattr(error, "problem_mark", None)
+        raise InputError(path, f"not YAML ({getattr(error, 'problem', error)})",
+                         place=f"line {mark.line + 1}" if mark is not None else None) from None
+    if not isinstance(data, dict) or data.get(FORMAT_KEY) != FORMAT_VERSION:
+        raise InputError(path, f"not a graph file (expected {FORMAT_KEY}: {FORMAT_VERSION})")
+    nodes = []
+    for i, item in enumerate(data.get("nodes") or []):
+        place = f"nodes[{i + 1}]"
+        if not isinstance(item, dict) or not {"id", "person", "start", "end", "tree"} <= set(item):
+            raise InputError(path, "expected id, person, start, end and tree", place=place)
+        start, end = item["start"], item["end"]
+        if not (isinstance(start, int) and isinstance(end, int) and 0 <= start < end):
+            raise InputError(path, f"expected frames 0 <= start < end, found {start!r}, {end!r}", place=place)
+        try:
+            tree = parse_tree(str(item["tree"]))
+        except TreeSyntaxError as error:
+            raise InputError(path, f"tree {error}", place=place) from None
+        nodes.append(GraphNode(str(item["id"]), str(item["person"]), TreeSpan(start, end, tree),
+                               action_of(tree, start, end)))
+    ids = {n.id for n in nodes}
+    sequences = {}
+    for person, seq in (data.get("sequences") or {}).items():
+        if not isinstance(seq, list) or any(str(s) not in ids for s in seq):
+            raise InputError(path, "expected a list of node ids", place=f"sequences.{person}")
+        sequences[str(person)] = tuple(str(s) for s in seq)
+    edges = []
+    for i, item in enumerate(data.get("edges") or []):
+        place = f"edges[{i + 1}]"
+        if not isinstance(item, dict) or not {"source", "target", "kind"} <= set(item):
+            raise InputError(path, "expected source, target and kind", place=place)
+        if str(item["source"]) not in ids or str(item["target"]) not in ids:
+            raise InputError(path, "source and target must be node ids", place=place)
+        edges.append(GraphEdge(str(item["source"]), str(item["target"]), str(item["kind"])))
+    return ActionGraph(tuple(nodes), sequences, tuple(edges))
