@@ -1,0 +1,174 @@
+"""A tiny workspace built in the test: a short video, observations, a journal and an analysis that follows the
+corrections. Used for widget-level tests that must not depend on the pipeline's numbers."""
+
+from __future__ import annotations
+
+import itertools
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from wecook_core.model import (
+    Action,
+    ActionGraph,
+    ActionKind,
+    Associations,
+    Category,
+    Corrections,
+    HandTrack,
+    ObjectTrack,
+    Observations,
+    Segment,
+    Segmentation,
+    SegmentStatus,
+    TreeSpan,
+    VideoInfo,
+)
+from wecook_core.pipeline import Analysis
+from wecook_core.trees import tree_of
+from wecook_tui.app import Opened
+from wecook_tui.frames import FrameSource
+
+FRAMES = 60
+SIZE = (320, 180)
+
+
+def make_video(path: Path, frames: int = FRAMES, size: tuple[int, int] = SIZE) -> Path:
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), 30.0, size)
+    for i in range(frames):
+        image = np.zeros((size[1], size[0], 3), np.uint8)
+        image[:] = (40, 90, 140)
+        cv2.circle(image, (20 + 4 * i % size[0], size[1] // 2), 12, (255, 255, 255), -1)
+        cv2.putText(image, str(i), (5, 20), cv2.FONT_HERSHEY_SIMPLEX, 0.6, (0, 255, 0), 1)
+        writer.write(image)
+    writer.release()
+    return path
+
+
+def make_obs(video: Path, frames: int = FRAMES, size: tuple[int, int] = SIZE) -> Observations:
+    idx = np.arange(frames, dtype=np.int64)
+
+    def track(tid: int, name: str, box: tuple[float, float, float, float]) -> ObjectTrack:
+        return ObjectTrack(tid, name.replace("_", " "), name, idx, np.tile(np.array(box, float), (frames, 1)))
+
+    objects = (track(1, "knife", (40, 40, 90, 60)), track(2, "tomato", (150, 80, 180, 110)),
+               track(3, "chopping_board", (120, 60, 240, 150)), track(4, "bowl", (250, 20, 300, 70)))
+    xy = np.stack([np.linspace(60, 160, frames), np.full(frames, 55.0)], axis=1)
+    hands = (HandTrack("RH_P1", idx, xy, np.hstack([xy - 8, xy + 8])),
+             HandTrack("LH_P1", idx, [*xy[::-1], 0, 60], np.hstack([[*xy[::-1], -8, 52], [*xy[::-1], 8, 68]])))
+    categories = {"knife": Category.TOOL, "tomato": Category.INGREDIENT, "chopping_board": Category.CONTAINER,
+                  "bowl": Category.CONTAINER}
+    return Observations(VideoInfo(str(video), 30.0, frames, size[0], size[1]), objects, hands, categories)
+
+
+@dataclass
+class FakeSession:
+    """Journal semantics of DESIGN.md Sessions in miniature: a JSON line per entry, undo/redo are entries."""
+
+    path: Path
+    params: object = None
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def journal(self) -> Path:
+        return self.path / "journal.jsonl"
+
+    def entries(self) -> list[dict]:
+        if not self.journal.exists():
+            return []
+        return [json.loads(line) for line in self.journal.read_text().splitlines() if line.strip()]
+
+    def record(self, correction: dict) -> None:
+        with self.journal.open("a") as f:
+            f.write(json.dumps(correction) + "\n")
+
+    def _live(self) -> tuple[list[dict], list[dict]]:
+        live: list[dict] = []
+        undone: list[dict] = []
+        for entry in self.entries():
+            if entry["op"] == "undo":
+                undone.append(live.pop())
+            elif entry["op"] == "redo":
+                live.append(undone.pop())
+            else:
+                live.append(entry)
+                undone.clear()
+        return live, undone
+
+    def undo(self) -> bool:
+        if not self._live()[0]:
+            return False
+        self.record({"op": "undo"})
+        return True
+
+    def redo(self) -> bool:
+        if not self._live()[1]:
+            return False
+        self.record({"op": "redo"})
+        return True
+
+    @property
+    def corrections(self) -> Corrections:
+        splits, merges, verbs, status, ho, oo = set(), set(), {}, {}, {}, {}
+        for e in self._live()[0]:
+            if e["op"] == "split":
+                splits.add(e["frame"])
+            elif e["op"] == "merge":
+                merges.add(e["frame"])
+            elif e["op"] == "set_verb":
+                verbs[(e["segment"], e["hand"])] = e["verb"]
+            elif e["op"] == "set_status":
+                status[e["segment"]] = SegmentStatus(e["status"])
+            elif e["op"] == "set_hand_object":
+                ho[(e["segment"], e["hand"])] = e["object"]
+            elif e["op"] == "set_object_object":
+                oo[(e["segment"], e["object"])] = tuple(e["targets"])
+        return Corrections(frozenset(splits), frozenset(merges), ho, oo, verbs, status)
+
+
+def fake_analyze(obs: Observations, corrections: Corrections) -> Analysis:
+    cuts = ({20, 40} | set(corrections.splits)) - set(corrections.merges)
+    bounds = [0, *sorted(c for c in cuts if 0 < c < obs.video.frame_count), obs.video.frame_count]
+    segs = tuple(Segment(a, b) for a, b in itertools.pairwise(bounds))
+    assocs, actions, trees = [], [], []
+    for seg in segs:
+        held = corrections.hand_object.get((seg.start, "RH_P1"), "knife")
+        targets = corrections.object_object.get((seg.start, held or ""), ("tomato", "chopping_board"))
+        assocs.append(Associations(seg, {"RH_P1": held} if held else {}, {held: targets} if held else {},
+                                   {"tomato": "chopping_board"}))
+        verb = corrections.verbs.get((seg.start, "RH_P1"), "cut")
+        if held:
+            action = Action(ActionKind.TOOL, "RH_P1", seg.start, seg.end, verb=verb, held=held, targets=targets,
+                            scores=((verb, 0.7), ("peel", 0.2)))
+            actions.append(action)
+            trees.append(TreeSpan(seg.start, seg.end, tree_of(action)))
+    per_segment = tuple(FakeSegmentActions(seg, tuple(a for a in actions if a.start == seg.start)) for seg in segs)
+    return Analysis(Segmentation({"RH_P1": tuple(bounds[1:-1])}, segs), tuple(assocs), per_segment,  # type: ignore[arg-type]
+                    tuple(actions), tuple(trees), ActionGraph((), {}, ()), corrections)
+
+
+@dataclass(frozen=True)
+class FakeSegmentActions:
+    segment: Segment
+    actions: tuple[Action, ...]
+    rankings: dict = field(default_factory=dict)
+
+
+def fake_workspace(folder: Path) -> tuple[callable, callable]:  # type: ignore[valid-type]
+    """(opener, analyzer) for ``WecookApp`` over a fake session in ``folder``."""
+    folder.mkdir(parents=True, exist_ok=True)
+    video = folder / "video.mp4"
+    if not video.exists():
+        make_video(video)
+    obs = make_obs(video)
+
+    def opener(path: Path) -> Opened:
+        return Opened(FakeSession(path), obs, None, FrameSource(obs.video.path), [])
+
+    def analyzer(opened: Opened, corrections: Corrections) -> Analysis:
+        return fake_analyze(opened.observations, corrections)
+
+    return opener, analyzer

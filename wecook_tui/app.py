@@ -1,0 +1,272 @@
+"""The workbench app: opens a session, holds the analysis, journals corrections and recomputes in workers.
+
+Screens show; this class wires. Every stage is a core function called in a worker that posts a typed message
+(`messages.py`); the UI thread only journals corrections (fsynced by ``Session.record``) and updates views.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from functools import partial
+from pathlib import Path
+from typing import Any
+
+from textual import work
+from textual.app import App, SystemCommand
+from textual.reactive import reactive
+from textual.screen import Screen
+
+from wecook_core.errors import InputError
+from wecook_tui.frames import FrameSource
+from wecook_tui.keymap import LoadedKeymap, load_keymap
+from wecook_tui.messages import AnalysisFailed, AnalysisReady, SessionFailed, SessionOpened
+from wecook_tui.screens.help import HelpScreen
+from wecook_tui.screens.main import MAIN_BINDINGS, MainScreen
+from wecook_tui.widgets.frame_view import FrameView
+
+
+@dataclass
+class Opened:
+    """What opening a session yields (the ``opener`` worker's result)."""
+
+    session: Any
+    observations: Any
+    knowledge: Any
+    frames: FrameSource | None
+    warnings: list[str] = field(default_factory=list)
+    segmentation: Any = None
+    """GGS's own segmentation, computed by the first analysis and reused by the next ones."""
+
+
+def open_workspace(path: Path) -> Opened:
+    """Open the session, read its observations and the commonsense tables, open the video (core calls only)."""
+    from wecook_core.recognize import load_knowledge
+    from wecook_core.session import open_session
+
+    session = open_session(path)
+    warnings = [str(w) for w in getattr(session, "warnings", ())]
+    obs = None
+    try:
+        obs = session.load_observations()
+    except InputError as error:
+        warnings.append(f"inputs cannot be read: {error}")
+    knowledge = None
+    try:
+        knowledge = load_knowledge()
+    except InputError as error:
+        warnings.append(f"commonsense tables cannot be read ({error}); action picker unranked")
+    frames = FrameSource(obs.video.path) if obs is not None else None
+    if frames is not None and frames.facts.error and not any(frames.facts.error in w for w in warnings):
+        warnings.append(f"{frames.facts.error}: boxes and hands are drawn on a blank frame")
+    return Opened(session, obs, knowledge, frames, warnings)
+
+
+def analyze_workspace(opened: Opened, corrections: Any) -> Any:
+    """``pipeline.analyze`` with the corrections; GGS runs once per session (corrections never change it)."""
+    from wecook_core.pipeline import analyze
+    from wecook_core.segment import segment_hands
+
+    if opened.segmentation is None:
+        opened.segmentation = segment_hands(opened.observations, opened.session.params)
+    return analyze(opened.observations, opened.knowledge, opened.session.params, corrections,
+                   segmentation=opened.segmentation)
+
+
+class WecookApp(App[None]):
+    CSS_PATH = "workbench.tcss"
+    TITLE = "wecook"
+
+    pending: reactive[bool] = reactive(False, init=False)
+    """An analysis is being recomputed for the latest corrections."""
+
+    def __init__(self, session_path: Path, *, keys: LoadedKeymap | None = None,
+                 opener: Callable[[Path], Opened] = open_workspace,
+                 analyzer: Callable[[Opened, Any], Any] = analyze_workspace) -> None:
+        super().__init__()
+        self.session_path = Path(session_path)
+        self.session_name = self.session_path.name
+        self.opener = opener
+        self.analyzer = analyzer
+        self.keys = keys if keys is not None else load_keymap(known_ids=_binding_ids())
+        self.opened: Opened | None = None
+        self.analysis: Any = None
+        self.generation = 0
+        """Bumped by every journal change; an analysis of an older generation is dropped."""
+        self.main = MainScreen()
+        if self.keys.keymap:
+            self.set_keymap(self.keys.keymap)
+
+    # ---------------------------------------------------------------------------------- data
+
+    @property
+    def session(self) -> Any:
+        return self.opened.session if self.opened else None
+
+    @property
+    def obs(self) -> Any:
+        return self.opened.observations if self.opened else None
+
+    @property
+    def corrections(self) -> Any:
+        return self.session.corrections if self.session is not None else None
+
+    @property
+    def frame_count(self) -> int:
+        if self.obs is not None:
+            video = self.obs.video
+            return max(1, video.decoded_frames or video.frame_count)
+        return 1
+
+    @property
+    def fps(self) -> float:
+        return float(self.obs.video.fps) if self.obs is not None and self.obs.video.fps else 30.0
+
+    def rank(self, objects: tuple[str, ...]) -> list[tuple[str, float]]:
+        """The action picker's order: the commonsense model's ranking for the segment's objects."""
+        knowledge = self.opened.knowledge if self.opened else None
+        if knowledge is None:
+            return []
+        from wecook_core.recognize import rank
+
+        return list(rank(knowledge, objects))
+
+    # -------------------------------------------------------------------------------- opening
+
+    def on_mount(self) -> None:
+        self.push_screen(self.main)
+        for problem in self.keys.problems:
+            self.notify(problem, title="Key file", severity="warning", timeout=15)
+        self._open()
+
+    @work(thread=True, exclusive=True, group="open", exit_on_error=False)
+    def _open(self) -> None:
+        try:
+            opened = self.opener(self.session_path)
+        except InputError as error:
+            self.post_message(SessionFailed(str(error)))
+            return
+        except Exception as error:  # never a traceback on screen: say what failed
+            self.post_message(SessionFailed(f"{self.session_path}: cannot open session ({type(error).__name__}: "
+                                            f"{error})"))
+            return
+        self.post_message(SessionOpened(opened, tuple(opened.warnings)))
+
+    def on_session_opened(self, message: SessionOpened) -> None:
+        self.opened = message.opened
+        for warning in message.warnings:
+            self.notify(warning, title="Session", severity="warning", timeout=30)
+        obs = self.obs
+        if obs is not None:
+            self.main.query_one(FrameView).set_source(self.opened.frames, (obs.video.width, obs.video.height))
+            self.recompute()
+        self.main.data_changed()
+
+    def on_session_failed(self, message: SessionFailed) -> None:
+        self.notify(message.error, title="Cannot open session", severity="error", timeout=60)
+
+    # ---------------------------------------------------------------------------- corrections
+
+    def correct(self, record: dict) -> bool:
+        """Journal one correction (fsynced before this returns), show it, recompute the analysis."""
+        if self.session is None:
+            self.notify("The session is not open yet.", severity="warning")
+            return False
+        try:
+            self.session.record(record)
+        except (InputError, ValueError, KeyError) as error:
+            self.notify(f"Not recorded: {error}", severity="error")
+            return False
+        self.journal_changed()
+        return True
+
+    def undo(self) -> None:
+        self._history("undo")
+
+    def redo(self) -> None:
+        self._history("redo")
+
+    def _history(self, name: str) -> None:
+        if self.session is None:
+            return
+        try:
+            done = getattr(self.session, name)()
+        except (InputError, ValueError, IndexError) as error:
+            self.notify(str(error), severity="warning")
+            return
+        if done is False:
+            self.notify(f"Nothing to {name}.")
+            return
+        self.journal_changed()
+
+    def journal_changed(self) -> None:
+        self.generation += 1
+        self.main.data_changed()
+        self.recompute()
+
+    def recompute(self) -> None:
+        if self.opened is None or self.obs is None:
+            return
+        self.pending = True
+        self._analyze(self.generation, self.corrections)
+
+    @work(thread=True, exclusive=True, group="analysis", exit_on_error=False)
+    def _analyze(self, generation: int, corrections: Any) -> None:
+        assert self.opened is not None
+        started = time.perf_counter()
+        try:
+            analysis = self.analyzer(self.opened, corrections)
+        except Exception as error:  # a pipeline bug must not take the workbench (and the journal) down
+            self.post_message(AnalysisFailed(f"{type(error).__name__}: {error}", generation))
+            return
+        self.post_message(AnalysisReady(analysis, generation, time.perf_counter() - started))
+
+    def on_analysis_ready(self, message: AnalysisReady) -> None:
+        if message.generation != self.generation:
+            return
+        self.analysis = message.analysis
+        self.pending = False
+        self.main.data_changed()
+
+    def on_analysis_failed(self, message: AnalysisFailed) -> None:
+        if message.generation == self.generation:
+            self.pending = False
+            self.notify(f"Analysis failed: {message.error}", severity="error", timeout=30)
+            self.main.data_changed()
+
+    # -------------------------------------------------------------------------------- screens
+
+    def open_help(self) -> None:
+        self.push_screen(HelpScreen(list(MAIN_BINDINGS), dict(self.keys.keymap)))
+
+    def open_plan(self) -> None:
+        if self.analysis is None:
+            self.notify("The analysis is not ready yet.", severity="warning")
+            return
+        from wecook_tui.screens.plan_review import PlanReviewScreen
+
+        self.push_screen(PlanReviewScreen(self.analysis, self.obs, self.session_path))
+
+    def open_runs(self, start: bool) -> None:
+        if start and self.analysis is None:
+            self.notify("The analysis is not ready yet.", severity="warning")
+            return
+        from wecook_tui.screens.run import RunScreen
+
+        self.push_screen(RunScreen(self.session_path, self.analysis if start else None, self.obs))
+
+    def get_system_commands(self, screen: Screen) -> Iterable[SystemCommand]:
+        yield from super().get_system_commands(screen)
+        if isinstance(screen, MainScreen):
+            for binding in MAIN_BINDINGS:
+                keys = self.keys.keymap.get(binding.id or "", binding.key)
+                yield SystemCommand(binding.description, f"keys: {keys}   id: {binding.id}",
+                                    partial(self.run_action, binding.action, screen))
+
+
+def _binding_ids() -> set[str]:
+    from wecook_tui.screens.plan_review import PLAN_BINDINGS
+    from wecook_tui.screens.run import RUN_BINDINGS
+
+    return {b.id for b in (*MAIN_BINDINGS, *PLAN_BINDINGS, *RUN_BINDINGS) if b.id}

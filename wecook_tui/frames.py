@@ -1,0 +1,376 @@
+"""Video frames for the terminal: lazy decoding, a small LRU cache, overlays, half-block rendering.
+
+A terminal cell shows two pixels stacked: the upper-half-block character ``▀`` with the top pixel as its
+foreground colour and the bottom pixel as its background. That works in every terminal with true colour (and
+degrades gracefully in 256-colour ones), so the frame view never depends on a graphics protocol.
+
+Decoding runs in worker threads (see :class:`FrameSource`); the UI thread only reads the cache, draws the
+overlays on a small image and turns it into :class:`~textual.strip.Strip` lines.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import threading
+from collections import OrderedDict
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import cv2
+import numpy as np
+from rich.color import Color
+from rich.segment import Segment
+from rich.style import Style
+from textual.strip import Strip
+
+HALF_BLOCK = "▀"
+
+
+@dataclass(frozen=True)
+class VideoFacts:
+    """What opening the video found out; ``error`` says why frames cannot be shown."""
+
+    fps: float = 30.0
+    """Frames per second (30 when the container does not say)."""
+    frame_count: int = 0
+    """Frames the container declares."""
+    width: int = 0
+    """Pixels."""
+    height: int = 0
+    """Pixels."""
+    error: str | None = None
+    """One line for the notice: missing file, unreadable container, ..."""
+
+
+class FrameSource:
+    """Frames of one video, decoded on demand, resized to the view and kept in a small LRU cache.
+
+    Thread-safe: :meth:`decode` and :meth:`prefetch` run in worker threads and serialise on one lock around
+    the OpenCV capture; :meth:`cached` is a cheap dictionary read for the UI thread. Sequential reads avoid
+    seeking (seeking an H.264 file decodes from the previous key frame), so stepping forward costs one decode.
+    """
+
+    def __init__(self, path: str | Path | None, cache_size: int = 256) -> None:
+        self.path = Path(path) if path is not None else None
+        self.cache_size = cache_size
+        self._lock = threading.Lock()
+        self._cache: OrderedDict[int, np.ndarray] = OrderedDict()
+        self._capture: cv2.VideoCapture | None = None
+        self._next = 0
+        """Frame index the capture would read next."""
+        self._size: tuple[int, int] = (0, 0)
+        """(width, height) in pixels that cached frames are resized to; (0, 0) keeps the native size."""
+        self.bad_frames: set[int] = set()
+        """Frames that failed to decode (a damaged file); each is reported once."""
+        self.facts = self._open()
+
+    # ----------------------------------------------------------------------------------- opening
+
+    def _open(self) -> VideoFacts:
+        if self.path is None:
+            return VideoFacts(error="the session names no video")
+        if not self.path.is_file():
+            return VideoFacts(error=f"{self.path}: video file is missing")
+        capture = cv2.VideoCapture(str(self.path))
+        if not capture.isOpened():
+            return VideoFacts(error=f"{self.path}: OpenCV cannot open this video (corrupt or unknown format)")
+        ok, first = capture.read()
+        if not ok or first is None:
+            capture.release()
+            return VideoFacts(error=f"{self.path}: no frame decodes (corrupt video)")
+        fps = float(capture.get(cv2.CAP_PROP_FPS) or 0.0) or 30.0
+        count = int(capture.get(cv2.CAP_PROP_FRAME_COUNT) or 0)
+        height, width = first.shape[:2]
+        self._capture = capture
+        self._next = 1
+        self._first = first
+        return VideoFacts(fps=fps, frame_count=count, width=width, height=height)
+
+    @property
+    def ok(self) -> bool:
+        return self.facts.error is None
+
+    def close(self) -> None:
+        with self._lock:
+            if self._capture is not None:
+                self._capture.release()
+                self._capture = None
+
+    # ------------------------------------------------------------------------------------- cache
+
+    def set_size(self, width: int, height: int) -> None:
+        """Resize future frames to ``width x height`` pixels; drops the cache when the size changes."""
+        with self._lock:
+            if (width, height) != self._size:
+                self._size = (width, height)
+                self._cache.clear()
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return self._size
+
+    def cached(self, index: int) -> np.ndarray | None:
+        """The frame if it is in the cache (BGR, resized), without decoding; safe on the UI thread."""
+        frame = self._cache.get(index)
+        if frame is not None:
+            with contextlib.suppress(KeyError):  # evicted by a worker in between
+                self._cache.move_to_end(index)
+        return frame
+
+    def _store(self, index: int, frame: np.ndarray) -> np.ndarray:
+        width, height = self._size
+        if width > 0 and height > 0 and (frame.shape[1], frame.shape[0]) != (width, height):
+            frame = cv2.resize(frame, (width, height), interpolation=cv2.INTER_AREA)
+        self._cache[index] = frame
+        while len(self._cache) > self.cache_size:
+            self._cache.popitem(last=False)
+        return frame
+
+    # ------------------------------------------------------------------------------------ decoding
+
+    def _read(self, index: int) -> np.ndarray | None:
+        """Read one frame with the lock held; seek only when reading forward would be slower."""
+        capture = self._capture
+        if capture is None:
+            return None
+        if index == 0 and getattr(self, "_first", None) is not None:
+            return self._first
+        if not self._next <= index < self._next + 24:
+            capture.set(cv2.CAP_PROP_POS_FRAMES, index)
+            self._next = index
+        while self._next < index:
+            if not capture.grab():
+                return None
+            self._next += 1
+        ok, frame = capture.read()
+        self._next += 1
+        if not ok or frame is None:
+            self._next = -(10**9)  # force a seek next time
+            return None
+        return frame
+
+    def decode(self, index: int) -> np.ndarray | None:
+        """The frame at ``index`` (from the cache, else decoded); None if it does not decode."""
+        if index < 0 or (self.facts.frame_count and index >= self.facts.frame_count):
+            return None
+        with self._lock:
+            frame = self._cache.get(index)
+            if frame is not None:
+                return frame
+            raw = self._read(index)
+            if raw is None:
+                self.bad_frames.add(index)
+                return None
+            return self._store(index, raw)
+
+    def prefetch(self, start: int, stop: int, cancelled: Callable[[], bool] = lambda: False) -> int:
+        """Decode frames ``[start, stop)`` into the cache in increasing order; returns how many were decoded.
+
+        Stops early when ``cancelled()`` turns true (a newer request replaced this one). Going backwards,
+        callers pass the window below the cursor: reading it forwards costs one seek instead of one per frame.
+        """
+        count = 0
+        last = self.facts.frame_count or stop
+        for index in range(max(0, start), min(stop, last)):
+            if cancelled():
+                break
+            if index in self._cache:
+                continue
+            with self._lock:
+                raw = self._read(index)
+                if raw is None:
+                    self.bad_frames.add(index)
+                    continue
+                self._store(index, raw)
+            count += 1
+        return count
+
+
+# ------------------------------------------------------------------------------------ overlays
+
+
+@dataclass(frozen=True)
+class BoxMark:
+    """An object's box at the current frame, in video pixels."""
+
+    name: str
+    box: tuple[float, float, float, float]
+    colour: tuple[int, int, int]
+    """RGB."""
+    held: bool = False
+    """Drawn thicker: a hand holds it in the current segment."""
+
+
+@dataclass(frozen=True)
+class HandMark:
+    hand: str
+    xy: tuple[float, float]
+    """Hand centre, video pixels."""
+    colour: tuple[int, int, int]
+    selected: bool = False
+
+
+@dataclass(frozen=True)
+class LinkMark:
+    """A hand-object or object-object link drawn as a line between two points (video pixels)."""
+
+    a: tuple[float, float]
+    b: tuple[float, float]
+    colour: tuple[int, int, int]
+
+
+@dataclass(frozen=True)
+class Overlay:
+    """Everything drawn on top of one frame."""
+
+    boxes: tuple[BoxMark, ...] = ()
+    hands: tuple[HandMark, ...] = ()
+    links: tuple[LinkMark, ...] = ()
+    labels: bool = True
+
+
+@dataclass(frozen=True)
+class Label:
+    """Text placed on the half-block image, in cells."""
+
+    x: int
+    y: int
+    text: str
+    colour: tuple[int, int, int]
+
+
+@dataclass
+class Canvas:
+    """An image the size of the view (2 pixels per cell row) with the labels to print over it."""
+
+    image: np.ndarray
+    labels: list[Label] = field(default_factory=list)
+
+
+def blank(width: int, height: int, shade: int = 40) -> np.ndarray:
+    return np.full((height, width, 3), shade, dtype=np.uint8)
+
+
+def _bgr(rgb: tuple[int, int, int]) -> tuple[int, int, int]:
+    return (rgb[2], rgb[1], rgb[0])
+
+
+def draw(image: np.ndarray, overlay: Overlay, video_size: tuple[int, int]) -> Canvas:
+    """Draw boxes, links and hand markers on a copy of ``image`` (already the view's size).
+
+    ``video_size`` is the (width, height) the overlay's pixel coordinates refer to.
+    """
+    out = image.copy()
+    height, width = out.shape[:2]
+    vw, vh = video_size
+    sx = width / vw if vw else 1.0
+    sy = height / vh if vh else 1.0
+
+    def pt(p: tuple[float, float]) -> tuple[int, int]:
+        return (round(p[0] * sx), round(p[1] * sy))
+
+    labels: list[Label] = []
+    for mark in overlay.boxes:
+        x1, y1, x2, y2 = mark.box
+        cv2.rectangle(out, pt((x1, y1)), pt((x2, y2)), _bgr(mark.colour), 2 if mark.held else 1)
+        if overlay.labels:
+            cx, cy = pt((x1, y1))
+            labels.append(Label(max(0, cx), max(0, cy // 2), mark.name, mark.colour))
+    for link in overlay.links:
+        cv2.line(out, pt(link.a), pt(link.b), _bgr(link.colour), 1)
+    for hand in overlay.hands:
+        centre = pt(hand.xy)
+        cv2.circle(out, centre, 3 if hand.selected else 2, _bgr(hand.colour), -1)
+        if hand.selected:
+            cv2.circle(out, centre, 5, (255, 255, 255), 1)
+        if overlay.labels:
+            labels.append(Label(max(0, centre[0] + 2), max(0, centre[1] // 2), hand.hand, hand.colour))
+    return Canvas(out, labels)
+
+
+# ----------------------------------------------------------------------------------- half blocks
+
+_COLOURS: dict[int, Color] = {}
+_STYLES: dict[tuple[int, int], Style] = {}
+_QUANT = 0xF8
+"""Colours are quantised to 5 bits per channel: fewer distinct styles, same look at this resolution."""
+
+
+def _colour(packed: int) -> Color:
+    colour = _COLOURS.get(packed)
+    if colour is None:
+        colour = Color.from_rgb(packed >> 16, (packed >> 8) & 255, packed & 255)
+        _COLOURS[packed] = colour
+    return colour
+
+
+def _style(top: int, bottom: int) -> Style:
+    key = (top, bottom)
+    style = _STYLES.get(key)
+    if style is None:
+        if len(_STYLES) > 200_000:
+            _STYLES.clear()
+        style = Style.from_color(_colour(top), _colour(bottom))
+        _STYLES[key] = style
+    return style
+
+
+def to_strips(canvas: Canvas) -> list[Strip]:
+    """One :class:`Strip` per pair of pixel rows; labels overwrite cells with text on the bottom colour."""
+    image = canvas.image
+    if image.shape[0] % 2:
+        image = np.vstack([image, image[-1:]])
+    rgb = (image[..., ::-1] & _QUANT).astype(np.uint32)
+    packed = (rgb[..., 0] << 16) | (rgb[..., 1] << 8) | rgb[..., 2]
+    width = packed.shape[1]
+    labels_by_row: dict[int, list[Label]] = {}
+    for label in canvas.labels:
+        labels_by_row.setdefault(label.y, []).append(label)
+    strips: list[Strip] = []
+    for row in range(packed.shape[0] // 2):
+        top = packed[2 * row].tolist()
+        bottom = packed[2 * row + 1].tolist()
+        cells: list[tuple[str, Style] | None] | None = None
+        if row in labels_by_row:
+            cells = [None] * width
+            for label in labels_by_row[row]:
+                fg = _colour(((label.colour[0] & _QUANT) << 16) | ((label.colour[1] & _QUANT) << 8)
+                             | (label.colour[2] & _QUANT))
+                for offset, char in enumerate(label.text[: max(0, width - label.x)]):
+                    x = label.x + offset
+                    cells[x] = (char, Style.from_color(fg, _colour(bottom[x])) + Style(bold=True))
+        segments: list[Segment] = []
+        run_key: tuple[int, int] | None = None
+        run = 0
+        for x in range(width):
+            if cells is not None and cells[x] is not None:
+                if run_key is not None:
+                    segments.append(Segment(HALF_BLOCK * run, _style(*run_key)))
+                    run_key, run = None, 0
+                char, style = cells[x]  # type: ignore[misc]
+                segments.append(Segment(char, style))
+                continue
+            key = (top[x], bottom[x])
+            if key == run_key:
+                run += 1
+                continue
+            if run_key is not None:
+                segments.append(Segment(HALF_BLOCK * run, _style(*run_key)))
+            run_key, run = key, 1
+        if run_key is not None:
+            segments.append(Segment(HALF_BLOCK * run, _style(*run_key)))
+        strips.append(Strip(segments, width))
+    return strips
+
+
+def fit(video_size: tuple[int, int], cells: tuple[int, int]) -> tuple[int, int]:
+    """The largest (width, height) in pixels with the video's aspect that fits ``cells`` (columns, rows)."""
+    vw, vh = video_size
+    columns, rows = cells
+    if vw <= 0 or vh <= 0 or columns <= 0 or rows <= 0:
+        return (max(columns, 1), max(2 * rows, 2))
+    scale = min(columns / vw, 2 * rows / vh)
+    width = max(1, int(vw * scale))
+    height = max(2, int(vh * scale))
+    return (width, height - height % 2)

@@ -1,0 +1,85 @@
+"""App-wide messages: what workers report back to the UI thread. Widget-local messages live in their widget.
+
+Each worker calls one core function and posts one of these; handlers only update view state.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from textual.message import Message
+
+
+@dataclass
+class SessionOpened(Message):
+    """The session, its observations, the commonsense tables and the video are open (``open`` worker)."""
+
+    opened: Any
+    """A ``wecook_tui.app.Opened``: session, observations (None if unreadable), knowledge, frame source."""
+    warnings: tuple[str, ...] = ()
+    """Problems to show in a notice: changed input, torn journal line, missing video, ..."""
+
+
+@dataclass
+class SessionFailed(Message):
+    """The session could not be opened at all; ``error`` is the one line to show."""
+
+    error: str
+
+
+@dataclass
+class AnalysisReady(Message):
+    """``pipeline.analyze`` finished for the corrections of journal generation ``generation``."""
+
+    analysis: Any
+    generation: int
+    seconds: float
+
+
+@dataclass
+class AnalysisFailed(Message):
+    error: str
+    generation: int
+
+
+@dataclass
+class FrameDecoded(Message):
+    """A frame reached the cache (decode worker); the view repaints if it still wants it."""
+
+    index: int
+    ok: bool
+
+
+@dataclass
+class PlanBuilt(Message):
+    """``plan_from_graph`` finished (plan review screen)."""
+
+    plan: Any
+    error: str | None = None
+
+
+@dataclass
+class PlanExported(Message):
+    """``write_plan`` wrote the plan YAML to ``path``."""
+
+    path: Path
+    error: str | None = None
+
+
+@dataclass
+class RunOutput(Message):
+    """One line printed by the ``wecook execute`` subprocess."""
+
+    line: str
+
+
+@dataclass
+class RunFinished(Message):
+    """The ``wecook execute`` subprocess ended."""
+
+    returncode: int
+    mcap: Path
+    log: Path
+    seconds: float

@@ -1,0 +1,338 @@
+"""The review's view model: what the screen shows for a cursor frame, and the corrections keys produce.
+
+Pure functions of ``Observations`` and ``Analysis`` (no Textual here): which segment holds a frame, the lanes
+of the timeline, the inspector's facts, the overlay of the frame, the picker candidates, and the correction
+records that ``Session.record`` journals.
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from wecook_core.model import (
+    HANDS,
+    Action,
+    ActionKind,
+    Associations,
+    Category,
+    Corrections,
+    Observations,
+    Segment,
+    SegmentStatus,
+    TreeSpan,
+)
+from wecook_tui.frames import BoxMark, HandMark, LinkMark, Overlay
+
+NOTHING = "-"
+"""Picker value meaning "no object" (a hand that holds nothing, an object that acts on nothing)."""
+
+HAND_COLOURS: Mapping[str, tuple[int, int, int]] = {
+    "LH_P1": (80, 200, 255), "RH_P1": (40, 120, 255), "LH_P2": (255, 190, 60), "RH_P2": (255, 110, 40),
+}
+CATEGORY_COLOURS: Mapping[str, tuple[int, int, int]] = {
+    "tool": (240, 240, 90), "container": (120, 230, 120), "ingredient": (240, 120, 220),
+}
+ACTION_COLOURS: Mapping[str, str] = {
+    "cut": "#d9534f", "peel": "#f0ad4e", "stir": "#5bc0de", "pour": "#428bca", "sprinkle": "#9b59b6",
+    "roll": "#8d6e63", "spread": "#e67e22", "squeeze": "#c0ca33", "wrap": "#26a69a", "dip": "#ec407a",
+    "transfer": "#7e57c2", "holding": "#2e7d32", "handover": "#00acc1", "grasp": "#607d8b",
+}
+STATUS_GLYPHS: Mapping[SegmentStatus, tuple[str, str]] = {
+    SegmentStatus.UNREVIEWED: ("·", "#808080"),
+    SegmentStatus.ACCEPTED: ("✓", "#4caf50"),
+    SegmentStatus.CORRECTED: ("✎", "#ffb300"),
+    SegmentStatus.REJECTED: ("✗", "#e53935"),
+}
+
+
+# --------------------------------------------------------------------------------------- segments
+
+
+def segments(analysis: object | None, frame_count: int) -> tuple[Segment, ...]:
+    """The analysis' segments, or one segment over the whole video before the analysis arrives."""
+    if analysis is not None:
+        found = tuple(analysis.segmentation.segments)  # type: ignore[attr-defined]
+        if found:
+            return found
+    return (Segment(0, max(1, frame_count)),)
+
+
+def segment_index(segs: tuple[Segment, ...], frame: int) -> int:
+    """Index of the segment holding ``frame`` (clamped to the first / last)."""
+    starts = [s.start for s in segs]
+    return max(0, min(len(segs) - 1, bisect.bisect_right(starts, frame) - 1))
+
+
+def status_of(corrections: Corrections | None, start: int) -> SegmentStatus:
+    """The journaled status; a segment with a changed verb or link and no explicit status is "corrected"."""
+    if corrections is None:
+        return SegmentStatus.UNREVIEWED
+    explicit = corrections.status.get(start)
+    if explicit is not None:
+        return SegmentStatus(explicit)
+    changed = (*corrections.verbs, *corrections.hand_object, *corrections.object_object)
+    if any(key[0] == start for key in changed):
+        return SegmentStatus.CORRECTED
+    return SegmentStatus.UNREVIEWED
+
+
+def next_unreviewed(segs: tuple[Segment, ...], corrections: Corrections | None, current: int) -> int | None:
+    """The first unreviewed segment after ``current``, wrapping around; None when all are reviewed."""
+    n = len(segs)
+    for step in range(1, n + 1):
+        index = (current + step) % n
+        if status_of(corrections, segs[index].start) is SegmentStatus.UNREVIEWED:
+            return index
+    return None
+
+
+# ---------------------------------------------------------------------------------------- actions
+
+
+def action_label(action: Action) -> str:
+    if action.kind in (ActionKind.HOLDING, ActionKind.HANDOVER):
+        return str(action.kind)
+    if action.verb:
+        return action.verb
+    return str(action.kind)
+
+
+def _segment_actions(analysis: object | None, index: int, seg: Segment) -> object | None:
+    """The pipeline's per-segment record (``SegmentActions``) for ``seg``, if the analysis has one."""
+    table = getattr(analysis, "segment_actions", None)
+    if not table:
+        return None
+    if 0 <= index < len(table) and table[index].segment == seg:
+        return table[index]
+    return next((entry for entry in table if entry.segment == seg), None)
+
+
+def actions_of(analysis: object | None, seg: Segment, index: int = -1) -> dict[str, Action]:
+    """Hand -> the action it takes part in during ``seg`` (a collaboration counts for both hands)."""
+    found: dict[str, Action] = {}
+    if analysis is None:
+        return found
+    record = _segment_actions(analysis, index, seg)
+    candidates = record.actions if record is not None else analysis.actions  # type: ignore[attr-defined]
+    for action in candidates:
+        if action is None or not (action.start < seg.end and seg.start < action.end):
+            continue
+        found.setdefault(action.hand, action)
+        if action.partner is not None:
+            found.setdefault(action.partner.hand, action)
+    return found
+
+
+def ranking_of(analysis: object | None, seg: Segment, index: int, hand: str) -> tuple[tuple[str, float], ...]:
+    """The commonsense ranking the pipeline computed for ``hand`` in ``seg`` (empty if none)."""
+    record = _segment_actions(analysis, index, seg)
+    if record is not None:
+        ranking = record.rankings.get(hand)  # type: ignore[attr-defined]
+        if ranking:
+            return tuple(ranking)
+    action = actions_of(analysis, seg, index).get(hand)
+    return tuple(action.scores) if action is not None else ()
+
+
+def associations_of(analysis: object | None, index: int, seg: Segment) -> Associations | None:
+    if analysis is None:
+        return None
+    table = analysis.associations  # type: ignore[attr-defined]
+    if 0 <= index < len(table) and table[index].segment == seg:
+        return table[index]
+    for assoc in table:
+        if assoc.segment == seg:
+            return assoc
+    return None
+
+
+def trees_of(analysis: object | None, seg: Segment) -> tuple[TreeSpan, ...]:
+    if analysis is None:
+        return ()
+    return tuple(t for t in analysis.trees if t.start < seg.end and seg.start < t.end)  # type: ignore[attr-defined]
+
+
+@dataclass(frozen=True)
+class Lane:
+    """One hand's row of the timeline: (start, end, label) spans, label None where the hand is idle."""
+
+    hand: str
+    spans: tuple[tuple[int, int, str | None], ...]
+
+
+def lanes(analysis: object | None, hands: Iterable[str], frame_count: int) -> tuple[Lane, ...]:
+    segs = segments(analysis, frame_count)
+    result = []
+    for hand in hands:
+        spans = []
+        for index, seg in enumerate(segs):
+            action = actions_of(analysis, seg, index).get(hand)
+            spans.append((seg.start, seg.end, action_label(action) if action else None))
+        result.append(Lane(hand, tuple(spans)))
+    return tuple(result)
+
+
+def hands_of(obs: Observations | None) -> tuple[str, ...]:
+    if obs is None:
+        return ()
+    present = {track.hand for track in obs.hands}
+    return tuple(hand for hand in HANDS if hand in present)
+
+
+# --------------------------------------------------------------------------------------- geometry
+
+
+def _at(frames: np.ndarray, values: np.ndarray, frame: int, seg: Segment | None) -> np.ndarray | None:
+    """The value at ``frame``, else the nearest one inside ``seg`` (None if the track is absent there)."""
+    if len(frames) == 0:
+        return None
+    i = int(np.searchsorted(frames, frame))
+    if i < len(frames) and frames[i] == frame:
+        return values[i]
+    if seg is None:
+        return None
+    candidates = [j for j in (i - 1, i) if 0 <= j < len(frames) and seg.start <= frames[j] < seg.end]
+    if not candidates:
+        return None
+    j = min(candidates, key=lambda j: abs(int(frames[j]) - frame))
+    return values[j]
+
+
+def hand_xy(obs: Observations, hand: str, frame: int, seg: Segment | None = None) -> tuple[float, float] | None:
+    track = obs.hand(hand)
+    if track is None:
+        return None
+    xy = _at(track.frames, track.xy, frame, seg)
+    return None if xy is None else (float(xy[0]), float(xy[1]))
+
+
+def object_box(obs: Observations, name: str, frame: int, seg: Segment | None = None) -> np.ndarray | None:
+    try:
+        track = obs.object(name)
+    except KeyError:
+        return None
+    return _at(track.frames, track.boxes, frame, seg)
+
+
+def _centre(box: np.ndarray) -> tuple[float, float]:
+    return (float(box[0] + box[2]) / 2, float(box[1] + box[3]) / 2)
+
+
+def _point_box_distance(p: tuple[float, float], box: np.ndarray) -> float:
+    dx = max(float(box[0]) - p[0], 0.0, p[0] - float(box[2]))
+    dy = max(float(box[1]) - p[1], 0.0, p[1] - float(box[3]))
+    return math.hypot(dx, dy)
+
+
+def _box_distance(a: np.ndarray, b: np.ndarray) -> float:
+    dx = max(float(b[0]) - float(a[2]), 0.0, float(a[0]) - float(b[2]))
+    dy = max(float(b[1]) - float(a[3]), 0.0, float(a[1]) - float(b[3]))
+    return math.hypot(dx, dy)
+
+
+def objects_near_hand(obs: Observations, hand: str, frame: int, seg: Segment) -> list[tuple[str, float]]:
+    """Objects seen in ``seg`` with their pixel distance to the hand at ``frame``, closest first."""
+    xy = hand_xy(obs, hand, frame, seg)
+    found = []
+    for track in obs.objects:
+        box = _at(track.frames, track.boxes, frame, seg)
+        if box is None:
+            continue
+        distance = _point_box_distance(xy, box) if xy is not None else math.inf
+        found.append((track.name, distance))
+    return sorted(found, key=lambda item: (item[1], item[0]))
+
+
+def link_candidates(obs: Observations, held: str, frame: int, seg: Segment) -> list[tuple[str, float]]:
+    """Containers and ingredients (never tools) by box distance to ``held``, closest first."""
+    held_box = object_box(obs, held, frame, seg)
+    found = []
+    for track in obs.objects:
+        if track.name == held or obs.categories.get(track.name) is Category.TOOL:
+            continue
+        box = _at(track.frames, track.boxes, frame, seg)
+        if box is None:
+            continue
+        found.append((track.name, _box_distance(held_box, box) if held_box is not None else math.inf))
+    return sorted(found, key=lambda item: (item[1], item[0]))
+
+
+def overlay(obs: Observations | None, assoc: Associations | None, frame: int, selected: str | None) -> Overlay:
+    """Boxes and labels of the objects at ``frame``, hand markers, and the segment's links."""
+    if obs is None:
+        return Overlay()
+    held = set(assoc.hand_object.values()) if assoc else set()
+    boxes = []
+    centres: dict[str, tuple[float, float]] = {}
+    for track in obs.objects:
+        box = track.box_at(frame)
+        if box is None:
+            continue
+        centres[track.name] = _centre(box)
+        colour = CATEGORY_COLOURS.get(str(obs.categories.get(track.name, "")), (200, 200, 200))
+        boxes.append(BoxMark(track.name, tuple(float(v) for v in box), colour, track.name in held))  # type: ignore[arg-type]
+    hands = []
+    hand_points: dict[str, tuple[float, float]] = {}
+    for track in obs.hands:
+        xy = hand_xy(obs, track.hand, frame)
+        if xy is None:
+            continue
+        hand_points[track.hand] = xy
+        hands.append(HandMark(track.hand, xy, HAND_COLOURS.get(track.hand, (255, 255, 255)), track.hand == selected))
+    links = []
+    if assoc is not None:
+        for hand, name in assoc.hand_object.items():
+            if hand in hand_points and name in centres:
+                links.append(LinkMark(hand_points[hand], centres[name], HAND_COLOURS.get(hand, (255, 255, 255))))
+        for name, targets in assoc.object_object.items():
+            for target in targets:
+                if name in centres and target in centres:
+                    links.append(LinkMark(centres[name], centres[target], (255, 255, 255)))
+    return Overlay(tuple(boxes), tuple(hands), tuple(links))
+
+
+def segment_objects(assoc: Associations | None, action: Action | None, hand: str | None) -> tuple[str, ...]:
+    """The objects a hand deals with in a segment, for ranking verbs: held object, then its targets."""
+    names: list[str] = []
+    if assoc is not None and hand is not None:
+        held = assoc.hand_object.get(hand)
+        if held:
+            names.append(held)
+            names.extend(assoc.object_object.get(held, ()))
+    if action is not None:
+        if action.held:
+            names.append(action.held)
+        names.extend(action.targets)
+    return tuple(dict.fromkeys(names))
+
+
+# ------------------------------------------------------------------------------------- corrections
+
+
+def set_status(seg: Segment, status: SegmentStatus) -> dict:
+    return {"op": "set_status", "segment": seg.start, "status": str(status)}
+
+
+def set_verb(seg: Segment, hand: str, verb: str) -> dict:
+    return {"op": "set_verb", "segment": seg.start, "hand": hand, "verb": verb}
+
+
+def set_hand_object(seg: Segment, hand: str, name: str | None) -> dict:
+    return {"op": "set_hand_object", "segment": seg.start, "hand": hand, "object": name}
+
+
+def set_object_object(seg: Segment, held: str, targets: tuple[str, ...]) -> dict:
+    return {"op": "set_object_object", "segment": seg.start, "object": held, "targets": list(targets)}
+
+
+def split(frame: int) -> dict:
+    return {"op": "split", "frame": frame}
+
+
+def merge(next_start: int) -> dict:
+    return {"op": "merge", "frame": next_start}

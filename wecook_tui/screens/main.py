@@ -1,0 +1,299 @@
+"""The review screen: frame, timeline and inspector; every key of the review lives here."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, cast
+
+from rich.text import Text
+from textual.app import ComposeResult
+from textual.binding import Binding
+from textual.containers import Horizontal
+from textual.reactive import reactive
+from textual.screen import Screen
+from textual.timer import Timer
+from textual.widgets import Footer, Static
+
+from wecook_core.model import VERBS, Segment, SegmentStatus
+from wecook_tui import review
+from wecook_tui.screens.picker import PickerScreen
+from wecook_tui.widgets.frame_view import FrameView
+from wecook_tui.widgets.inspector import Inspector
+from wecook_tui.widgets.timeline import Timeline
+
+if TYPE_CHECKING:
+    from wecook_tui.app import WecookApp
+
+MAIN_BINDINGS: list[Binding] = [
+    Binding("right,l", "step(1)", "Next frame", id="next-frame"),
+    Binding("left,h", "step(-1)", "Prev frame", id="prev-frame"),
+    Binding("shift+right,L", "step(10)", "+10 frames", show=False, id="forward-10"),
+    Binding("shift+left,H", "step(-10)", "-10 frames", show=False, id="back-10"),
+    Binding("down,n", "segment(1)", "Next segment", id="next-segment"),
+    Binding("up,p", "segment(-1)", "Prev segment", show=False, id="prev-segment"),
+    Binding("u", "next_unreviewed", "Next unreviewed", id="next-unreviewed"),
+    Binding("space", "play_pause", "Play/pause", id="play-pause"),
+    Binding("t", "next_hand", "Select hand", show=False, id="next-hand"),
+    Binding("a", "accept", "Accept", id="accept"),
+    Binding("x", "reject", "Reject", id="reject"),
+    Binding("c", "change_action", "Change action", id="change-action"),
+    Binding("o", "change_object", "Change object", show=False, id="change-object"),
+    Binding("k", "change_link", "Change link", show=False, id="change-link"),
+    Binding("s", "split", "Split here", show=False, id="split"),
+    Binding("m", "merge", "Merge with next", show=False, id="merge"),
+    Binding("z,ctrl+z", "undo", "Undo", id="undo"),
+    Binding("y,ctrl+y", "redo", "Redo", show=False, id="redo"),
+    Binding("e", "plan", "Plan / export", id="export-plan"),
+    Binding("r", "run", "Run", id="run"),
+    Binding("R", "runs", "Past runs", show=False, id="open-runs"),
+    Binding("question_mark,f1", "help", "Help", id="help"),
+    Binding("q", "quit", "Quit", id="quit"),
+]
+
+
+class MainScreen(Screen[None]):
+    BINDINGS = MAIN_BINDINGS
+
+    frame: reactive[int] = reactive(0, init=False)
+    """The cursor: a 0-based frame index."""
+    selected_hand: reactive[str | None] = reactive(None, init=False)
+    """The hand that change-action / change-object / change-link act on."""
+    playing: reactive[bool] = reactive(False, init=False)
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._inspected: tuple | None = None
+        self._timer: Timer | None = None
+
+    @property
+    def wb(self) -> WecookApp:
+        return cast("WecookApp", self.app)
+
+    def compose(self) -> ComposeResult:
+        with Horizontal(id="top"):
+            yield FrameView(id="frame")
+            yield Inspector(id="inspector")
+        yield Timeline(id="timeline")
+        yield Static(id="status")
+        yield Footer()
+
+    # ------------------------------------------------------------------------------- view state
+
+    @property
+    def frame_count(self) -> int:
+        return self.wb.frame_count
+
+    def segments(self) -> tuple[Segment, ...]:
+        return review.segments(self.wb.analysis, self.frame_count)
+
+    def current(self) -> tuple[int, Segment]:
+        segs = self.segments()
+        index = review.segment_index(segs, self.frame)
+        return index, segs[index]
+
+    def data_changed(self) -> None:
+        """Session, analysis or corrections changed: redraw everything."""
+        wb = self.wb
+        hands = review.hands_of(wb.obs)
+        if self.selected_hand not in hands:
+            index, seg = self.current()
+            acting = [h for h in hands if h in review.actions_of(wb.analysis, seg, index)]
+            self.selected_hand = (acting or list(hands) or [None])[0]
+        if wb.obs is not None:
+            timeline = self.query_one(Timeline)
+            segs = self.segments()
+            corrections = wb.corrections
+            status = {s.start: review.status_of(corrections, s.start) for s in segs}
+            timeline.set_data(self.frame_count, review.lanes(wb.analysis, hands, self.frame_count), segs, status)
+        self._inspected = None
+        self.refresh_view()
+
+    def refresh_view(self) -> None:
+        wb = self.wb
+        index, seg = self.current()
+        assoc = review.associations_of(wb.analysis, index, seg)
+        self.query_one(FrameView).show(self.frame, review.overlay(wb.obs, assoc, self.frame, self.selected_hand))
+        timeline = self.query_one(Timeline)
+        timeline.cursor = self.frame
+        timeline.selected_hand = self.selected_hand
+        status = review.status_of(wb.corrections, seg.start)
+        key = (id(wb.analysis), index, seg, status, self.selected_hand, wb.pending)
+        if key != self._inspected:
+            self._inspected = key
+            actions = review.actions_of(wb.analysis, seg, index)
+            rankings = {hand: review.ranking_of(wb.analysis, seg, index, hand) for hand in actions}
+            self.query_one(Inspector).show(
+                index, len(self.segments()), seg, status, review.trees_of(wb.analysis, seg), assoc,
+                actions, self.selected_hand, wb.pending, rankings)
+        fps = wb.fps
+        line = Text.assemble(
+            (f" {wb.session_name} ", "bold reverse"),
+            f"  frame {self.frame}/{max(0, self.frame_count - 1)} ({self.frame / fps:.2f} s)",
+            f"  segment {index + 1}/{len(self.segments())}",
+            f"  hand {self.selected_hand or '-'}",
+            ("  ▶ playing" if self.playing else ""),
+            ("  recomputing…" if wb.pending else "", "yellow"),
+        )
+        self.query_one("#status", Static).update(line)
+
+    def watch_frame(self) -> None:
+        self.refresh_view()
+
+    def watch_selected_hand(self) -> None:
+        self.refresh_view()
+
+    # ----------------------------------------------------------------------------------- moving
+
+    def action_step(self, delta: int) -> None:
+        self.frame = max(0, min(self.frame_count - 1, self.frame + delta))
+
+    def action_segment(self, delta: int) -> None:
+        segs = self.segments()
+        index = review.segment_index(segs, self.frame)
+        self.frame = segs[max(0, min(len(segs) - 1, index + delta))].start
+
+    def action_next_unreviewed(self) -> None:
+        segs = self.segments()
+        index = review.next_unreviewed(segs, self.wb.corrections, review.segment_index(segs, self.frame))
+        if index is None:
+            self.notify("Every segment is reviewed.")
+        else:
+            self.frame = segs[index].start
+
+    def action_next_hand(self) -> None:
+        hands = review.hands_of(self.wb.obs)
+        if hands:
+            current = hands.index(self.selected_hand) if self.selected_hand in hands else -1
+            self.selected_hand = hands[(current + 1) % len(hands)]
+
+    def action_play_pause(self) -> None:
+        self.playing = not self.playing
+
+    def watch_playing(self, playing: bool) -> None:
+        if playing:
+            rate = min(self.wb.fps, 20.0)
+            self._timer = self.set_interval(1 / rate, self._tick)
+        elif self._timer is not None:
+            self._timer.stop()
+            self._timer = None
+        self.refresh_view()
+
+    def _tick(self) -> None:
+        if self.frame >= self.frame_count - 1:
+            self.playing = False
+        else:
+            self.frame += 1
+
+    # ------------------------------------------------------------------------------ corrections
+
+    def action_accept(self) -> None:
+        self.wb.correct(review.set_status(self.current()[1], SegmentStatus.ACCEPTED))
+
+    def action_reject(self) -> None:
+        self.wb.correct(review.set_status(self.current()[1], SegmentStatus.REJECTED))
+
+    def _hand_or_warn(self) -> str | None:
+        if self.selected_hand is None:
+            self.notify("No hand tracks in this session.", severity="warning")
+        return self.selected_hand
+
+    def action_change_action(self) -> None:
+        hand = self._hand_or_warn()
+        if hand is None:
+            return
+        index, seg = self.current()
+        assoc = review.associations_of(self.wb.analysis, index, seg)
+        action = review.actions_of(self.wb.analysis, seg, index).get(hand)
+        ranking = list(review.ranking_of(self.wb.analysis, seg, index, hand))
+        if not ranking:
+            ranking = self.wb.rank(review.segment_objects(assoc, action, hand))
+        ranked = dict(ranking)
+        options = [(verb, f"{verb:<10} {p:.3f}") for verb, p in ranking]
+        options += [(verb, f"{verb:<10} -") for verb in VERBS if verb not in ranked]
+        current = action.verb if action else None
+
+        def chosen(verb: str | None) -> None:
+            if verb:
+                self.wb.correct(review.set_verb(seg, hand, verb))
+
+        self.app.push_screen(PickerScreen(f"Action of {hand} in [{seg.start}, {seg.end})", options, current),
+                             chosen)
+
+    def action_change_object(self) -> None:
+        hand = self._hand_or_warn()
+        obs = self.wb.obs
+        if hand is None or obs is None:
+            return
+        index, seg = self.current()
+        near = review.objects_near_hand(obs, hand, self.frame, seg)
+        options = [(name, f"{name:<16} {d:6.0f} px") for name, d in near] + [(review.NOTHING, "(nothing)")]
+        assoc = review.associations_of(self.wb.analysis, index, seg)
+        current = assoc.hand_object.get(hand) if assoc else None
+
+        def chosen(name: str | None) -> None:
+            if name:
+                self.wb.correct(review.set_hand_object(seg, hand, None if name == review.NOTHING else name))
+
+        self.app.push_screen(PickerScreen(f"Object held by {hand} in [{seg.start}, {seg.end})", options, current),
+                             chosen)
+
+    def action_change_link(self) -> None:
+        hand = self._hand_or_warn()
+        obs = self.wb.obs
+        if hand is None or obs is None:
+            return
+        index, seg = self.current()
+        assoc = review.associations_of(self.wb.analysis, index, seg)
+        action = review.actions_of(self.wb.analysis, seg, index).get(hand)
+        held = (assoc.hand_object.get(hand) if assoc else None) or (action.held if action else None)
+        if not held:
+            self.notify(f"{hand} holds nothing here: set its object first (change object).", severity="warning")
+            return
+        near = review.link_candidates(obs, held, self.frame, seg)
+        options = [(name, f"{name:<16} {d:6.0f} px") for name, d in near] + [(review.NOTHING, "(nothing)")]
+        targets = assoc.object_object.get(held, ()) if assoc else ()
+
+        def chosen(name: str | None) -> None:
+            if name:
+                new = () if name == review.NOTHING else (name,)
+                self.wb.correct(review.set_object_object(seg, held, new))
+
+        self.app.push_screen(PickerScreen(f"What {held} acts on in [{seg.start}, {seg.end})", options,
+                                          targets[0] if targets else None), chosen)
+
+    def action_split(self) -> None:
+        _, seg = self.current()
+        if self.frame <= seg.start:
+            self.notify("Move the cursor inside the segment to split it.", severity="warning")
+            return
+        self.wb.correct(review.split(self.frame))
+
+    def action_merge(self) -> None:
+        segs = self.segments()
+        index = review.segment_index(segs, self.frame)
+        if index + 1 >= len(segs):
+            self.notify("The last segment has no next segment to merge with.", severity="warning")
+            return
+        self.wb.correct(review.merge(segs[index + 1].start))
+
+    def action_undo(self) -> None:
+        self.wb.undo()
+
+    def action_redo(self) -> None:
+        self.wb.redo()
+
+    # ---------------------------------------------------------------------------------- screens
+
+    def action_plan(self) -> None:
+        self.wb.open_plan()
+
+    def action_run(self) -> None:
+        self.wb.open_runs(start=True)
+
+    def action_runs(self) -> None:
+        self.wb.open_runs(start=False)
+
+    def action_help(self) -> None:
+        self.wb.open_help()
+
+    async def action_quit(self) -> None:
+        self.app.exit()

@@ -1,0 +1,161 @@
+"""The current video frame with boxes, labels, hand markers and links, drawn in half-blocks.
+
+The view never decodes on the UI thread: a cached frame is painted at once; a missing one is requested from a
+decode worker (the previous picture stays until it arrives), and a prefetch worker keeps the frames ahead of
+the cursor (behind it, when stepping back) in the cache.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from textual import work
+from textual.geometry import Size
+from textual.strip import Strip
+from textual.widget import Widget
+from textual.worker import get_current_worker
+
+from wecook_tui.frames import Canvas, FrameSource, Label, Overlay, blank, draw, fit, to_strips
+from wecook_tui.messages import FrameDecoded
+
+PREFETCH = 48
+"""Frames decoded ahead of the cursor."""
+
+
+class FrameView(Widget):
+    """Shows frame ``index`` of ``source`` with ``overlay`` on top."""
+
+    DEFAULT_CSS = """
+    FrameView { height: 1fr; min-height: 6; }
+    """
+
+    def __init__(self, *, id: str | None = None) -> None:
+        super().__init__(id=id)
+        self.source: FrameSource | None = None
+        self.video_size: tuple[int, int] = (0, 0)
+        """Pixels of the video that overlay coordinates refer to."""
+        self.index = 0
+        """The frame the cursor is on."""
+        self.shown: int | None = None
+        """The frame whose picture is on screen (lags ``index`` while decoding)."""
+        self.overlay = Overlay()
+        self.message: str | None = None
+        """Printed over the picture when frames cannot be shown (missing or corrupt video)."""
+        self._strips: list[Strip] = []
+        self._image: np.ndarray | None = None
+        self._direction = 1
+        self._prefetch_until: int | None = None
+        self.painted: tuple[int, float] | None = None
+        """(frame, perf_counter) of the last repaint of the whole picture: the benchmark reads it."""
+
+    # --------------------------------------------------------------------------------- public
+
+    def set_source(self, source: FrameSource | None, video_size: tuple[int, int]) -> None:
+        self.source = source
+        self.video_size = video_size
+        self.message = source.facts.error if source is not None else None
+        self._resize_source()
+        self.show(self.index, self.overlay)
+
+    def show(self, index: int, overlay: Overlay) -> None:
+        """Move to frame ``index``: paint now if cached, else ask a worker and keep the old picture."""
+        self._direction = 1 if index >= self.index else -1
+        self.index = index
+        self.overlay = overlay
+        source = self.source
+        if source is None or not source.ok or not self.size.width:
+            self._image = None
+            self._paint()
+            return
+        frame = source.cached(index)
+        if frame is not None:
+            self._image = frame
+            self.shown = index
+            self._paint()
+        else:
+            if self._image is not None:
+                self._paint()  # new overlay on the old picture while the frame decodes
+            self._decode(index)
+        self._keep_ahead(index)
+
+    # -------------------------------------------------------------------------------- workers
+
+    @work(thread=True, exclusive=True, group="decode", exit_on_error=False)
+    def _decode(self, index: int) -> None:
+        source = self.source
+        if source is None:
+            return
+        frame = source.decode(index)
+        self.post_message(FrameDecoded(index, frame is not None))
+
+    @work(thread=True, exclusive=True, group="prefetch", exit_on_error=False)
+    def _prefetch(self, start: int, stop: int) -> None:
+        worker = get_current_worker()
+        if self.source is not None:
+            self.source.prefetch(start, stop, cancelled=lambda: worker.is_cancelled)
+
+    def _keep_ahead(self, index: int) -> None:
+        source = self.source
+        if source is None or not source.ok:
+            return
+        if self._direction > 0:
+            probe, start, stop = index + PREFETCH // 3, index + 1, index + PREFETCH
+        else:
+            probe, start, stop = index - PREFETCH // 3, index - PREFETCH, index
+        probe = max(0, probe)
+        if source.cached(probe) is None and self._prefetch_until != stop:
+            self._prefetch_until = stop
+            self._prefetch(start, stop)
+
+    def on_frame_decoded(self, message: FrameDecoded) -> None:
+        message.stop()
+        if message.index != self.index or self.source is None:
+            return
+        frame = self.source.cached(message.index)
+        if frame is None:
+            self.message = f"frame {message.index} does not decode"
+            self._image = None
+        else:
+            self.message = self.source.facts.error
+            self._image = frame
+            self.shown = message.index
+        self._paint()
+
+    # ------------------------------------------------------------------------------- painting
+
+    def _resize_source(self) -> None:
+        width, height = fit(self.video_size, (self.size.width, self.size.height))
+        if self.source is not None:
+            self.source.set_size(width, height)
+        self._image = None
+
+    def on_resize(self) -> None:
+        self._resize_source()
+        self.show(self.index, self.overlay)
+
+    def _paint(self) -> None:
+        width, height = fit(self.video_size, (self.size.width, self.size.height))
+        image = self._image
+        if image is None or image.shape[1] != width or image.shape[0] != height:
+            image = blank(width, height)
+        canvas: Canvas = draw(image, self.overlay, self.video_size)
+        if self.message:
+            canvas.labels.append(Label(1, 0, self.message[: max(0, width - 2)], (255, 200, 80)))
+        self._strips = to_strips(canvas)
+        self.refresh()
+
+    def get_content_width(self, container: Size, viewport: Size) -> int:
+        return container.width
+
+    def render_line(self, y: int) -> Strip:
+        strips = self._strips
+        width = self.size.width
+        if y >= len(strips):
+            return Strip.blank(width)
+        strip = strips[y]
+        pad = max(0, (width - strip.cell_length) // 2)
+        line = Strip.join([Strip.blank(pad), strip]) if pad else strip
+        if y == len(strips) - 1:
+            self.painted = (self.shown if self.shown is not None else -1, time.perf_counter())
+        return line.crop_extend(0, width, None)
