@@ -12,6 +12,7 @@ from wecook_core.errors import InputError
 COMMAND_MODULES: tuple[str, ...] = (
     "evaluate",
     "knowledge",
+    "workbench",
 )
 """Modules of `wecook_tui.commands`, in the order their commands are listed by `wecook --help`."""
 
