@@ -11,6 +11,7 @@ from wecook_core.errors import InputError
 
 COMMAND_MODULES: tuple[str, ...] = (
     "evaluate",
+    "execute",
     "knowledge",
     "workbench",
 )

@@ -1,0 +1,35 @@
+"""Exporting a session's plan: analyse the session (with its corrections) and lay the graph out as a plan."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from wecook_core.plan import DEFAULT_TABLE, Plan, Table, plan_from_graph, validate, write_plan
+
+
+@dataclass(frozen=True)
+class Exported:
+    plan: Plan
+    path: Path
+    """Where the plan was written."""
+    warnings: tuple[str, ...] = ()
+    """The session's warnings (changed inputs, torn journal lines), to show the user."""
+
+
+def export_session_plan(session_path: str | Path, out: str | Path | None = None, *,
+                        table: Table = DEFAULT_TABLE) -> Exported:
+    """Analyse the session at ``session_path`` and write its plan to ``out`` (default
+    ``<session>/plans/plan.yaml``). Unreadable inputs or an invalid plan raise :class:`InputError`."""
+    from wecook_core.pipeline import analyze
+    from wecook_core.recognize import load_knowledge
+    from wecook_core.session import open_session
+
+    session = open_session(session_path)
+    obs = session.load_observations()
+    analysis = analyze(obs, load_knowledge(), session.params, session.corrections)
+    plan = plan_from_graph(analysis.graph, obs, table=table)
+    path = Path(out) if out is not None else session.plans_dir / "plan.yaml"
+    validate(plan, path)
+    write_plan(plan, path)
+    return Exported(plan, path, tuple(session.warnings))

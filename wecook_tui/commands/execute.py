@@ -1,0 +1,308 @@
+"""`wecook export`, `wecook execute`, `wecook runs check` and `wecook runs recover`: plans and their runs.
+
+- ``wecook export NAME [-o plan.yaml] [--root DIR]``: analyse session NAME (with its corrections) and write
+  its plan, by default to ``sessions/NAME/plans/plan.yaml``.
+- ``wecook execute PLAN [--record FILE.mcap | --no-record] [--seed N] [--realtime]``: validate the plan (errors
+  before anything runs, exit 2), run it headless with progress per action, record it (default
+  ``runs/<plan>-<time>.mcap``: the session's ``runs/`` when the plan is in a session's ``plans/``, else beside
+  the plan), print a table of every action; exit 0 only if every action succeeded, else 1.
+- ``wecook runs check FILE.mcap``: exit 0 when the recording is sound, else list the problems, exit 1.
+- ``wecook runs recover FILE.mcap [-o OUT.mcap]``: rewrite the file of a killed run as a complete one.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as dt
+import sys
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
+
+if TYPE_CHECKING:
+    from rich.console import Console
+
+    from wecook_core.execution.observer import FrameInfo, Quat, RunEvent, Vec3
+    from wecook_core.plan import Plan
+
+
+def register(sub: Any) -> None:
+    export = sub.add_parser("export", help="write a session's robot plan (YAML)",
+                            description="Analyse a session with its corrections and write its plan "
+                                        "(wecook_plan: 1).")
+    export.add_argument("name", help="session name")
+    export.add_argument("-o", "--out", type=Path, help="plan file (default: sessions/NAME/plans/plan.yaml)")
+    export.add_argument("--root", type=Path, help="where sessions live (default: $WECOOK_SESSIONS or ./sessions)")
+    export.set_defaults(func=run_export)
+
+    execute = sub.add_parser("execute", help="run a plan with two simulated arms, recorded as MCAP",
+                             description="Validate a plan, run it headless in PyBullet and record the run.")
+    execute.add_argument("plan", type=Path, help="plan file (YAML)")
+    record = execute.add_mutually_exclusive_group()
+    record.add_argument("--record", type=Path, metavar="FILE.mcap",
+                        help="recording (default: runs/<plan>-<time>.mcap beside the plan or in its session)")
+    record.add_argument("--no-record", action="store_true", help="do not record the run")
+    execute.add_argument("--seed", type=int, default=0, help="seed of the run (same seed, same run)")
+    execute.add_argument("--realtime", action="store_true", help="pace the simulation at real time")
+    execute.set_defaults(func=run_execute)
+
+    runs = sub.add_parser("runs", help="check or recover run recordings (MCAP)",
+                          description="Check a run's recording, or recover the recording of a killed run.")
+    runs_sub = runs.add_subparsers(dest="runs_command", metavar="COMMAND", required=True)
+    check = runs_sub.add_parser("check", help="validate a recording (CRCs, summary, topics, events)")
+    check.add_argument("file", type=Path, help="recording (.mcap)")
+    check.set_defaults(func=run_check)
+    recover = runs_sub.add_parser("recover", help="rewrite the recording of a killed run as a complete file")
+    recover.add_argument("file", type=Path, help="recording (.mcap)")
+    recover.add_argument("-o", "--out", type=Path, help="output (default: FILE with .recovered.mcap)")
+    recover.set_defaults(func=run_recover)
+
+
+# ---------------------------------------------------------------------------------------------- export
+
+
+def run_export(args: argparse.Namespace) -> int:
+    from wecook_core.export import export_session_plan
+    from wecook_core.session import check_name, sessions_root
+
+    session = sessions_root(args.root) / check_name(args.name)
+    exported = export_session_plan(session, args.out)
+    for warning in exported.warnings:
+        print(f"wecook: warning: {warning}", file=sys.stderr)
+    plan = exported.plan
+    print(f"wrote {exported.path}: {len(plan.actions)} actions, {len(plan.agents)} arms, "
+          f"{len(plan.scene.objects)} objects")
+    return 0
+
+
+# --------------------------------------------------------------------------------------------- execute
+
+
+def default_record_path(plan_path: Path, now: dt.datetime | None = None) -> Path:
+    """``runs/<plan-stem>-<time>.mcap``: in the session's ``runs/`` when the plan is in a session's ``plans/``,
+    else in ``runs/`` beside the plan."""
+    stamp = (now or dt.datetime.now()).strftime("%Y%m%d-%H%M%S")
+    folder = plan_path.resolve().parent
+    if folder.name == "plans" and (folder.parent / "session.yaml").is_file():
+        folder = folder.parent
+    return folder / "runs" / f"{plan_path.stem}-{stamp}.mcap"
+
+
+@dataclass
+class ActionRow:
+    id: str
+    agents: str
+    verb: str
+    status: str = "not run"
+    """``done``, ``failed``, ``running`` or ``not run``."""
+    reason: str = ""
+
+
+class Progress:
+    """A RunObserver showing the run on the terminal: a rich progress bar with each arm's current step on a
+    terminal, one plain line per action event otherwise. Keeps the per-action table."""
+
+    def __init__(self, plan: Plan, console: Console, *, live: bool) -> None:
+        self.rows = {a.id: ActionRow(a.id, ",".join(a.pids), a.verb) for a in plan.actions}
+        self.console = console
+        self.live = live
+        self.sim_time = 0.0
+        self._bar: Any = None
+        self._overall: Any = None
+        self._agents: dict[str, Any] = {}
+        if live:
+            from rich.progress import BarColumn, MofNCompleteColumn, TextColumn, TimeElapsedColumn
+            from rich.progress import Progress as RichProgress
+
+            self._bar = RichProgress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                                     TimeElapsedColumn(), console=console, transient=False)
+            self._overall = self._bar.add_task("actions", total=len(self.rows))
+            for pid in sorted({a.pids[0] for a in plan.actions} | {p for a in plan.actions for p in a.pids}):
+                self._agents[pid] = self._bar.add_task(f"{pid}: waiting", total=None)
+
+    def _say(self, text: str) -> None:
+        if self.live:
+            self.console.print(text)
+        else:
+            print(text, flush=True)
+
+    def on_start(self, frames: Sequence[FrameInfo], plan_yaml: str, seed: int,
+                 metadata: Mapping[str, str]) -> None:
+        if self._bar is not None:
+            self._bar.start()
+        else:
+            self._say(f"run started: {len(self.rows)} actions, seed {seed}")
+
+    def on_state(self, t: float, poses: Mapping[str, tuple[Vec3, Quat]],
+                 joints: Mapping[str, tuple[Sequence[str], Sequence[float]]]) -> None:
+        self.sim_time = t
+
+    def on_event(self, t: float, event: RunEvent) -> None:
+        self.sim_time = max(self.sim_time, t)
+        row = self.rows.get(event.action_id or "")
+        agent = event.agent or (row.agents.split(",")[0] if row else None)
+        if event.kind == "action_start" and row is not None:
+            row.status = "running"
+            self._agent(agent, f"{row.id} {row.verb}")
+            if not self.live:
+                self._say(f"[{t:7.2f}s] {row.id} {row.agents} {row.verb}: started")
+        elif event.kind in ("action_end", "action_failed") and row is not None:
+            row.status = "done" if event.kind == "action_end" else "failed"
+            row.reason = event.detail if event.kind == "action_failed" else ""
+            mark = "done" if row.status == "done" else f"FAILED: {row.reason or 'no reason given'}"
+            self._say(f"[{t:7.2f}s] {row.id} {row.agents} {row.verb}: {mark}")
+            if self._overall is not None:
+                self._bar.advance(self._overall)
+            self._agent(agent, "idle")
+        elif event.kind in ("primitive_start", "retry", "wait") and row is not None:
+            what = event.primitive or event.kind
+            if event.kind == "retry":
+                what = f"{event.primitive or ''} retry {event.detail}".strip()
+            elif event.kind == "wait":
+                what = f"waiting: {event.detail}"
+            self._agent(agent, f"{row.id} {row.verb}: {what}")
+
+    def _agent(self, agent: str | None, text: str) -> None:
+        if self._bar is not None and agent in self._agents:
+            self._bar.update(self._agents[agent], description=f"{agent}: {text}")
+
+    def on_log(self, t: float, level: Literal["debug", "info", "warning", "error"], message: str) -> None:
+        if level in ("warning", "error"):
+            self._say(f"[{t:7.2f}s] {level}: {message}")
+
+    def on_image(self, t: float, jpeg: bytes, width: int, height: int) -> None:
+        pass
+
+    def on_end(self, t: float) -> None:
+        self.sim_time = max(self.sim_time, t)
+        self.stop()
+
+    def stop(self) -> None:
+        if self._bar is not None:
+            self._bar.stop()
+            self._bar = None
+
+
+def merge_result(rows: dict[str, ActionRow], result: Any) -> None:
+    """Take statuses and reasons from the executor's result where it gives them (it knows why an action was
+    never run, e.g. a failed predecessor). Accepts ``result.actions`` as a mapping id -> item or a sequence of
+    items with ``id``/``action_id``, each with ``status`` (or ``ok``/``done``) and ``reason``."""
+    items = getattr(result, "actions", None)
+    if items is None:
+        return
+    pairs = items.items() if isinstance(items, Mapping) else ((getattr(i, "id", None) or getattr(i, "action_id", None),
+                                                                i) for i in items)
+    for aid, item in pairs:
+        row = rows.get(str(aid))
+        if row is None:
+            continue
+        status = getattr(item, "status", None)
+        if status is None:
+            ok = getattr(item, "ok", getattr(item, "done", None))
+            status = None if ok is None else ("done" if ok else "failed")
+        if status is not None:
+            row.status = str(getattr(status, "value", status))
+        reason = getattr(item, "reason", None) or getattr(item, "detail", None)
+        if reason:
+            row.reason = str(reason)
+
+
+def summary_table(rows: Sequence[ActionRow]) -> Any:
+    from rich.table import Table
+
+    table = Table(title="run summary")
+    for column in ("action", "agent", "verb", "status", "reason"):
+        table.add_column(column)
+    style = {"done": "green", "failed": "red"}
+    for row in rows:
+        table.add_row(row.id, row.agents, row.verb, f"[{style.get(row.status, 'yellow')}]{row.status}[/]",
+                      row.reason)
+    return table
+
+
+def run_execute(args: argparse.Namespace) -> int:
+    from rich.console import Console
+
+    from wecook_core.errors import InputError
+    from wecook_core.execution.fanout import FanOut
+    from wecook_core.execution.observer import RunEvent
+    from wecook_core.plan import read_plan
+
+    plan = read_plan(args.plan)  # validates: a bad plan is an InputError before anything runs
+    try:
+        from wecook_core.execution.executor import execute_plan
+    except ImportError as error:
+        raise InputError(None, f"the executor is not available ({error})") from None
+    console = Console()
+    live = console.is_terminal
+    progress = Progress(plan, console, live=live)
+    observers: list[Any] = [progress]
+    recorder = None
+    record_path: Path | None = None
+    if not args.no_record:
+        from wecook_core.execution.recorder import McapRecorder
+
+        record_path = args.record or default_record_path(args.plan)
+        recorder = McapRecorder(record_path)
+        observers.insert(0, recorder)
+    clock = time.perf_counter()
+    result = None
+    try:
+        result = execute_plan(plan, FanOut(*observers), seed=args.seed, realtime=args.realtime)
+    except KeyboardInterrupt:
+        if recorder is not None:
+            recorder.on_event(progress.sim_time, RunEvent("run_end", detail="interrupted by the user"))
+        raise
+    finally:
+        progress.stop()
+        if recorder is not None:
+            recorder.close()
+            console.print(f"recording: {record_path}")
+    wall = time.perf_counter() - clock
+    rows = list(progress.rows.values())
+    merge_result(progress.rows, result)
+    if live:
+        console.print(summary_table(rows))
+    else:
+        for row in rows:
+            print(f"{row.id}\t{row.agents}\t{row.verb}\t{row.status}\t{row.reason}")
+    done = sum(r.status == "done" for r in rows)
+    speed = f", {progress.sim_time / wall:.1f}x real time" if wall > 0 and progress.sim_time > 0 else ""
+    print(f"{done}/{len(rows)} actions done in {progress.sim_time:.1f} s simulated, {wall:.1f} s wall{speed}")
+    return 0 if done == len(rows) else 1
+
+
+# ------------------------------------------------------------------------------------------------ runs
+
+
+def run_check(args: argparse.Namespace) -> int:
+    from wecook_core.execution.runs import check_recording
+
+    report = check_recording(args.file)
+    counts = ", ".join(f"{topic} {n}" for topic, n in sorted(report.messages.items()))
+    statuses = [s.split(":")[0] for s in report.actions.values()]
+    actions = ", ".join(f"{statuses.count(s)} {s}" for s in ("done", "failed", "unfinished") if s in statuses)
+    print(f"{report.path}: {sum(report.messages.values())} messages ({counts}); {report.duration_s:.1f} s; "
+          f"actions: {actions or 'none'}")
+    if report.ok:
+        print("ok")
+        return 0
+    for problem in report.problems:
+        print(f"problem: {problem}")
+    return 1
+
+
+def run_recover(args: argparse.Namespace) -> int:
+    from wecook_core.execution.runs import recover_recording
+
+    out = args.out or args.file.with_name(args.file.stem + ".recovered.mcap")
+    report = recover_recording(args.file, out)
+    state = "the run had finished; nothing was lost" if report.complete else \
+        f"the run had not finished; read {report.bytes_read} of {report.bytes_total} bytes ({report.stopped})"
+    print(f"wrote {report.out}: {report.total} messages, {report.attachments} attachments, "
+          f"{report.metadata} metadata records; {state}")
+    if report.closed_actions:
+        print(f"marked as interrupted: {', '.join(report.closed_actions)}")
+    return 0
