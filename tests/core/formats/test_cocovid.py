@@ -1,0 +1,120 @@
+from __future__ import annotations
+
+import copy
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from wecook_core.errors import InputError
+from wecook_core.formats.cocovid import read_cocovid
+
+DATA: dict[str, Any] = {
+    "videos": [{"id": 1, "name": "cooking/take1.mp4"}, {"id": 2, "name": "take2"}],
+    "images": [
+        {"id": 10, "video_id": 1, "frame_id": 0, "file_name": "a/0.jpg"},
+        {"id": 11, "video_id": 1, "frame_id": 1, "file_name": "a/1.jpg"},
+        {"id": 20, "video_id": 2, "frame_id": 0, "file_name": "b/0.jpg"},
+    ],
+    "annotations": [
+        {"id": 1, "image_id": 10, "category_id": 3, "instance_id": 5, "bbox": [10, 20, 30, 40]},
+        {"id": 2, "image_id": 11, "category_id": 3, "instance_id": 5, "bbox": [11, 20, 30, 40]},
+        {"id": 3, "image_id": 11, "category_id": 4, "instance_id": 6, "bbox": [0, 0, 5, 5]},
+        {"id": 4, "image_id": 20, "category_id": 4, "instance_id": 9, "bbox": [0, 0, 5, 5]},
+    ],
+    "categories": [{"id": 3, "name": "knife"}, {"id": 4, "name": "cutting board"}],
+}
+
+
+def write(tmp_path: Path, data: Any) -> Path:
+    path = tmp_path / "ann.json"
+    path.write_text(json.dumps(data, indent=1))
+    return path
+
+
+def test_one_video_by_id_name_or_video_file_stem(tmp_path: Path) -> None:
+    path = write(tmp_path, DATA)
+    knife, board = read_cocovid(path, video=1)
+    assert (knife.track_id, knife.label, knife.frames.tolist()) == (5, "knife", [0, 1])
+    assert knife.boxes.tolist() == [[10, 20, 40, 60], [11, 20, 41, 60]]
+    assert (board.name, board.frames.tolist()) == ("cutting_board", [1])
+    assert [t.track_id for t in read_cocovid(path, video="take2")] == [9]
+    assert [t.track_id for t in read_cocovid(path, video_path="/videos/take1.mp4")] == [5, 6]
+
+
+def test_several_videos_need_a_choice(tmp_path: Path) -> None:
+    with pytest.raises(InputError, match=r"2 videos in the file; choose one of cooking/take1.mp4 \(id 1\), take2"):
+        read_cocovid(write(tmp_path, DATA))
+    with pytest.raises(InputError, match="no video 'take3'"):
+        read_cocovid(write(tmp_path, DATA), video="take3")
+
+
+def test_track_id_and_frame_index_spellings_and_no_videos(tmp_path: Path) -> None:
+    data = copy.deepcopy(DATA)
+    del data["videos"]
+    for image in data["images"]:
+        image["frame_index"] = image.pop("frame_id")
+    for annotation in data["annotations"]:
+        annotation["track_id"] = annotation.pop("instance_id")
+    data["annotations"].pop()  # the other video's box would collide in frame 0 with nothing: drop it anyway
+    assert [t.track_id for t in read_cocovid(write(tmp_path, data))] == [5, 6]
+
+
+def test_crowd_annotations_are_skipped(tmp_path: Path) -> None:
+    data = copy.deepcopy(DATA)
+    data["annotations"][2]["iscrowd"] = 1
+    warnings: list[str] = []
+    assert [t.track_id for t in read_cocovid(write(tmp_path, data), video=1, warn=warnings.append)] == [5]
+    assert "1 crowd" in warnings[0]
+
+
+def broken(path: tuple[Any, ...], value: Any) -> dict[str, Any]:
+    data = copy.deepcopy(DATA)
+    target: Any = data
+    for key in path[:-1]:
+        target = target[key]
+    if value is KeyError:
+        del target[path[-1]]
+    else:
+        target[path[-1]] = value
+    return data
+
+
+@pytest.mark.parametrize(
+    ("data", "message"),
+    [
+        (broken(("annotations", 1, "bbox"), [1, 2, 3]), r"annotations\[1\]: bbox must be \[x, y, width, height\]"),
+        (broken(("annotations", 1, "bbox"), [1, 2, -3, 4]), r"annotations\[1\]: box .* negative width"),
+        (broken(("annotations", 1, "bbox"), [1, 2, "a", 4]), r"annotations\[1\]: bbox must be a number"),
+        (broken(("annotations", 1, "instance_id"), KeyError), r"annotations\[1\]: annotation has no instance_id"),
+        (broken(("annotations", 1, "category_id"), 99), r"annotations\[1\]: category_id 99 is not among"),
+        (broken(("annotations", 1, "image_id"), 99), r"annotations\[1\]: image_id 99 is not among"),
+        (broken(("annotations", 1), "x"), r"annotations\[1\]: expected a JSON object"),
+        (broken(("images", 1, "frame_id"), KeyError), r"images\[1\]: image has no frame_id"),
+        (broken(("images", 1, "frame_id"), -2), r"images\[1\]: frame_id -2 is negative"),
+        (broken(("images", 1, "id"), 10), r"images\[1\]: image id 10 is used twice"),
+        (broken(("categories", 0, "name"), ""), r"categories\[0\]: category has no name"),
+        (broken(("annotations",), KeyError), "no 'annotations' list"),
+        (broken(("annotations",), {}), "'annotations' must be a list"),
+        (broken(("annotations",), []), "no boxes"),
+        (broken(("annotations", 1, "instance_id"), 6), "track 6 is labelled both"),
+        ([1, 2], "expected a JSON object"),
+    ],
+)
+def test_bad_content_names_the_place(tmp_path: Path, data: Any, message: str) -> None:
+    with pytest.raises(InputError, match=message) as error:
+        read_cocovid(write(tmp_path, data), video=1)
+    assert str(tmp_path / "ann.json") in str(error.value)
+
+
+def test_malformed_and_empty_json(tmp_path: Path) -> None:
+    path = tmp_path / "ann.json"
+    path.write_text('{\n "videos": [\n  {"id": 1,,}\n ]\n}\n')
+    with pytest.raises(InputError, match=r"ann.json:line 3, column 12: malformed JSON"):
+        read_cocovid(path)
+    path.write_text("  \n")
+    with pytest.raises(InputError, match="empty file"):
+        read_cocovid(path)
+    with pytest.raises(InputError, match="not found"):
+        read_cocovid(tmp_path / "nope.json")

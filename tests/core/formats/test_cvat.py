@@ -1,0 +1,122 @@
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from wecook_core.errors import InputError
+from wecook_core.formats.cvat import read_cvat
+
+GOOD = """<?xml version="1.0" encoding="utf-8"?>
+<annotations>
+  <version>1.1</version>
+  <meta><task><original_size><width>640</width><height>480</height></original_size></task></meta>
+  <track id="0" label="Chopping board" source="manual">
+    <box frame="0" outside="0" occluded="0" keyframe="1" xtl="10" ytl="20" xbr="110" ybr="220" z_order="0"></box>
+    <box frame="1" outside="0" occluded="1" keyframe="0" xtl="12" ytl="20" xbr="112" ybr="220" z_order="0"></box>
+    <box frame="2" outside="1" occluded="0" keyframe="1" xtl="12" ytl="20" xbr="112" ybr="220" z_order="0"></box>
+    <box frame="5" outside="0" occluded="0" keyframe="1" xtl="0" ytl="0" xbr="10" ybr="10" z_order="0"></box>
+  </track>
+  <track id="3" label="bowl" source="manual">
+    <box frame="2" outside="0" occluded="0" keyframe="1" xtl="0" ytl="0" xbr="40" ybr="40" z_order="0">
+      <attribute name="state">full</attribute>
+    </box>
+    <box frame="6" outside="0" occluded="0" keyframe="1" xtl="40" ytl="0" xbr="80" ybr="40" z_order="0"></box>
+  </track>
+  <track id="4" label="bowl" source="manual">
+    <box frame="0" outside="0" occluded="0" keyframe="1" xtl="1" ytl="1" xbr="2" ybr="2"/>
+  </track>
+</annotations>
+"""
+
+
+def write(tmp_path: Path, text: str) -> Path:
+    path = tmp_path / "boxes.xml"
+    path.write_text(text)
+    return path
+
+
+def test_tracks_boxes_outside_and_interpolation(tmp_path: Path) -> None:
+    tracks = read_cvat(write(tmp_path, GOOD))
+    board, bowl, bowl2 = tracks
+    assert (board.track_id, board.label, board.name) == (0, "Chopping board", "chopping_board")
+    assert board.frames.tolist() == [0, 1, 5]  # frames 2-4 are outside
+    assert board.boxes[1].tolist() == [12, 20, 112, 220]
+    assert (bowl.name, bowl2.name) == ("bowl", "bowl_2")
+    # keyframes 2 and 6 interpolate linearly in between
+    assert bowl.frames.tolist() == [2, 3, 4, 5, 6]
+    np.testing.assert_allclose(bowl.boxes[:, 0], [0, 10, 20, 30, 40])
+    assert bowl.boxes.dtype == np.float64 and bowl.frames.dtype == np.int64
+
+
+def test_frame_size_must_match_the_annotation(tmp_path: Path) -> None:
+    path = write(tmp_path, GOOD)
+    assert len(read_cvat(path, frame_size=(640, 480))) == 3
+    with pytest.raises(InputError, match="annotated on 640x480 frames but the video is 1280x720"):
+        read_cvat(path, frame_size=(1280, 720))
+
+
+def test_non_box_tracks_are_skipped_with_a_warning(tmp_path: Path) -> None:
+    text = GOOD.replace("</annotations>", """<track id="9" label="spill"><polygon frame="0" outside="0"
+     points="1,1;2,2;3,1"/></track></annotations>""")
+    warnings: list[str] = []
+    tracks = read_cvat(write(tmp_path, text), warn=warnings.append)
+    assert len(tracks) == 3
+    assert len(warnings) == 1 and "track 9" in warnings[0] and "polygon" in warnings[0]
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message", "line"),
+    [
+        ('xtl="12" ytl="20" xbr="112" ybr="220" z_order="0"></box>\n    <box frame="2"',
+         'xtl="12" ytl="20" xbr="1" ybr="220" z_order="0"></box>\n    <box frame="2"', "negative width", 7),
+        ('<box frame="1"', '<box frame="one"', "frame must be a number", 7),
+        ('<box frame="1" outside="0" occluded="1" keyframe="0" xtl="12"',
+         '<box frame="1" outside="0" occluded="1" keyframe="0" xtl="nan"', "finite", 7),
+        ('<box frame="1" outside="0"', '<box frame="1" outside="maybe"', "outside must be", 7),
+        ('<box frame="1" outside="0" occluded="1" keyframe="0" xtl="12" ytl="20" ',
+         '<box frame="1" outside="0" occluded="1" keyframe="0" ytl="20" ', "missing xtl", 7),
+        ('<box frame="5"', '<box frame="1"', "increasing frame order", 9),
+        ('<track id="3" label="bowl"', '<track id="3" label=""', "no label", 11),
+        ('<track id="4" label="bowl"', '<track id="0" label="bowl"', "used twice", 17),
+    ],
+)
+def test_bad_elements_name_their_line(tmp_path: Path, old: str, new: str, message: str, line: int) -> None:
+    assert old in GOOD
+    text = GOOD.replace(old, new, 1)
+    with pytest.raises(InputError, match=message) as error:
+        read_cvat(write(tmp_path, text))
+    assert f"line {line}:" in str(error.value)
+    assert str(tmp_path / "boxes.xml") in str(error.value)
+
+
+def test_malformed_xml_gives_line_and_column(tmp_path: Path) -> None:
+    text = GOOD.replace('<box frame="5"', '<box frame="5" <oops', 1)
+    with pytest.raises(InputError, match=r"line 9, column 20: malformed XML") as error:
+        read_cvat(write(tmp_path, text))
+    assert "\n" not in str(error.value)
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("", "empty file"),
+        ("<tasks></tasks>", "root element is <tasks>"),
+        ("<annotations><image id='0' name='a.jpg'><box label='x' xtl='0' ytl='0' xbr='1' ybr='1'/></image>"
+         "</annotations>", "CVAT for images"),
+        ("<annotations><track id='0' label='x'><box frame='0' outside='1' xtl='0' ytl='0' xbr='1' ybr='1'/>"
+         "</track></annotations>", "no boxes"),
+        ("<annotations><track label='x'></track></annotations>", "no id"),
+    ],
+)
+def test_bad_files(tmp_path: Path, text: str, message: str) -> None:
+    with pytest.raises(InputError, match=message):
+        read_cvat(write(tmp_path, text))
+
+
+def test_missing_file_and_folder(tmp_path: Path) -> None:
+    with pytest.raises(InputError, match="not found"):
+        read_cvat(tmp_path / "nope.xml")
+    with pytest.raises(InputError, match="directory"):
+        read_cvat(tmp_path)

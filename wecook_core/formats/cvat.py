@@ -1,0 +1,194 @@
+"""CVAT "for video 1.1" XML: ``<track id label>`` elements holding ``<box frame xtl ytl xbr ybr outside ...>``.
+
+Semantics follow CVAT's interpolation mode: a box holds from its frame until the track's next box, with the
+coordinates interpolated linearly in between (CVAT exports usually list every frame, so there is nothing to
+fill); ``outside="1"`` means the object is absent from that frame on. Nothing is extended past a track's last
+box. Tracks of other shapes (polygons, points...) are skipped with a warning; a "CVAT for images" file (boxes
+under ``<image>``) is refused with a hint. Errors name the line of the element.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from xml.parsers import expat
+
+from wecook_core.errors import InputError
+from wecook_core.formats.fields import Box, Warn, check_box, ignore_warning, parse_float, parse_int
+from wecook_core.formats.tracks import object_tracks
+from wecook_core.model import ObjectTrack
+
+_OTHER_SHAPES = frozenset({"polygon", "polyline", "points", "cuboid", "ellipse", "mask", "skeleton", "tag"})
+
+
+@dataclass
+class _Box:
+    line: int
+    frame: int
+    box: Box
+    outside: bool
+
+
+@dataclass
+class _Track:
+    line: int
+    track_id: int
+    label: str
+    boxes: list[_Box] = field(default_factory=list)
+    other_shapes: set[str] = field(default_factory=set)
+
+
+class _Reader:
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.parser = expat.ParserCreate()
+        self.parser.StartElementHandler = self.start
+        self.parser.EndElementHandler = self.end
+        self.stack: list[str] = []
+        self.tracks: list[_Track] = []
+        self.current: _Track | None = None
+        self.images = 0
+        self.text_of: str | None = None
+        self.text: list[str] = []
+        self.size: dict[str, str] = {}
+        self.parser.CharacterDataHandler = self.characters
+
+    def place(self) -> str:
+        return f"line {self.parser.CurrentLineNumber}"
+
+    def start(self, name: str, attrs: dict[str, str]) -> None:
+        parent = self.stack[-1] if self.stack else None
+        self.stack.append(name)
+        if parent is None:
+            if name != "annotations":
+                raise InputError(self.path, f"not CVAT XML: the root element is <{name}>, expected <annotations>",
+                                 place=self.place())
+            return
+        if name == "image" and parent == "annotations":
+            self.images += 1
+        elif name == "track" and parent == "annotations":
+            self.start_track(attrs)
+        elif name == "box" and parent == "track":
+            self.add_box(attrs)
+        elif parent == "track" and name in _OTHER_SHAPES and self.current is not None:
+            self.current.other_shapes.add(name)
+        elif name in ("width", "height") and parent == "original_size":
+            self.text_of, self.text = name, []
+
+    def characters(self, data: str) -> None:
+        if self.text_of is not None:
+            self.text.append(data)
+
+    def end(self, name: str) -> None:
+        self.stack.pop()
+        if name == "track":
+            self.current = None
+        if self.text_of is not None and name == self.text_of:
+            self.size[name] = "".join(self.text).strip()
+            self.text_of = None
+
+    def start_track(self, attrs: dict[str, str]) -> None:
+        place = self.place()
+        if "id" not in attrs:
+            raise InputError(self.path, "<track> has no id attribute", place=place)
+        track_id = parse_int(self.path, place, "track id", attrs["id"])
+        label = attrs.get("label", "").strip()
+        if not label:
+            raise InputError(self.path, f"<track id={track_id}> has no label attribute", place=place)
+        for other in self.tracks:
+            if other.track_id == track_id:
+                raise InputError(self.path, f"track id {track_id} is used twice (first at line {other.line})",
+                                 place=place)
+        self.current = _Track(self.parser.CurrentLineNumber, track_id, label)
+        self.tracks.append(self.current)
+
+    def add_box(self, attrs: dict[str, str]) -> None:
+        assert self.current is not None
+        place = self.place()
+        frame = parse_int(self.path, place, "frame", attrs.get("frame"))
+        if frame < 0:
+            raise InputError(self.path, f"frame {frame} is negative", place=place)
+        x1, y1, x2, y2 = (parse_float(self.path, place, key, attrs.get(key)) for key in ("xtl", "ytl", "xbr", "ybr"))
+        outside = attrs.get("outside", "0").strip()
+        if outside not in ("0", "1"):
+            raise InputError(self.path, f'outside must be "0" or "1", got {outside!r}', place=place)
+        box = check_box(self.path, place, x1, y1, x2, y2)
+        boxes = self.current.boxes
+        if boxes and frame <= boxes[-1].frame:
+            raise InputError(
+                self.path,
+                f"track {self.current.track_id}: box for frame {frame} after one for frame {boxes[-1].frame} "
+                "(boxes must be in increasing frame order, one per frame)",
+                place=place,
+            )
+        boxes.append(_Box(self.parser.CurrentLineNumber, frame, box, outside == "1"))
+
+
+def read_cvat(
+    path: str | Path, *, frame_size: tuple[int, int] | None = None, warn: Warn = ignore_warning
+) -> tuple[ObjectTrack, ...]:
+    """Object tracks of a CVAT for video XML file.
+
+    ``frame_size`` (width, height) of the video, when given, must match the ``<original_size>`` the file was
+    annotated on (boxes of another resolution would land in the wrong place).
+    """
+    path = Path(path)
+    reader = _Reader(path)
+    try:
+        with path.open("rb") as handle:
+            reader.parser.ParseFile(handle)
+    except FileNotFoundError:
+        raise InputError(path, "file not found") from None
+    except IsADirectoryError:
+        raise InputError(path, "is a directory, expected a CVAT XML file") from None
+    except expat.ExpatError as error:
+        if error.code == expat.errors.codes[expat.errors.XML_ERROR_NO_ELEMENTS]:
+            raise InputError(path, "empty file: expected CVAT for video XML") from None
+        message = expat.ErrorString(error.code)
+        raise InputError(path, f"malformed XML ({message})", place=f"line {error.lineno}, column {error.offset + 1}"
+                         ) from None
+    if reader.images and not reader.tracks:
+        raise InputError(path, "this is CVAT for images XML (boxes under <image>); export the task as "
+                         "'CVAT for video 1.1' so boxes come in tracks")
+    _check_size(path, reader.size, frame_size)
+    rows: list[tuple[int, str, int, Box]] = []
+    for track in reader.tracks:
+        if track.other_shapes and not track.boxes:
+            warn(f"{path}:line {track.line}: track {track.track_id} ({track.label}) holds "
+                 f"{', '.join(sorted(track.other_shapes))}, not boxes; skipped")
+            continue
+        rows.extend((track.track_id, track.label, frame, box) for frame, box in _frames(track))
+    if not rows:
+        raise InputError(path, "no boxes: no <track> holds a <box> that is not outside")
+    return object_tracks(rows, path)
+
+
+def _frames(track: _Track) -> list[tuple[int, Box]]:
+    """Every frame where the track's object is present, interpolating between consecutive boxes."""
+    result: list[tuple[int, Box]] = []
+    for box, following in zip(track.boxes, [*track.boxes[1:], None], strict=True):
+        if box.outside:
+            continue
+        result.append((box.frame, box.box))
+        if following is None:
+            continue
+        span = following.frame - box.frame
+        for step in range(1, span):
+            result.append((box.frame + step, _lerp(box.box, following.box, step / span)))
+    return result
+
+
+def _lerp(a: Box, b: Box, t: float) -> Box:
+    return (a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2]), a[3] + t * (b[3] - a[3]))
+
+
+def _check_size(path: Path, size: dict[str, str], frame_size: tuple[int, int] | None) -> None:
+    if frame_size is None or "width" not in size or "height" not in size:
+        return
+    try:
+        annotated = (int(size["width"]), int(size["height"]))
+    except ValueError:
+        return
+    if annotated != tuple(frame_size):
+        raise InputError(path, f"annotated on {annotated[0]}x{annotated[1]} frames but the video is "
+                         f"{frame_size[0]}x{frame_size[1]}", place="<original_size>")

@@ -1,0 +1,137 @@
+"""Which importer reads a file: detection from the content (not the name), or a format the user forces.
+
+Objects: ``cvat`` (XML), ``mot`` (numeric comma-separated rows), ``cocovid`` (a JSON object), ``csv`` (wecook's
+native CSV with the header ``frame,track_id,label,x1,y1,x2,y2``). Hands: ``openpose`` (a folder of
+``*_keypoints.json``), ``csv`` (native, header ``frame,hand,x,y,x1,y1,x2,y2``).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from wecook_core.errors import InputError
+from wecook_core.formats.fields import Warn, ignore_warning
+from wecook_core.model import HandTrack, ObjectTrack, VideoInfo
+
+OBJECT_FORMATS: tuple[str, ...] = ("cvat", "mot", "cocovid", "csv")
+HAND_FORMATS: tuple[str, ...] = ("openpose", "csv")
+
+_MOT_ROW = re.compile(r"^\s*-?\d+(\.\d*)?\s*(,\s*-?[\d.eE+-]+\s*){5,}(,.*)?$")
+
+
+def _head(path: Path, what: str) -> str:
+    """The first few KB of ``path`` as text, stripped of a BOM and leading space."""
+    if not path.exists():
+        raise InputError(path, f"no such {what}")
+    try:
+        with path.open("rb") as handle:
+            data = handle.read(4096)
+    except OSError as error:
+        raise InputError(path, f"cannot read: {error.strerror}") from None
+    if not data.strip():
+        raise InputError(path, f"empty file: expected {what}")
+    return data.decode("utf-8", errors="replace").lstrip("\ufeff \t\r\n")
+
+
+def _first_line(text: str) -> str:
+    for line in text.splitlines():
+        if line.strip() and not line.lstrip().startswith("#"):
+            return line.strip()
+    return ""
+
+
+def detect_objects_format(path: str | Path) -> str:
+    """One of :data:`OBJECT_FORMATS`, from what the file holds."""
+    path = Path(path)
+    if path.is_dir():
+        raise InputError(path, "is a folder; object boxes come in one file (CVAT .xml, MOT .txt, COCO-VID .json "
+                         "or wecook .csv)")
+    head = _head(path, "an object box file")
+    if head.startswith("<"):
+        return "cvat"
+    if head.startswith(("{", "[")):
+        return "cocovid"
+    line = _first_line(head)
+    if line.replace(" ", "").lower().startswith("frame,track_id,label"):
+        return "csv"
+    if _MOT_ROW.match(line):
+        return "mot"
+    raise InputError(path, "unknown object box format: expected CVAT video XML, MOT text, COCO-VID JSON or the "
+                     "CSV header frame,track_id,label,x1,y1,x2,y2 (force one with --objects-format)",
+                     place="line 1")
+
+
+def detect_hands_format(path: str | Path) -> str:
+    """One of :data:`HAND_FORMATS`, from what the file or folder holds."""
+    path = Path(path)
+    if path.is_dir():
+        if next(path.glob("*_keypoints.json"), None) is None:
+            raise InputError(path, "folder without *_keypoints.json files: expected OpenPose JSON output")
+        return "openpose"
+    head = _head(path, "a hand track file")
+    if _first_line(head).replace(" ", "").lower().startswith("frame,hand"):
+        return "csv"
+    if head.startswith("{"):
+        raise InputError(path, "one JSON file: OpenPose output is a folder of *_keypoints.json files, give the "
+                         "folder")
+    raise InputError(path, "unknown hand format: expected an OpenPose JSON folder or the CSV header "
+                     "frame,hand,x,y,x1,y1,x2,y2 (force one with --hands-format)", place="line 1")
+
+
+def check_format(name: str, formats: tuple[str, ...], what: str) -> str:
+    if name not in formats:
+        raise InputError(None, f"unknown {what} format {name!r}; choose one of {', '.join(formats)}")
+    return name
+
+
+def read_objects(
+    path: str | Path,
+    format: str | None = None,
+    *,
+    labels: str | Path | None = None,
+    video: VideoInfo | None = None,
+    warn: Warn = ignore_warning,
+) -> tuple[tuple[ObjectTrack, ...], str]:
+    """Object tracks of ``path`` and the format they were read as (``format`` forces one).
+
+    ``labels`` is the MOT labels file; ``video`` lets CVAT check the annotated frame size and COCO-VID pick
+    the video by name.
+    """
+    path = Path(path)
+    chosen = check_format(format, OBJECT_FORMATS, "objects") if format else detect_objects_format(path)
+    if labels is not None and chosen != "mot":
+        warn(f"{labels}: a labels file only applies to MOT boxes; ignored for {chosen}")
+    if chosen == "cvat":
+        from wecook_core.formats.cvat import read_cvat
+
+        size = (video.width, video.height) if video is not None else None
+        return read_cvat(path, frame_size=size, warn=warn), chosen
+    if chosen == "mot":
+        from wecook_core.formats.mot import read_mot
+
+        return read_mot(path, labels, warn=warn), chosen
+    if chosen == "cocovid":
+        from wecook_core.formats.cocovid import read_cocovid
+
+        return read_cocovid(path, video_path=video.path if video else None, warn=warn), chosen
+    from wecook_core.formats.native import read_objects_csv
+
+    return read_objects_csv(path), chosen
+
+
+def read_hands(
+    path: str | Path, format: str | None = None, *, warn: Warn = ignore_warning
+) -> tuple[tuple[HandTrack, ...], str]:
+    """Hand tracks of ``path`` and the format they were read as (``format`` forces one)."""
+    path = Path(path)
+    chosen = check_format(format, HAND_FORMATS, "hands") if format else detect_hands_format(path)
+    if chosen == "openpose":
+        from wecook_core.formats.openpose import read_openpose
+
+        return read_openpose(path, warn=warn), chosen
+    from wecook_core.formats.native import read_hands_csv
+
+    if path.is_dir():
+        raise InputError(path, "is a folder, expected a hand CSV file")
+    return read_hands_csv(path), chosen
