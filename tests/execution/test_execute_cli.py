@@ -1,0 +1,121 @@
+"""`wecook export`, `wecook execute` (validation before the run), `wecook runs check` and `runs recover`."""
+
+from __future__ import annotations
+
+import datetime as dt
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from wecook_core.execution.recorder import McapRecorder
+from wecook_core.execution.synthetic_run import synthetic_run
+from wecook_core.plan import dump_plan, read_plan
+from wecook_tui.cli import main
+from wecook_tui.commands.execute import default_record_path
+
+PLAN = """\
+wecook_plan: 1
+agents:
+- {pid: P1, robot: franka_panda/panda.urdf, base: {position: [-0.5, 0.0, 0.0], yaw: 0.0}}
+scene:
+  table: {size: [1.0, 0.8], height: 0.0}
+  objects:
+  - {name: knife, category: tool, shape: box, size: [0.2, 0.03, 0.025], pose: {x: 0.0, y: 0.15, yaw: 0.0}}
+  - {name: tomato, category: ingredient, shape: sphere, size: [0.05, 0.05, 0.05], pose: {x: 0.0, y: 0.0}}
+  containing: []
+actions:
+- {id: a1, pid: [P1], verb: cut, tool: knife, ingredients: [tomato], location: null, after: []}
+- {id: a2, pid: [P1], verb: stir, tool: spoon, ingredients: [], location: null, after: [a1]}
+"""
+
+
+def test_execute_rejects_a_bad_plan_before_running(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    plan = tmp_path / "plan.yaml"
+    plan.write_text(PLAN)
+    assert main(["execute", str(plan)]) == 2
+    err = capsys.readouterr().err
+    assert err.strip() == f"wecook: error: {plan}:actions[1] (a2).tool: object 'spoon' is not in the scene"
+    assert not (tmp_path / "runs").exists()  # nothing was recorded
+    plan.write_text(PLAN.replace("after: [a1]", "after: [a3]").replace("tool: spoon", "tool: knife"))
+    assert main(["execute", str(plan), "--no-record"]) == 2
+    assert "(a2).after: unknown action id 'a3'" in capsys.readouterr().err
+    assert main(["execute", str(tmp_path / "none.yaml")]) == 2
+    assert "cannot read the plan" in capsys.readouterr().err
+
+
+def test_default_record_path(tmp_path: Path) -> None:
+    now = dt.datetime(2026, 11, 24, 3, 4, 5)
+    session = tmp_path / "sessions" / "demo"
+    (session / "plans").mkdir(parents=True)
+    (session / "session.yaml").write_text("inputs: {}\n")
+    assert default_record_path(session / "plans" / "plan.yaml", now) == \
+        session.resolve() / "runs" / "plan-20261124-030405.mcap"
+    assert default_record_path(tmp_path / "my.yaml", now) == tmp_path.resolve() / "runs" / "my-20261124-030405.mcap"
+
+
+def test_runs_check_and_recover(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    good = tmp_path / "good.mcap"
+    synthetic_run(McapRecorder(good), actions=2, seconds_per_action=0.3)
+    assert main(["runs", "check", str(good)]) == 0
+    out = capsys.readouterr().out
+    assert out.strip().endswith("ok") and "actions: 2 done" in out
+    killed = tmp_path / "killed.mcap"
+    rec = McapRecorder(killed)
+    synthetic_run(rec, actions=2, seconds_per_action=0.3, end=False)
+    rec.flush()  # the process "dies" here: no summary, no footer
+    assert main(["runs", "check", str(killed)]) == 1
+    assert "problem: no footer" in capsys.readouterr().out
+    assert main(["runs", "recover", str(killed)]) == 0
+    out = capsys.readouterr().out
+    recovered = tmp_path / "killed.recovered.mcap"
+    assert f"wrote {recovered}" in out and "the run had not finished" in out
+    assert main(["runs", "check", str(recovered)]) == 0
+    capsys.readouterr()
+    assert main(["runs", "check", str(tmp_path / "none.mcap")]) == 2
+    assert "no such recording" in capsys.readouterr().err
+
+
+def _write_inputs(folder: Path) -> tuple[Path, Path, Path]:
+    """A 60-frame 320x240 video where the right hand of P1 takes a knife to a tomato on a board."""
+    folder.mkdir(parents=True, exist_ok=True)
+    video = folder / "v.avi"
+    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"MJPG"), 30.0, (320, 240))
+    for _ in range(60):
+        writer.write(np.full((240, 320, 3), 40, np.uint8))
+    writer.release()
+    objects = ["frame,track_id,label,x1,y1,x2,y2"]
+    hands = ["frame,hand,x,y,x1,y1,x2,y2"]
+    for f in range(60):
+        k = min(f, 20) / 20  # the hand reaches the knife by frame 20, then carries it to the tomato
+        knife_x = 60 + (max(f - 20, 0) / 40) * 60
+        objects += [f"{f},1,knife,{knife_x:.1f},150,{knife_x + 50:.1f},160",
+                    f"{f},2,tomato,130,120,150,140", f"{f},3,chopping board,100,100,220,180",
+                    f"{f},4,bowl,250,60,300,100"]
+        hx = 20 + k * 60 if f < 20 else knife_x + 10
+        hands.append(f"{f},RH_P1,{hx:.1f},155,{hx - 10:.1f},145,{hx + 10:.1f},165")
+        hands.append(f"{f},LH_P2,280,{120 + (f % 10)},270,{110 + (f % 10)},290,{130 + (f % 10)}")
+    (folder / "objects.csv").write_text("\n".join(objects) + "\n")
+    (folder / "hands.csv").write_text("\n".join(hands) + "\n")
+    return video, folder / "objects.csv", folder / "hands.csv"
+
+
+@pytest.mark.slow
+def test_export_writes_a_valid_plan_into_the_session(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from wecook_core.session import create_session
+
+    root = tmp_path / "sessions"
+    video, objects, hands = _write_inputs(tmp_path / "inputs")
+    create_session(root, "kitchen", video, objects, hands)
+    assert main(["export", "kitchen", "--root", str(root)]) == 0
+    path = root / "kitchen" / "plans" / "plan.yaml"
+    assert f"wrote {path}" in capsys.readouterr().out
+    plan = read_plan(path)  # validates
+    assert {o.name for o in plan.scene.objects} == {"knife", "tomato", "chopping_board", "bowl"}
+    assert {a.pid for a in plan.agents} <= {"P1", "P2"} and plan.agents
+    other = tmp_path / "elsewhere.yaml"
+    assert main(["export", "kitchen", "--root", str(root), "-o", str(other)]) == 0
+    assert dump_plan(read_plan(other)) == dump_plan(plan)  # the analysis is deterministic
+    assert main(["export", "nobody", "--root", str(root)]) == 2
+    assert "no such session" in capsys.readouterr().err
