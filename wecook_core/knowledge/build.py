@@ -10,10 +10,27 @@ from wecook_core.categories import CATEGORIES_PATH, derive_categories, format_ca
 from wecook_core.knowledge.corpus import EPIC_CITATION, EPIC_LICENCE, Corpus, merge, read_corpus, read_csv, read_epic
 from wecook_core.knowledge.evaluation import Evaluation, Metrics, evaluate
 from wecook_core.knowledge.learning import learn
-from wecook_core.recognize import Knowledge, save_knowledge
+from wecook_core.recognize import Knowledge, rank, save_knowledge
 from wecook_core.resources import ASSETS_DIR, shared_dir
 
 KNOWLEDGE_DIR = ASSETS_DIR / "knowledge"
+
+EXPECTED: tuple[tuple[tuple[str, ...], str], ...] = (
+    (("knife", "tomato"), "cut"),
+    (("spoon", "pot"), "stir"),
+    (("rolling pin", "dough"), "roll"),
+    (("peeler", "potato"), "peel"),
+    (("lemon",), "squeeze"),
+    (("hand", "lemon"), "squeeze"),
+    (("oil", "pan"), "pour"),
+    (("salt", "pot"), "sprinkle"),
+    (("butter knife", "bread"), "spread"),
+    (("butter", "knife", "bread"), "spread"),
+    (("foil",), "wrap"),
+    (("plastic wrap", "bowl"), "wrap"),
+    (("bread", "sauce"), "dip"),
+)
+"""Object sets a cook would name one action for; SOURCE.md reports what the learned tables answer."""
 
 
 def default_corpus() -> Path:
@@ -134,6 +151,14 @@ def source_markdown(corpus: Corpus, knowledge: Knowledge, evaluation: Evaluation
                   f"{evaluation.test_records} held-out records. Prediction: argmax of P(A | objects). Macro "
                   "averages run over the verbs present in the held-out records (a verb never predicted "
                   "has precision 0).", "", metrics_table(evaluation)]
+    parts += ["", "## Common cases", "",
+              "What a cook would answer, and the learned tables' top-1 (computed at build time):", "",
+              "| objects | expected | top-1 (p) | |", "| --- | --- | --- | --- |"]
+    for objects, expected in EXPECTED:
+        ranking = rank(knowledge, objects)
+        verb, p = ranking[0] if ranking else ("-", 0.0)
+        parts.append(f"| {' + '.join(objects)} | {expected} | {verb} ({p:.2f}) | "
+                     f"{'ok' if verb == expected else 'wrong'} |")
     parts += [
         "", "## Rebuild", "",
         "```",

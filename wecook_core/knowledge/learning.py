@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from wecook_core.knowledge.corpus import Corpus, Record
-from wecook_core.knowledge.nouns import match
+from wecook_core.knowledge.nouns import match, variants
 from wecook_core.knowledge.synonyms import RECOGNISED, VerbFolder, load_synonyms
 from wecook_core.recognize import Knowledge
 
@@ -29,7 +29,8 @@ def fold(corpus: Corpus, folder: VerbFolder | None = None,
     """The corpus's records whose verb folds into ``verbs``, and the object vocabulary.
 
     Objects are matched to the corpus's nouns (aliases, head noun, plural); an object the corpus does
-    not define becomes a vocabulary entry of its own (a user's CSV defines its vocabulary by use).
+    not define becomes a vocabulary entry of its own (a user's CSV defines its vocabulary by use), unless
+    it is the singular or plural of one already seen.
     The vocabulary is the corpus's defined objects, in order, then new ones in order of appearance.
     """
     folder = (folder or load_synonyms()).with_classes(corpus.verb_classes)
@@ -41,17 +42,22 @@ def fold(corpus: Corpus, folder: VerbFolder | None = None,
         action = folder.fold(record.action)
         if action is None or action not in wanted:
             continue
-        objects = tuple(dict.fromkeys(_object(o, corpus, cache) for o in (*record.objects, *record.context)))
+        named = (*record.objects, *record.context)
+        objects = tuple(dict.fromkeys(_object(o, corpus, cache, vocabulary) for o in named))
         vocabulary.update(dict.fromkeys(objects))
         examples.append(Example(action, objects, record.group))
     return tuple(examples), tuple(vocabulary)
 
 
-def _object(name: str, corpus: Corpus, cache: dict[str, str]) -> str:
+def _object(name: str, corpus: Corpus, cache: dict[str, str], seen: dict[str, None]) -> str:
+    """The vocabulary name of a record's object: the corpus's noun it matches, else an object already
+    seen under another number (tomatoes / tomato), else itself."""
     found = cache.get(name)
     if found is None:
         found = match(name, corpus.nouns) if corpus.nouns else None
-        found = cache[name] = found or name
+        if found is None:
+            found = next((v for v in variants(name) if v in seen), name)
+        cache[name] = found
     return found
 
 

@@ -1,0 +1,268 @@
+"""Learning the commonsense tables: corpora, verb folding, noun matching, counts, evaluation, rebuild."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from wecook_core.errors import InputError
+from wecook_core.knowledge.build import build, default_corpus
+from wecook_core.knowledge.corpus import Corpus, Record, merge, read_csv, read_epic
+from wecook_core.knowledge.evaluation import Example, evaluate, score, split
+from wecook_core.knowledge.learning import fold, learn
+from wecook_core.knowledge.nouns import epic_name, match, normalise, singular
+from wecook_core.knowledge.synonyms import RECOGNISED, VerbFolder, load_synonyms
+from wecook_core.recognize import load_knowledge, rank
+
+CSV = """action,objects
+chop,knife;tomato
+cut,knife;onion;chopping board
+slice,Knife;tomatoes
+stir,spoon;pot
+whisk,whisk;egg
+pour,oil;pan
+transfer,spoon;bowl
+take,knife
+"""
+
+
+def write(path: Path, text: str) -> Path:
+    path.write_text(text)
+    return path
+
+
+# ------------------------------------------------------------------------------------------------ nouns
+
+
+@pytest.mark.parametrize(("label", "name"), [
+    ("Rolling-Pin", "rolling_pin"),
+    ("chopping board", "chopping_board"),
+    ("bowl_2", "bowl"),
+    ("cup_1_3", "cup"),
+    ("chef's knife", "chefs_knife"),
+    ("  Olive  Oil ", "olive_oil"),
+    ("7", "7"),
+])
+def test_normalise(label: str, name: str) -> None:
+    assert normalise(label) == name
+
+
+def test_epic_names_put_modifiers_first() -> None:
+    assert epic_name("board:chopping") == "chopping_board"
+    assert epic_name("pan:dust") == "dust_pan"
+    assert epic_name("onion") == "onion"
+
+
+@pytest.mark.parametrize(("word", "one"), [("tomatoes", "tomato"), ("berries", "berry"), ("dishes", "dish"),
+                                           ("knives", "knif"), ("glass", "glass"), ("hummus", "hummus"),
+                                           ("eggs", "egg")])
+def test_singular(word: str, one: str) -> None:
+    assert singular(word) == one
+
+
+def test_match_tries_full_label_then_tails_with_number_variants() -> None:
+    names = {"knife": "K", "olive": "O", "olive_oil": "OO", "tongs": "T", "bowl": "B"}
+    assert match("Knives", names) == "K"
+    assert match("olives", names) == "O"
+    assert match("olive oil", names) == "OO"  # the full label before its head noun
+    assert match("extra virgin olive oil", names) == "OO"
+    assert match("tong", names) == "T"
+    assert match("big_red_bowl_2", names) == "B"
+    assert match("bowl of soup", names) is None  # the head noun is the last word
+    assert match("", names) is None
+
+
+# ------------------------------------------------------------------------------------------------ verbs
+
+
+def test_shipped_synonyms_fold_corpus_verbs() -> None:
+    folder = load_synonyms().with_classes({"chop": "cut", "make": "cut", "beat": "mix", "scatter": "sprinkle",
+                                           "cover": "wrap", "roll-out": "unroll", "smear": "apply"})
+    expected = {"chop": "cut", "chop-into": "cut", "slice": "cut", "dice": "cut", "make": None,
+                "mix": "stir", "whisk": "stir", "beat": "stir", "scatter": "sprinkle", "season": "sprinkle",
+                "roll-out": "roll", "roll-up": None, "smear": "spread", "cover": None, "dip": "dip",
+                "squeeze": "squeeze", "take": None, "transfer": None, "wash": None}
+    assert {verb: folder.fold(verb) for verb in expected} == expected
+
+
+def test_class_rules_apply_to_verbs_only_the_corpus_knows() -> None:
+    folder = VerbFolder(words={"chop": "cut"}, classes={"cut": "cut", "mix": "stir"},
+                        verb_classes={"julienne": "cut", "fold-in": "mix", "pick": "take"})
+    assert folder.fold("julienne") == "cut"
+    assert folder.fold("fold-in") == "stir"
+    assert folder.fold("pick") is None
+    assert folder.fold("chop-up") == "cut"
+
+
+def test_synonym_targets_must_be_recognised_verbs(tmp_path: Path) -> None:
+    path = write(tmp_path / "syn.yaml", "words:\n  chop: dice\n")
+    with pytest.raises(InputError, match="dice") as error:
+        load_synonyms(path)
+    assert "words.chop" in str(error.value)
+    assert "transfer" not in RECOGNISED
+
+
+# ---------------------------------------------------------------------------------------------- corpora
+
+
+def test_csv_corpus_and_learned_counts(tmp_path: Path) -> None:
+    corpus = read_csv(write(tmp_path / "c.csv", CSV))
+    assert corpus.records[2] == Record("slice", ("knife", "tomatoes"), "c.csv:4")
+    examples, vocabulary = fold(corpus)
+    assert [e.action for e in examples] == ["cut", "cut", "cut", "stir", "stir", "pour"]
+    # objects first seen in kept records; "tomatoes" is matched to "tomato"; bowl (transfer) is dropped
+    assert vocabulary == ("knife", "tomato", "onion", "chopping_board", "spoon", "pot", "whisk", "egg", "oil", "pan")
+    knowledge = learn(corpus, alpha=1.0)
+    cut = knowledge.verbs.index("cut")
+    assert knowledge.action_counts.tolist() == [3, 0, 2, 1, 0, 0, 0, 0, 0, 0]
+    assert knowledge.pair_counts[cut].tolist() == [3, 2, 1, 1, 0, 0, 0, 0, 0, 0]
+    assert knowledge.prior()["cut"] == pytest.approx((3 + 1) / (6 + 10))
+    assert knowledge.likelihood("knife", "cut") == pytest.approx((3 + 1) / (7 + 10))
+    assert knowledge.likelihood("egg", "stir") == pytest.approx((1 + 1) / (4 + 10))
+    assert rank(knowledge, ["knife", "tomato"])[0][0] == "cut"
+    assert rank(knowledge, ["whisk", "egg"])[0][0] == "stir"
+
+
+@pytest.mark.parametrize(("text", "place"), [
+    ("action,objects\ncut\n", "line 2"),
+    ("cut,knife\n,tomato\n", "line 2"),
+    ("action,objects\n", None),
+])
+def test_bad_csv_names_file_and_line(tmp_path: Path, text: str, place: str | None) -> None:
+    path = write(tmp_path / "bad.csv", text)
+    with pytest.raises(InputError) as error:
+        read_csv(path)
+    assert error.value.path == str(path)
+    assert error.value.place == place
+
+
+def fake_epic(root: Path) -> Path:
+    (root / "epic100").mkdir(parents=True)
+    (root / "epic55").mkdir()
+    write(root / "epic100" / "EPIC_100_noun_classes.csv",
+          'id,key,instances,category\n'
+          '0,knife,"[\'knife\', \'blade\']",cutlery\n'
+          '1,tomato,"[\'tomato\', \'tomato:cherry\']",vegetables\n'
+          '2,board:chopping,"[\'board:chopping\', \'board\']",utensils\n'
+          '3,spoon,"[\'spoon\']",cutlery\n'
+          '4,pot,"[\'pot\']",cookware\n')
+    write(root / "epic100" / "EPIC_100_verb_classes.csv",
+          'id,key,instances,category\n'
+          '0,take,"[\'take\', \'pick-up\']",retrieve\n'
+          '1,cut,"[\'cut\', \'chop\', \'julienne\']",split\n'
+          '2,mix,"[\'mix\', \'stir\']",merge\n')
+    write(root / "epic100" / "EPIC_100_validation.csv",
+          "narration_id,video_id,start_frame,verb,all_nouns,all_noun_classes\n"
+          "V1_0,V1,10,pick-up,['spoon'],[3]\n"
+          "V1_1,V1,20,stir,['pot'],[4]\n")
+    write(root / "epic55" / "EPIC_train_action_labels.csv",
+          "uid,video_id,start_frame,verb,all_nouns,all_noun_classes\n"
+          "2,P1,300,julienne,['tomato:cherry'],[9]\n"
+          "0,P1,100,take,['blade'],[7]\n"
+          "1,P1,200,chop,\"['tomato', 'board']\",\"[8, 9]\"\n"
+          "3,P2,100,cut,['tomato'],[8]\n")
+    return root
+
+
+def test_epic_reader_maps_classes_aliases_and_take_context(tmp_path: Path) -> None:
+    corpus = read_epic(fake_epic(tmp_path / "epic"))
+    assert corpus.vocabulary == ("knife", "tomato", "chopping_board", "spoon", "pot")
+    assert corpus.nouns["cherry_tomato"] == "tomato" and corpus.nouns["blade"] == "knife"
+    assert corpus.noun_categories["chopping_board"] == "utensils"
+    by_verb = {r.action: r for r in corpus.records}
+    assert by_verb["chop"].objects == ("tomato", "chopping_board")
+    assert by_verb["chop"].context == ("knife",)  # "take blade" just before, same video
+    assert by_verb["julienne"].context == ("knife",)  # two records back, still within the window
+    assert by_verb["cut"].context == ()  # another video
+    assert by_verb["stir"].objects == ("pot",) and by_verb["stir"].context == ("spoon",)
+    assert read_epic(tmp_path / "epic", context=1).records[0].context == ()  # julienne: take is 2 back
+    knowledge = learn(corpus)
+    cut = knowledge.verbs.index("cut")
+    assert knowledge.action_counts[cut] == 3
+    assert knowledge.pair_counts[cut, knowledge.objects.index("knife")] == 2
+    assert rank(knowledge, ["Blade", "cherry tomatoes"])[0][0] == "cut"
+    assert knowledge.aliases["board"] == "chopping_board"
+
+
+def test_merged_corpora_share_nouns(tmp_path: Path) -> None:
+    epic = read_epic(fake_epic(tmp_path / "epic"))
+    mine = read_csv(write(tmp_path / "mine.csv", "action,objects\ndip,cherry tomatoes;hummus\n"))
+    corpus = merge([epic, mine])
+    knowledge = learn(corpus)
+    assert knowledge.objects[-1] == "hummus"  # new noun appended to EPIC's vocabulary
+    dip = knowledge.verbs.index("dip")
+    assert knowledge.pair_counts[dip, knowledge.objects.index("tomato")] == 1  # matched through EPIC's alias
+    assert corpus.licences == ("CC BY-NC 4.0",)
+
+
+def test_not_a_corpus(tmp_path: Path) -> None:
+    from wecook_core.knowledge.corpus import read_corpus
+
+    with pytest.raises(InputError, match="EPIC"):
+        read_corpus(tmp_path)
+    with pytest.raises(InputError, match="no such"):
+        read_corpus(tmp_path / "missing.csv")
+
+
+# ------------------------------------------------------------------------------------------- evaluation
+
+
+def test_split_is_deterministic_and_by_group() -> None:
+    examples = [Example("cut", ("knife",), f"v{i % 10}") for i in range(100)]
+    train, test, groups = split(examples, seed=3, fraction=0.3)
+    assert groups == 3 and len(test) == 30
+    assert not {e.group for e in train} & {e.group for e in test}
+    assert split(examples, seed=3, fraction=0.3) == (train, test, groups)
+    assert split(examples, seed=4, fraction=0.3)[1] != test
+
+
+def test_score_by_hand() -> None:
+    verbs = ("cut", "stir", "pour")
+    metrics = score(["cut", "cut", "stir", "stir"], ["cut", "stir", "stir", "cut"], verbs)
+    assert metrics.accuracy == 0.5
+    assert [(s.precision, s.recall, s.support, s.predicted) for s in metrics.per_verb] == [
+        (0.5, 0.5, 2, 2), (0.5, 0.5, 2, 2), (0.0, 0.0, 0, 0)]
+    assert metrics.macro_precision == 0.5 and metrics.macro_recall == 0.5  # pour has no held-out records
+
+
+def test_evaluate_a_corpus_where_objects_decide() -> None:
+    rng = np.random.default_rng(0)
+    rows = []
+    for i in range(300):
+        verb = ("cut", "stir", "pour")[int(rng.integers(3)) if i % 2 else 0]  # cut is the majority
+        obj = {"cut": "knife", "stir": "spoon", "pour": "jug"}[verb]
+        rows.append(Record(verb, (obj, "bowl"), f"video{i % 20}"))
+    result = evaluate(Corpus(tuple(rows)), seed=0)
+    assert result.model.accuracy == 1.0 and result.model.macro_recall == 1.0
+    assert result.majority == "cut"
+    test_cut = next(s for s in result.baseline.per_verb if s.verb == "cut")
+    assert result.baseline.accuracy == pytest.approx(test_cut.support / result.test_records)
+    assert result.baseline.macro_recall == pytest.approx(1 / 3)
+    assert result.test_groups == 4
+
+
+# --------------------------------------------------------------------------------------------- rebuild
+
+
+def test_build_from_a_csv_writes_tables_and_source(tmp_path: Path) -> None:
+    corpus = write(tmp_path / "c.csv", CSV)
+    built = build([corpus], tmp_path / "out")
+    assert [p.name for p in built.files] == ["commonsense.json", "SOURCE.md"]
+    knowledge = load_knowledge(tmp_path / "out" / "commonsense.json")
+    assert knowledge.action_counts.tolist() == built.knowledge.action_counts.tolist()
+    source = (tmp_path / "out" / "SOURCE.md").read_text()
+    assert "c.csv (8 records, CSV)" in source and "CC BY-NC" not in source
+
+
+def test_shipped_tables_are_what_the_shared_corpus_teaches(shared: Path) -> None:
+    """The shipped counts are reproducible from the corpus read in place (same defaults as `learn`)."""
+    shipped = json.loads((Path(__file__).parents[2] / "assets" / "knowledge" / "commonsense.json").read_text())
+    knowledge = learn(read_epic(default_corpus()))
+    assert list(knowledge.verbs) == shipped["verbs"]
+    assert list(knowledge.objects) == shipped["objects"]
+    assert knowledge.action_counts.tolist() == shipped["action_counts"]
+    assert knowledge.pair_counts.tolist() == shipped["pair_counts"]
+    assert "CC BY-NC 4.0" in (Path(__file__).parents[2] / "assets" / "knowledge" / "SOURCE.md").read_text()
