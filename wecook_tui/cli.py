@@ -13,6 +13,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "evaluate",
     "execute",
     "knowledge",
+    "segment",
     "workbench",
 )
 """Modules of `wecook_tui.commands`, in the order their commands are listed by `wecook --help`."""

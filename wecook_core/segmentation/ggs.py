@@ -19,7 +19,10 @@ determinants and inverse traces for 1 to 3 features, batched LAPACK beyond), and
 
 from __future__ import annotations
 
+import heapq
+import itertools
 import random
+import threading
 import time
 
 import numpy as np
@@ -66,18 +69,23 @@ def ggs(
     scorer = _SplitScorer(x, lamb, reference_quirk)
     m = x.shape[0]
     breaks = [0, m]
-    breakpoints_by_k = [()]
+    breakpoints_by_k: list[tuple[int, ...]] = [()]
     objective_by_k = [scorer.objective(breaks)]
+    # best split of every current segment, smallest gain (= largest rise) first, then earliest segment:
+    # the reference's choice; entries of segments that no longer exist are skipped when they surface
+    candidates: list[tuple[float, int, int, int]] = []
+    current: set[tuple[int, int]] = set()
     for _ in range(k_max):
-        best_at, best_gain = -1, 1.0
-        for start, end in zip(breaks[:-1], breaks[1:], strict=True):
-            at, gain = scorer.best_split(start, end)
-            if gain < best_gain:  # gains are objective decreases (<= 0); first segment wins ties
-                best_at, best_gain = at, gain
+        for segment in set(itertools.pairwise(breaks)) - current:
+            at, gain = scorer.best_split(*segment)
+            heapq.heappush(candidates, (gain, *segment, at))
+        current = set(itertools.pairwise(breaks))
+        while (candidates[0][1], candidates[0][2]) not in current:
+            heapq.heappop(candidates)
+        best_gain, _, _, best_at = candidates[0]
         if best_gain == 0:
             break
-        breaks = sorted([*breaks, best_at])
-        breaks = _adjust(breaks, best_at, scorer)
+        breaks = _adjust(sorted([*breaks, best_at]), best_at, scorer)
         breakpoints_by_k.append(tuple(breaks[1:-1]))
         objective_by_k.append(scorer.objective(breaks))
         if min_gain is not None and len(objective_by_k) > patience:
@@ -100,7 +108,7 @@ def segment_objective(data: np.ndarray, breakpoints: tuple[int, ...] | list[int]
 
 
 def refine_breakpoints(data: np.ndarray, breakpoints: tuple[int, ...], lamb: float, radius: int) -> tuple[int, ...]:
-    """Move each breakpoint within ``± radius`` samples to its best place between its neighbours (same objective
+    """Move each breakpoint within ``± radius`` samples of where it is to its best place between its neighbours (same objective
     as :func:`ggs`), until none moves: used after segmenting a decimated series to place the breakpoints at
     full resolution. Keeps every segment at least 2 samples long."""
     x = np.asarray(data, dtype=np.float64)
@@ -108,10 +116,11 @@ def refine_breakpoints(data: np.ndarray, breakpoints: tuple[int, ...], lamb: flo
         x = x[:, None]
     scorer = _SplitScorer(x, lamb, False)
     bp = [0, *breakpoints, x.shape[0]]
+    origin = list(bp)
     for _ in range(MAX_SHUFFLES):
         moved = False
         for i in range(1, len(bp) - 1):
-            lo, hi = max(bp[i - 1] + 2, bp[i] - radius), min(bp[i + 1] - 2, bp[i] + radius)
+            lo, hi = max(bp[i - 1] + 2, origin[i] - radius), min(bp[i + 1] - 2, origin[i] + radius)
             if lo > hi:
                 continue
             at = scorer.best_cut_within(bp[i - 1], bp[i + 1], lo, hi)
@@ -126,34 +135,61 @@ def _adjust(breaks: list[int], new: int, scorer: _SplitScorer) -> list[int]:
     """Move each breakpoint to the best place between its neighbours until none moves.
 
     Follows the reference's schedule exactly (it decides the result when two places score the same):
-    passes over the interior breakpoints in an order shuffled by ``random.Random(0)``; a breakpoint is
-    re-placed only if a neighbour moved in the previous pass or earlier in this pass.
+    passes over the interior breakpoints in an order shuffled by ``random.Random(0)`` (re-seeded for every
+    adjustment); a breakpoint is re-placed only if a neighbour moved in the previous pass or earlier in this
+    pass. Only those breakpoints are visited, in pass order, so a pass costs what moves, not ``k``.
     """
     bp = list(breaks)
-    if len(bp) == 3:
+    count = len(bp) - 2
+    if count == 1:
         return bp
-    rng = random.Random(0)
-    this_pass = dict.fromkeys(bp, False)
-    this_pass[new] = True
-    for _ in range(MAX_SHUFFLES):
-        last_pass, this_pass = this_pass, dict.fromkeys(bp, False)
+    this_pass = [False] * (count + 2)  # by index: a breakpoint keeps its index when it moves
+    this_pass[bp.index(new)] = True
+    for z in range(MAX_SHUFFLES):
+        last_pass, this_pass = this_pass, [False] * (count + 2)
+        order, position = _pass_order(count, z)
+        due = [position[i] for i in range(1, count + 1) if last_pass[i - 1] or last_pass[i + 1]]
+        heapq.heapify(due)
+        visited: set[int] = set()
         moved_any = False
-        order = list(range(1, len(bp) - 1))
-        rng.shuffle(order)
-        for i in order:
-            left, right = bp[i - 1], bp[i + 1]
-            if not (last_pass[left] or last_pass[right] or this_pass[left] or this_pass[right]):
+        while due:
+            turn = heapq.heappop(due)
+            i = order[turn]
+            if i in visited:
                 continue
-            at, gain = scorer.best_split(left, right)
+            visited.add(i)
+            at, gain = scorer.best_split(bp[i - 1], bp[i + 1])
             if at != bp[i] and gain != 0:
-                last_pass[at] = last_pass.pop(bp[i])
-                del this_pass[bp[i]]
-                this_pass[at] = True
                 bp[i] = at
-                moved_any = True
+                this_pass[i] = moved_any = True
+                for neighbour in (i - 1, i + 1):  # due later in this pass, now that i moved
+                    if 1 <= neighbour <= count and position[neighbour] > turn:
+                        heapq.heappush(due, position[neighbour])
         if not moved_any:
             break
     return bp
+
+
+_ORDERS: dict[int, tuple[random.Random, list[tuple[list[int], list[int]]]]] = {}
+_ORDERS_LOCK = threading.Lock()
+
+
+def _pass_order(count: int, z: int) -> tuple[list[int], list[int]]:
+    """Visiting order of pass ``z`` when adjusting ``count`` breakpoints (indices 1..count), as the reference's
+    ``random.seed(0)`` then one ``random.shuffle`` per pass produce it, and each index's place in it.
+
+    Depends only on ``(count, z)``, so it is computed once per process (shuffling is ``O(count)`` Python
+    work per pass: the main cost of the adjustment otherwise)."""
+    with _ORDERS_LOCK:
+        rng, orders = _ORDERS.setdefault(count, (random.Random(0), []))
+        while len(orders) <= z:
+            order = list(range(1, count + 1))
+            rng.shuffle(order)
+            position = [0] * (count + 2)
+            for turn, i in enumerate(order):
+                position[i] = turn
+            orders.append((order, position))
+        return orders[z]
 
 
 class _SplitScorer:
@@ -264,10 +300,7 @@ class _SplitScorer:
         np.subtract(s2[:, end : end + 1], s2[:, lo : hi + 1], out=squares[:, k + 1 :])
         left_n = self.counts[lo - start : hi - start + 1]
         count = np.concatenate([left_n, self.counts[end - start : end - start + 1], (end - start) - left_n])
-        if not self.quirk:
-            costs = self.cost(count, sums, squares)
-        else:
-            costs = self._quirk_costs(start, k, count, sums, squares)
+        costs = self._quirk_costs(start, k, count, sums, squares) if self.quirk else self.cost(count, sums, squares)
         return costs[:k] + costs[k + 1 :], float(costs[k])
 
     def _quirk_costs(self, start: int, k: int, count: np.ndarray, sums: np.ndarray, squares: np.ndarray) -> np.ndarray:

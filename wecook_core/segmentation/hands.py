@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from typing import TYPE_CHECKING
 
@@ -67,7 +68,7 @@ def segment_hands(obs: Observations, params: Params, *, sample_hz: float = SAMPL
         per_hand[track.hand] = _segment_series(series, params, step, params.k.get(track.hand))
     cuts = sorted({b for breaks in per_hand.values() for b in breaks if 0 < b < frame_count})
     edges = [0, *cuts, frame_count]
-    segments = tuple(Segment(a, b) for a, b in zip(edges[:-1], edges[1:], strict=True)) if frame_count > 0 else ()
+    segments = tuple(Segment(a, b) for a, b in itertools.pairwise(edges)) if frame_count > 0 else ()
     return Segmentation(per_hand=per_hand, segments=segments, interpolated=interpolated)
 
 
