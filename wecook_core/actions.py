@@ -228,19 +228,31 @@ def transfer_events(obs: Observations, timeline: Timeline, params: Params) -> tu
             event = _mover(obs, timeline, column, lo, hi, near, params)
             if event is None:
                 continue
-            hand, carrier, span_start = event
+            hand, carrier, span_start, span_end = event
+            end = _arrival_end(obs, column, carrier, start2, span_end, near) if carrier != NONE else hi
             events.append(TransferEvent(
                 timeline.names[column], timeline.names[source], timeline.names[destination], HANDS[hand],
-                timeline.names[carrier] if carrier != NONE else None, span_start, hi,
+                timeline.names[carrier] if carrier != NONE else None, span_start, max(hi, end),
             ))
     return tuple(events)
 
 
+def _arrival_end(obs: Observations, ingredient: int, carrier: int, arrival: int, hold_end: int, near: float) -> int:
+    """First frame after ``arrival`` where the carrier has left the ingredient it delivered (within its hold)."""
+    if hold_end <= arrival:
+        return arrival
+    boxes = frame_boxes(obs, arrival, hold_end)
+    with np.errstate(invalid="ignore"):
+        close = _gap(boxes.objects[:, carrier, :], boxes.objects[:, ingredient, :]) <= near
+    away = np.flatnonzero(~close)
+    return arrival + int(away[0]) if len(away) else hold_end
+
+
 def _mover(
     obs: Observations, timeline: Timeline, ingredient: int, lo: int, hi: int, near: float, params: Params
-) -> tuple[int, int, int] | None:
-    """(hand column, carrier column or NONE, start of the carrier's hold) of the hand that moved an ingredient
-    during ``[lo, hi)``, or None when no hand did."""
+) -> tuple[int, int, int, int] | None:
+    """(hand column, carrier column or NONE, start and end of the carrier's hold) of the hand that moved an
+    ingredient during ``[lo, hi)``, or None when no hand did."""
     if hi <= lo:
         return None
     boxes = frame_boxes(obs, lo, hi)
@@ -269,12 +281,12 @@ def _mover(
     _, hand, carrier = best
     label = timeline.held[:, hand] if carrier != NONE else timeline.touched[:, hand]
     value = carrier if carrier != NONE else ingredient
-    start = lo
+    start, end = lo, hi
     for span_start, span_end in hold_spans(label, value, params.min_frames):
         if span_start < hi and lo < span_end:
-            start = min(span_start, lo)
+            start, end = min(span_start, lo), max(span_end, hi)
             break
-    return hand, carrier, start
+    return hand, carrier, start, end
 
 
 def handover_events(timeline: Timeline, params: Params) -> tuple[HandoverEvent, ...]:

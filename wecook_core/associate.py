@@ -241,10 +241,11 @@ def associations_of(
     the user's hand-object and object-object corrections for this segment applied."""
     lo, hi = segment.start - links.start, segment.end - links.start
     names = links.boxes.names
+    min_frames = min(params.min_frames, hi - lo)  # a link that lasts a whole short segment counts
     containment: dict[str, str] = {}
     for column, category in enumerate(links.boxes.categories):
         if category is Category.INGREDIENT:
-            best = dominant(links.container[lo:hi, column], params.min_frames)
+            best = dominant(links.container[lo:hi, column], min_frames)
             if best != NONE:
                 containment[names[column]] = names[best]
     rows = np.zeros(len(links.held), dtype=bool)
@@ -252,7 +253,7 @@ def associations_of(
     hand_object: dict[str, str] = {}
     object_object: dict[str, tuple[str, ...]] = {}
     for column, hand in enumerate(links.boxes.hands):
-        best = dominant(links.held[lo:hi, column], params.min_frames)
+        best = dominant(links.held[lo:hi, column], min_frames)
         if corrections is not None and (segment.start, hand) in corrections.hand_object:
             chosen = corrections.hand_object[(segment.start, hand)]
             best = names.index(chosen) if chosen in names else NONE
@@ -271,8 +272,9 @@ def associations_of(
 def near_objects(
     links: FrameLinks, held: int, params: Params, rows: np.ndarray, video_diagonal: float
 ) -> tuple[int, ...]:
-    """Containers and ingredients near object column ``held`` for ``min_frames`` consecutive frames among
-    ``rows`` (a boolean mask over the rows of ``links``), closest first (mean box gap).
+    """Containers and ingredients near object column ``held`` for ``min_frames`` consecutive frames (and at
+    least ``min_share`` of the frames) among ``rows`` (a boolean mask over the rows of ``links``), closest
+    first (mean box gap).
 
     Near means a box gap of at most ``params.near_fraction * video_diagonal`` pixels. Tools and the held
     object itself are never linked."""
@@ -283,7 +285,9 @@ def near_objects(
         if category is Category.TOOL or column == held:
             near[:, column] = False
     longest = longest_runs(near)
-    keep = np.flatnonzero(longest >= params.min_frames)
+    frames = int(rows.sum())
+    needed = max(min(params.min_frames, frames), params.min_share * frames)
+    keep = np.flatnonzero((longest >= needed) & (longest > 0))
     if not len(keep):
         return ()
     with np.errstate(invalid="ignore"):

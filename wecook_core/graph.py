@@ -76,8 +76,14 @@ def _ingredients(action: Action, categories: Mapping[str, Category]) -> tuple[st
 
 def _skeleton(action: Action, categories: Mapping[str, Category]) -> tuple[Any, ...]:
     """An action with its ingredient targets left out (what must agree for two segments to merge)."""
-    partner = _skeleton(action.partner, categories) if action.partner is not None else None
-    kept = tuple(t for t in action.targets if categories.get(t, Category.INGREDIENT) is not Category.INGREDIENT)
+    partner = None
+    if action.partner is not None:
+        inner = action.partner
+        if action.kind is ActionKind.HOLDING and action.held is not None and action.held not in inner.targets:
+            inner = replace(inner, targets=(*inner.targets, action.held))  # the held object is a target too
+        partner = _skeleton(inner, categories)
+    kept = tuple(sorted(
+        t for t in action.targets if categories.get(t, Category.INGREDIENT) is not Category.INGREDIENT))
     return (action.kind, action.hand, action.verb, action.held, kept, partner)
 
 
@@ -106,9 +112,15 @@ class _Block:
         old = self.variants.get(key)
         self.variants[key] = (old[0] if old else action, (old[1] if old else 0) + frames)
 
-    def best(self) -> Action:
-        action, _ = max(self.variants.values(), key=lambda v: (len(v[0].targets) + (
-            len(v[0].partner.targets) if v[0].partner is not None else 0), v[1]))
+    def best(self, categories: Mapping[str, Category]) -> Action:
+        """The variant naming the most ingredients (seen in the fewest segments when they do not agree), then
+        the most targets, then the most frames."""
+        def rank(v: tuple[Action, int]) -> tuple[int, int, int]:
+            a = v[0]
+            targets = len(a.targets) + (len(a.partner.targets) if a.partner is not None else 0)
+            return (len(_ingredients(a, categories)), targets, v[1])
+
+        action, _ = max(self.variants.values(), key=rank)
         return _span(action, self.start, self.end)
 
     def sample(self) -> Action:
@@ -133,7 +145,7 @@ def merge_lane(
     for start, end, item in items:
         if item is None:
             if current is not None:
-                out.append(current.best())
+                out.append(current.best(categories))
                 current = None
             flush_lead()
             continue
@@ -148,7 +160,7 @@ def merge_lane(
                 current.end = end
                 continue
             if current is not None:
-                out.append(current.best())
+                out.append(current.best(categories))
                 current = None
             if lead is not None and lead[0] == item.held:
                 lead = (lead[0], lead[1], end)
@@ -161,7 +173,7 @@ def merge_lane(
             current.add(item, end - start)
             continue
         if current is not None:
-            out.append(current.best())
+            out.append(current.best(categories))
             current = None
         block_start = start
         if lead is not None and lead[0] == _grip(item):
@@ -172,7 +184,7 @@ def merge_lane(
         current = _Block(block_start, end)
         current.add(item, end - start)
     if current is not None:
-        out.append(current.best())
+        out.append(current.best(categories))
     flush_lead()
     return out
 
@@ -310,3 +322,22 @@ def read_graph_file(path: str | Path) -> ActionGraph:
             raise InputError(path, "source and target must be node ids", place=place)
         edges.append(GraphEdge(str(item["source"]), str(item["target"]), str(item["kind"])))
     return ActionGraph(tuple(nodes), sequences, tuple(edges))
+
+
+# ---------------------------------------------------------------------------------------------- cases
+
+
+CASES: tuple[str, ...] = ("tool", "container", "hand", "held", "transfer", "holding", "handover", "grasp")
+"""The tree cases of DESIGN.md's table: ``tool`` (an action with a tool), ``container`` (with the target in
+its container), ``hand`` (by the hand itself), ``held`` (pour, sprinkle, dip with a held ingredient or
+container), ``transfer``, ``holding``, ``handover``, ``grasp`` (no action)."""
+
+
+def case_of(action: Action, categories: Mapping[str, Category]) -> str:
+    """Which of :data:`CASES` an action's tree is."""
+    kind = action.kind
+    if kind in (ActionKind.GRASP, ActionKind.HAND, ActionKind.TRANSFER, ActionKind.HOLDING, ActionKind.HANDOVER):
+        return str(kind)
+    if action.held is not None and categories.get(action.held, Category.INGREDIENT) is not Category.TOOL:
+        return "held"
+    return "container" if len(action.targets) > 1 else "tool"

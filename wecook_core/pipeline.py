@@ -47,6 +47,9 @@ class Params:
     contain_fraction: float = 0.5
     """An ingredient lies in a container when at least this fraction of its box is inside the container's box
     (among several such containers, the highest Jaccard index wins)."""
+    min_share: float = 0.3
+    """An object-object link must also last this fraction of its segment (consecutively): a tool passing
+    over a board on its way does not act on it."""
     near_fraction: float = 0.02
     """Object-object: a held object acts on objects whose boxes come within this fraction of the image diagonal."""
     still_fraction: float = 0.004

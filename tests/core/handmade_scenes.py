@@ -79,3 +79,92 @@ def cutting(frame_count: int = 150) -> Observations:
                       still(60, 120, at(hand_on, -295, 30)), (120, 150, at(hand_on, -295, 30), hand_on)],
         },
     )
+
+
+LEMON: Box = (300, 150, 330, 180)
+
+
+def squeezing(frame_count: int = 90) -> Observations:
+    """LH_P1 holds a lemon in the air and squeezes it (the hand hardly moves) over the whole video."""
+    hand = (305, 160, 335, 190)
+    return observations(
+        frame_count,
+        {"lemon": (Category.INGREDIENT, [still(0, frame_count, LEMON)]),
+         "bowl": (Category.CONTAINER, [still(0, frame_count, (400, 350, 520, 420))])},
+        {"LH_P1": [still(0, frame_count, hand)]},
+    )
+
+
+POT: Box = (300, 300, 450, 420)
+OIL_REST: Box = (100, 200, 130, 260)
+OIL_POUR: Box = (340, 240, 370, 300)
+
+
+def pouring(frame_count: int = 120) -> Observations:
+    """RH_P1 grasps the oil at 0, brings it over the pot by 30, pours until 90, puts it back by 120."""
+    grip = (105, 220, 135, 250)
+    over = at(grip, 240, 40)
+    return observations(
+        frame_count,
+        {"oil": (Category.INGREDIENT, [(0, 30, OIL_REST, OIL_POUR), still(30, 90, OIL_POUR),
+                                       (90, 120, OIL_POUR, OIL_REST)]),
+         "pot": (Category.CONTAINER, [still(0, frame_count, POT)])},
+        {"RH_P1": [(0, 30, grip, over), still(30, 90, over), (90, 120, over, grip)]},
+    )
+
+
+BOWL: Box = (60, 320, 200, 420)
+MEAT_IN_BOWL: Box = (110, 350, 150, 390)
+MEAT_IN_POT: Box = (360, 340, 400, 380)
+
+
+def transferring(frame_count: int = 150) -> Observations:
+    """RH_P1 takes a spoon at 0, scoops the meat out of the bowl (30-45), carries it (45-90) into the pot
+    (90-105), puts the spoon back (105-150)."""
+    spoon_rest = (250, 200, 270, 260)
+    spoon_bowl = (115, 330, 135, 390)
+    spoon_pot = (365, 320, 385, 380)
+    hand_rest, hand_bowl, hand_pot = (245, 195, 275, 225), (110, 325, 140, 355), (360, 315, 390, 345)
+    return observations(
+        frame_count,
+        {"bowl": (Category.CONTAINER, [still(0, frame_count, BOWL)]),
+         "pot": (Category.CONTAINER, [still(0, frame_count, POT)]),
+         "meat": (Category.INGREDIENT, [still(0, 45, MEAT_IN_BOWL), (45, 90, MEAT_IN_BOWL, MEAT_IN_POT),
+                                        still(90, frame_count, MEAT_IN_POT)]),
+         "spoon": (Category.TOOL, [(0, 30, spoon_rest, spoon_bowl), still(30, 45, spoon_bowl),
+                                   (45, 90, spoon_bowl, spoon_pot), still(90, 105, spoon_pot),
+                                   (105, 150, spoon_pot, spoon_rest)])},
+        {"RH_P1": [(0, 30, hand_rest, hand_bowl), still(30, 45, hand_bowl), (45, 90, hand_bowl, hand_pot),
+                   still(90, 105, hand_pot), (105, 150, hand_pot, hand_rest)]},
+    )
+
+
+def handing_over(frame_count: int = 120) -> Observations:
+    """RH_P1 carries a knife to the middle (0-50); LH_P2 takes it (50-60, both hold it); P2 takes it away."""
+    knife_left, knife_mid, knife_right = (100, 200, 180, 215), (280, 200, 360, 215), (460, 200, 540, 215)
+    p1_left, p1_mid = (95, 195, 125, 225), (275, 195, 305, 225)
+    p2_mid, p2_right = (335, 195, 365, 225), (515, 195, 545, 225)
+    return observations(
+        frame_count,
+        {"knife": (Category.TOOL, [(0, 50, knife_left, knife_mid), still(50, 60, knife_mid),
+                                   (60, 120, knife_mid, knife_right)])},
+        {"RH_P1": [(0, 50, p1_left, p1_mid), still(50, 60, p1_mid), (60, 120, p1_mid, (100, 100, 130, 130))],
+         "LH_P2": [(0, 40, (560, 100, 590, 130), (340, 190, 370, 220)), (40, 50, (340, 190, 370, 220), p2_mid),
+                   still(50, 60, p2_mid), (60, 120, p2_mid, p2_right)]},
+    )
+
+
+def holding(frame_count: int = 120) -> Observations:
+    """LH_P1 holds the board with the tomato while RH_P2 cuts the tomato with a knife (30-90)."""
+    knife_rest = (500, 100, 580, 115)
+    knife_cut = (215, 345, 295, 360)
+    return observations(
+        frame_count,
+        {"chopping_board": (Category.CONTAINER, [still(0, frame_count, BOARD)]),
+         "tomato": (Category.INGREDIENT, [still(0, frame_count, TOMATO)]),
+         "knife": (Category.TOOL, [(0, 30, knife_rest, knife_cut), still(30, 90, knife_cut),
+                                   (90, 120, knife_cut, knife_rest)])},
+        {"LH_P1": [still(0, frame_count, (90, 400, 120, 430))],
+         "RH_P2": [(0, 30, (570, 95, 600, 125), (285, 340, 315, 370)), still(30, 90, (285, 340, 315, 370)),
+                   (90, 120, (285, 340, 315, 370), (570, 95, 600, 125))]},
+    )

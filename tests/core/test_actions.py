@@ -1,0 +1,108 @@
+from __future__ import annotations
+
+import itertools
+
+import pytest
+from handmade_scenes import cutting, handing_over, holding, observations, pouring, squeezing, still, transferring
+
+from wecook_core.actions import handover_events, hold_spans, recognize_actions, transfer_events
+from wecook_core.associate import associate_segments
+from wecook_core.model import ActionKind, Category, Corrections, Segment, Segmentation
+from wecook_core.pipeline import Params
+from wecook_core.recognize import load_knowledge
+
+
+@pytest.fixture(scope="module")
+def knowledge():
+    return load_knowledge()
+
+
+def recognise(obs, cuts, knowledge, corrections=None):
+    edges = [0, *cuts, obs.video.frame_count]
+    segmentation = Segmentation({}, tuple(Segment(a, b) for a, b in itertools.pairwise(edges)))
+    associations, timeline = associate_segments(obs, segmentation.segments, Params(), corrections)
+    return recognize_actions(obs, segmentation, associations, knowledge, Params(), corrections, timeline)
+
+
+def test_a_held_knife_near_a_tomato_on_a_board_cuts_it(knowledge):
+    per_segment = recognise(cutting(), [30, 60, 120], knowledge)
+    assert per_segment[0].actions == ()
+    action = per_segment[2].action_of("RH_P1")
+    assert action is not None and action.kind is ActionKind.TOOL
+    assert (action.verb, action.held, action.targets) == ("cut", "knife", ("tomato", "chopping_board"))
+    assert action.scores[0][0] == "cut" and per_segment[2].rankings["RH_P1"] == action.scores
+
+
+def test_a_knife_near_nothing_is_a_grasp(knowledge):
+    knife = (300, 100, 380, 115)
+    obs = observations(30, {"knife": (Category.TOOL, [still(0, 30, knife)]),
+                            "pot": (Category.CONTAINER, [still(0, 30, (500, 300, 600, 400))])},
+                       {"RH_P1": [still(0, 30, (290, 95, 320, 125))]})
+    (only,) = recognise(obs, [], knowledge)
+    assert [(a.kind, a.held, a.verb) for a in only.actions] == [(ActionKind.GRASP, "knife", None)]
+
+
+def test_a_still_hand_on_a_lifted_lemon_squeezes_it(knowledge):
+    (only,) = recognise(squeezing(), [], knowledge)
+    action = only.action_of("LH_P1")
+    assert action is not None
+    assert (action.kind, action.verb, action.held, action.targets) == (ActionKind.HAND, "squeeze", None, ("lemon",))
+
+
+def test_a_held_oil_bottle_over_a_pot_pours(knowledge):
+    per_segment = recognise(pouring(), [30, 90], knowledge)
+    action = per_segment[1].action_of("RH_P1")
+    assert action is not None
+    assert (action.kind, action.verb, action.held, action.targets) == (ActionKind.TOOL, "pour", "oil", ("pot",))
+
+
+def test_an_ingredient_carried_by_a_spoon_to_another_container_is_a_transfer(knowledge):
+    obs = transferring()
+    _associations, timeline = associate_segments(obs, (Segment(0, 150),), Params())
+    (event,) = transfer_events(obs, timeline, Params())
+    assert (event.ingredient, event.source, event.destination, event.hand, event.carrier) == \
+        ("meat", "bowl", "pot", "RH_P1", "spoon")
+    assert event.start <= 5 and event.end >= 100
+    per_segment = recognise(obs, [45, 90, 105], knowledge)
+    kinds = [s.action_of("RH_P1").kind for s in per_segment]
+    assert kinds[:3] == [ActionKind.TRANSFER] * 3
+    assert per_segment[1].action_of("RH_P1").targets == ("meat", "bowl", "pot")
+
+
+def test_an_object_passing_between_persons_is_a_handover(knowledge):
+    obs = handing_over()
+    _, timeline = associate_segments(obs, (Segment(0, 120),), Params())
+    (event,) = handover_events(timeline, Params())
+    assert (event.obj, event.giver, event.receiver) == ("knife", "RH_P1", "LH_P2")
+    assert 40 <= event.start < event.end <= 65
+    per_segment = recognise(obs, [40, 55, 70], knowledge)
+    exchange = per_segment[2]
+    action = exchange.action_of("RH_P1")
+    assert action is not None and action.kind is ActionKind.HANDOVER
+    assert action.partner is not None and (action.partner.kind, action.partner.hand) == (ActionKind.GRASP, "LH_P2")
+    assert exchange.partners == ("LH_P2",) and exchange.action_of("LH_P2") is None
+
+
+def test_holding_the_board_while_the_other_person_cuts_on_it(knowledge):
+    per_segment = recognise(holding(), [30, 90], knowledge)
+    middle = per_segment[1]
+    action = middle.action_of("LH_P1")
+    assert action is not None and action.kind is ActionKind.HOLDING and action.held == "chopping_board"
+    partner = action.partner
+    assert partner is not None
+    assert (partner.hand, partner.verb, partner.held, partner.targets) == ("RH_P2", "cut", "knife", ("tomato",))
+    assert middle.partners == ("RH_P2",)
+
+
+def test_a_verb_correction_replaces_the_recognised_verb(knowledge):
+    corrections = Corrections(verbs={(60, "RH_P1"): "peel"})
+    per_segment = recognise(cutting(), [30, 60, 120], knowledge, corrections)
+    assert per_segment[2].action_of("RH_P1").verb == "peel"
+    assert per_segment[1].action_of("RH_P1").verb != "peel"
+
+
+def test_hold_spans_bridge_short_gaps():
+    import numpy as np
+
+    labels = np.array([0] * 10 + [-1] * 3 + [0] * 10 + [-1] * 20 + [0] * 5)
+    assert hold_spans(labels, 0, 8) == [(0, 23)]

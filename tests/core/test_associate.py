@@ -1,0 +1,118 @@
+from __future__ import annotations
+
+import numpy as np
+from handmade_scenes import BOARD, TOMATO, at, cutting, observations, still
+
+from wecook_core.associate import (
+    NONE,
+    associate,
+    associate_segments,
+    frame_links,
+    kept_runs,
+    longest_runs,
+    runs,
+)
+from wecook_core.model import Category, Corrections, Segment, Segmentation
+from wecook_core.pipeline import Params
+
+
+def one_segment(obs, end=None):
+    return Segmentation({}, (Segment(0, end or obs.video.frame_count),))
+
+
+def test_runs_and_longest_runs():
+    labels = np.array([NONE, 2, 2, 2, NONE, 2, 3, 3])
+    assert runs(labels) == [(0, 1, NONE), (1, 4, 2), (4, 5, NONE), (5, 6, 2), (6, 8, 3)]
+    assert kept_runs(labels, 2) == [(1, 4, 2), (6, 8, 3)]
+    mask = np.array([[1, 0], [1, 1], [0, 1], [1, 1], [1, 1]], dtype=bool)
+    assert longest_runs(mask).tolist() == [2, 4]
+    assert longest_runs(np.zeros((0, 3), dtype=bool)).tolist() == [0, 0, 0]
+
+
+def test_ingredient_lies_in_the_container_with_the_best_jaccard_index():
+    bowl = (180, 320, 260, 400)  # holds the tomato, and is much smaller than the board
+    obs = observations(20, {
+        "chopping_board": (Category.CONTAINER, [still(0, 20, BOARD)]),
+        "bowl": (Category.CONTAINER, [still(0, 20, bowl)]),
+        "tomato": (Category.INGREDIENT, [still(0, 20, TOMATO)]),
+        "lemon": (Category.INGREDIENT, [still(0, 20, (*at(BOARD, -290, 0)[:2], 115, 310))]),  # mostly outside
+    }, {})
+    (assoc,) = associate(obs, one_segment(obs), Params())
+    assert assoc.containment == {"tomato": "bowl"}
+
+
+def test_hand_takes_the_closest_of_overlapping_objects_and_a_contained_ingredient_means_its_container():
+    hand = (195, 335, 225, 365)  # on the tomato, inside the board
+    obs = observations(20, {
+        "chopping_board": (Category.CONTAINER, [still(0, 20, BOARD)]),
+        "tomato": (Category.INGREDIENT, [still(0, 20, TOMATO)]),
+    }, {"LH_P1": [still(0, 20, hand)]})
+    links = frame_links(obs, 0, 20, Params())
+    names = links.boxes.names
+    assert names[links.touched[0, 0]] == "tomato"  # closest centre among board and tomato
+    assert names[links.held[0, 0]] == "chopping_board"  # the tomato lies on the board
+    (assoc,) = associate(obs, one_segment(obs), Params())
+    assert assoc.hand_object == {"LH_P1": "chopping_board"}
+
+
+def test_a_held_ingredient_out_of_its_container_is_held_itself():
+    lifted = at(TOMATO, 0, -200)
+    obs = observations(20, {
+        "chopping_board": (Category.CONTAINER, [still(0, 20, BOARD)]),
+        "tomato": (Category.INGREDIENT, [still(0, 20, lifted)]),
+    }, {"LH_P1": [still(0, 20, at(lifted, 5, 5))]})
+    (assoc,) = associate(obs, one_segment(obs), Params())
+    assert assoc.hand_object == {"LH_P1": "tomato"}
+    assert assoc.containment == {}
+
+
+def test_links_shorter_than_min_frames_are_dropped():
+    # the hand brushes the knife for 5 frames, then holds it for 12
+    knife = (300, 100, 380, 115)
+    away = (500, 300, 530, 330)
+    on = (290, 95, 320, 125)
+    obs = observations(40, {"knife": (Category.TOOL, [still(0, 40, knife)])},
+                       {"RH_P1": [still(0, 10, away), still(10, 15, on), still(15, 28, away), still(28, 40, on)]})
+    short, long = associate(obs, Segmentation({}, (Segment(0, 20), Segment(20, 40))), Params(min_frames=8))
+    assert short.hand_object == {}
+    assert long.hand_object == {"RH_P1": "knife"}
+
+
+def test_object_object_links_never_reach_a_tool_and_list_the_closest_first():
+    obs = cutting()
+    (assoc,) = associate(obs, Segmentation({}, (Segment(60, 120),)), Params())
+    assert assoc.hand_object == {"RH_P1": "knife"}
+    assert assoc.object_object["knife"][0] in ("tomato", "chopping_board")
+    assert set(assoc.object_object["knife"]) == {"tomato", "chopping_board"}
+    spoon_box = (200, 352, 260, 362)  # right beside the knife, not under the hand
+    with_spoon = observations(120, {
+        **{t.name: (obs.categories[t.name], [still(0, 120, tuple(t.boxes[60]))]) for t in obs.objects},
+        "spoon": (Category.TOOL, [still(0, 120, spoon_box)]),
+    }, {"RH_P1": [still(0, 120, tuple(obs.hand("RH_P1").boxes[60]))]})
+    (assoc,) = associate(with_spoon, one_segment(with_spoon), Params())
+    assert "spoon" not in assoc.object_object["knife"]
+
+
+def test_one_association_per_segment_and_a_timeline_of_every_frame():
+    obs = cutting()
+    segments = (Segment(0, 30), Segment(30, 60), Segment(60, 120), Segment(120, 150))
+    associations, timeline = associate_segments(obs, segments, Params())
+    assert [a.segment for a in associations] == list(segments)
+    assert associations[0].hand_object == {}
+    assert all(a.hand_object == {"RH_P1": "knife"} for a in associations[1:])
+    assert timeline.held.shape == (150, 4)
+    knife = timeline.column("knife")
+    assert (timeline.held[60:120, 1] == knife).all()
+    assert (timeline.held[:20, 1] == NONE).all()
+
+
+def test_hand_object_and_object_object_corrections_replace_the_links():
+    obs = cutting()
+    segments = (Segment(0, 60), Segment(60, 150))
+    corrections = Corrections(hand_object={(60, "RH_P1"): "tomato", (0, "RH_P1"): None},
+                              object_object={(60, "tomato"): ("chopping_board",)})
+    (first, second), timeline = associate_segments(obs, segments, Params(), corrections)
+    assert first.hand_object == {}
+    assert second.hand_object == {"RH_P1": "tomato"}
+    assert second.object_object == {"tomato": ("chopping_board",)}
+    assert (timeline.held[60:150, 1] == timeline.column("tomato")).all()

@@ -1,0 +1,119 @@
+from __future__ import annotations
+
+import pytest
+
+from wecook_core.errors import InputError
+from wecook_core.graph import (
+    PARTNER,
+    build_graph,
+    case_of,
+    compatible,
+    dump_graph,
+    merge_lane,
+    read_graph_file,
+    tree_spans,
+    write_graph_file,
+)
+from wecook_core.model import Action, ActionKind, Category
+from wecook_core.trees import format_tree, parse_tree
+
+CATEGORIES = {"knife": Category.TOOL, "spoon": Category.TOOL, "tomato": Category.INGREDIENT,
+              "onion": Category.INGREDIENT, "lemon": Category.INGREDIENT, "chopping_board": Category.CONTAINER,
+              "pot": Category.CONTAINER}
+
+
+def cut(start, end, *targets, hand="RH_P1"):
+    return Action(ActionKind.TOOL, hand, start, end, verb="cut", held="knife", targets=targets)
+
+
+def grasp(start, end, held="knife", hand="RH_P1"):
+    return Action(ActionKind.GRASP, hand, start, end, held=held)
+
+
+def test_actions_identical_up_to_an_unseen_ingredient_are_compatible():
+    assert compatible(cut(0, 1, "tomato", "chopping_board"), cut(1, 2, "chopping_board"), CATEGORIES)
+    assert not compatible(cut(0, 1, "tomato", "chopping_board"), cut(1, 2, "onion", "chopping_board"), CATEGORIES)
+    assert not compatible(cut(0, 1, "chopping_board"), cut(1, 2, "pot"), CATEGORIES)
+    assert not compatible(cut(0, 1, "tomato"), cut(1, 2, "tomato", hand="LH_P1"), CATEGORIES)
+
+
+def test_a_lane_merges_consecutive_compatible_segments_from_grasp_to_release():
+    items = [(0, 10, None), (10, 20, grasp(10, 20)), (20, 30, cut(20, 30, "chopping_board")),
+             (30, 50, cut(30, 50, "tomato", "chopping_board")), (50, 60, grasp(50, 60)), (60, 70, None)]
+    (merged,) = merge_lane(items, CATEGORIES)
+    assert (merged.start, merged.end) == (10, 60)
+    assert merged.targets == ("tomato", "chopping_board")
+
+
+def test_a_lane_splits_at_a_different_action_and_at_an_empty_segment():
+    items = [(0, 10, cut(0, 10, "tomato")), (10, 20, cut(10, 20, "onion")), (20, 30, None),
+             (30, 40, cut(30, 40, "onion"))]
+    merged = merge_lane(items, CATEGORIES)
+    assert [(a.start, a.end, a.targets) for a in merged] == [(0, 10, ("tomato",)), (10, 20, ("onion",)),
+                                                           (30, 40, ("onion",))]
+
+
+def test_grasps_alone_merge_into_one_grasp_and_partner_segments_do_not_break_a_lane():
+    items = [(0, 10, grasp(0, 10)), (10, 20, grasp(10, 20)), (20, 30, PARTNER), (30, 40, grasp(30, 40, "spoon"))]
+    merged = merge_lane(items, CATEGORIES)
+    assert [(a.kind, a.held, a.start, a.end) for a in merged] == [
+        (ActionKind.GRASP, "knife", 0, 30), (ActionKind.GRASP, "spoon", 30, 40)]
+
+
+def holding_action(start, end):
+    partner = cut(start, end, "tomato", hand="RH_P2")
+    return Action(ActionKind.HOLDING, "LH_P1", start, end, held="chopping_board", partner=partner)
+
+
+def test_graph_numbers_nodes_by_start_and_links_sequences_and_collaborations():
+    actions = [
+        cut(50, 90, "tomato", hand="RH_P2"),
+        grasp(0, 40, "spoon", hand="RH_P2"),
+        cut(0, 30, "tomato", "chopping_board"),
+        holding_action(100, 160),
+        Action(ActionKind.HAND, "LH_P2", 170, 200, verb="squeeze", targets=("lemon",)),
+    ]
+    graph = build_graph(actions)
+    assert [(n.id, n.person, n.span.start) for n in graph.nodes] == [
+        ("a1", "P1", 0), ("a2", "P2", 0), ("a3", "P2", 50), ("a4", "P1", 100), ("a5", "P2", 170)]
+    assert graph.sequences == {"P1": ("a1", "a4"), "P2": ("a2", "a3", "a5")}
+    edges = {(e.source, e.target, e.kind) for e in graph.edges}
+    assert edges == {("a1", "a4", "sequence"), ("a2", "a3", "sequence"), ("a3", "a5", "sequence"),
+                     ("a3", "a4", "holding"), ("a4", "a5", "holding")}
+    holding_node = graph.nodes[3]
+    assert format_tree(holding_node.span.tree) == (
+        "(HP (HP (H LH_P1) (O chopping_board)) (CP (C holding) (HP (HP (H RH_P2) (O knife)) "
+        "(AP (A cut) (O tomato)))))")
+
+
+def test_graph_file_round_trips(tmp_path):
+    graph = build_graph([cut(0, 30, "tomato", "chopping_board"), holding_action(40, 80)])
+    path = tmp_path / "graph.yaml"
+    write_graph_file(path, graph)
+    again = read_graph_file(path)
+    assert [(n.id, n.person, n.span) for n in again.nodes] == [(n.id, n.person, n.span) for n in graph.nodes]
+    assert again.sequences == graph.sequences and again.edges == graph.edges
+    assert dump_graph(again) == path.read_text()
+
+
+def test_bad_graph_files_name_the_entry(tmp_path):
+    path = tmp_path / "graph.yaml"
+    path.write_text('wecook_graph: 1\nnodes:\n- {id: a1, person: P1, start: 5, end: 2, tree: "(HP (H RH_P1) (O x))"}\n')
+    with pytest.raises(InputError, match=r"nodes\[1\]"):
+        read_graph_file(path)
+    path.write_text('wecook_graph: 1\nnodes:\n- {id: a1, person: P1, start: 0, end: 2, tree: "(HP (H XX) (O x))"}\n')
+    with pytest.raises(InputError, match="tree"):
+        read_graph_file(path)
+    path.write_text("nodes: []\n")
+    with pytest.raises(InputError, match="not a graph file"):
+        read_graph_file(path)
+
+
+def test_tree_spans_and_cases():
+    actions = [cut(0, 10, "tomato"), cut(0, 10, "tomato", "chopping_board"), grasp(0, 5),
+               Action(ActionKind.TOOL, "RH_P1", 0, 9, verb="pour", held="lemon", targets=("pot",)),
+               holding_action(0, 10)]
+    assert [case_of(a, CATEGORIES) for a in actions] == ["tool", "container", "grasp", "held", "holding"]
+    spans = tree_spans(actions)
+    assert [(s.start, s.end) for s in spans] == [(0, 10), (0, 10), (0, 5), (0, 9), (0, 10)]
+    assert all(parse_tree(format_tree(s.tree)) == s.tree for s in spans)
