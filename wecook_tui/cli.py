@@ -10,6 +10,7 @@ from collections.abc import Sequence
 from wecook_core.errors import InputError
 
 COMMAND_MODULES: tuple[str, ...] = (
+    "analyze",
     "evaluate",
     "execute",
     "knowledge",

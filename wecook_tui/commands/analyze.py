@@ -16,17 +16,20 @@ def register(sub: Any) -> None:
                             description="Run the perception pipeline on a session (with its corrections) and "
                                         "write sessions/NAME/trees.yaml and graph.yaml.")
     parser.add_argument("name", help="session name (a folder under --root) or a session folder")
-    parser.add_argument("--root", default="sessions", help="folder holding the sessions (default: ./sessions)")
+    parser.add_argument("--root", default=None,
+                        help="folder holding the sessions (default: $WECOOK_SESSIONS, else ./sessions)")
     parser.add_argument("--knowledge", default=None, help="commonsense tables (default: the shipped ones)")
     parser.set_defaults(func=run)
 
 
-def session_path(name: str, root: str | Path) -> Path:
+def session_path(name: str, root: str | Path | None) -> Path:
     """A session's folder: ``NAME`` itself when it is a folder path, else ``ROOT/NAME``."""
+    from wecook_core.session import check_name, sessions_root
+
     direct = Path(name)
     if ("/" in name or name.startswith(".")) and direct.is_dir():
         return direct
-    return Path(root) / name
+    return sessions_root(root) / check_name(name)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -49,8 +52,8 @@ def run(args: argparse.Namespace) -> int:
     params = getattr(session, "params", None) or Params()
     corrections = session.corrections
     analysis = analyze(obs, knowledge, params, corrections)
-    write_tree_file(path / "trees.yaml", analysis.trees)
-    write_graph_file(path / "graph.yaml", analysis.graph)
+    write_tree_file(session.trees_path, analysis.trees)
+    write_graph_file(session.graph_path, analysis.graph)
 
     counts = Counter(case_of(action, obs.categories) for action in analysis.actions)
     rejected = sum(1 for s in corrections.status.values() if s is SegmentStatus.REJECTED)
@@ -61,5 +64,5 @@ def run(args: argparse.Namespace) -> int:
     print("  " + "  ".join(f"{case} {counts.get(case, 0)}" for case in CASES))
     if rejected:
         print(f"  {rejected} rejected segment(s) left out")
-    print(f"  wrote {path / 'trees.yaml'} and {path / 'graph.yaml'}")
+    print(f"  wrote {session.trees_path} and {session.graph_path}")
     return 0
