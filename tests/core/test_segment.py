@@ -96,7 +96,7 @@ def test_adjustment_leaves_no_breakpoint_with_a_better_place():
     for i in range(1, len(breaks) - 1):
         here = direct_objective(x, tuple(breaks[1:-1]), 0.1)
         for t in range(breaks[i - 1] + 2, breaks[i + 1] - 1):
-            moved = tuple(breaks[1:i] + [t] + breaks[i + 1 : -1])
+            moved = (*breaks[1:i], t, *breaks[i + 1 : -1])
             assert direct_objective(x, moved, 0.1) <= here + 1e-9
 
 
@@ -250,7 +250,7 @@ def test_load_series_names_file_and_line(tmp_path, text, columns, message):
 
 
 def test_load_series_missing_file(tmp_path):
-    with pytest.raises(InputError, match="nope.txt: no such file"):
+    with pytest.raises(InputError, match=r"nope\.txt: no such file"):
         load_series(tmp_path / "nope.txt")
 
 

@@ -108,9 +108,9 @@ def segment_objective(data: np.ndarray, breakpoints: tuple[int, ...] | list[int]
 
 
 def refine_breakpoints(data: np.ndarray, breakpoints: tuple[int, ...], lamb: float, radius: int) -> tuple[int, ...]:
-    """Move each breakpoint within ``± radius`` samples of where it is to its best place between its neighbours (same objective
-    as :func:`ggs`), until none moves: used after segmenting a decimated series to place the breakpoints at
-    full resolution. Keeps every segment at least 2 samples long."""
+    """Move each breakpoint, within ``± radius`` samples of where it is, to its best place between its
+    neighbours (the objective of :func:`ggs`), until none moves: used after segmenting a decimated series, to
+    place the breakpoints at full resolution. Keeps every segment at least 2 samples long."""
     x = np.asarray(data, dtype=np.float64)
     if x.ndim == 1:
         x = x[:, None]
