@@ -1,0 +1,128 @@
+from __future__ import annotations
+
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from wecook_core.categories import CategoryTable, parse_categories
+from wecook_core.errors import InputError
+from wecook_core.model import Category, ObjectTrack
+from wecook_core.observations import InputChecks, import_observations, load_observations, unique_names
+
+W, H, FRAMES, FPS = 160, 120, 30, 10.0
+TABLE: CategoryTable = parse_categories("objects:\n  knife: tool\n  bowl: container\n  tomato: ingredient\n",
+                                        "test-table")
+
+
+def write_video(path: Path, frames: int = FRAMES) -> Path:
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), FPS, (W, H))
+    for i in range(frames):
+        writer.write(np.full((H, W, 3), i * 8 % 256, np.uint8))
+    writer.release()
+    return path
+
+
+def write_inputs(tmp_path: Path, objects: list[str], hands: list[str]) -> tuple[Path, Path, Path]:
+    video = write_video(tmp_path / "v.avi")
+    (tmp_path / "objects.csv").write_text("frame,track_id,label,x1,y1,x2,y2\n" + "\n".join(objects) + "\n")
+    (tmp_path / "hands.csv").write_text("frame,hand,x,y,x1,y1,x2,y2\n" + "\n".join(hands) + "\n")
+    return video, tmp_path / "objects.csv", tmp_path / "hands.csv"
+
+
+OBJECTS = ["0,1,Knife,10,10,30,20", "1,1,Knife,12,10,32,20", "0,2,bowl,50,50,90,90", "0,5,Bowl,100,50,140,90",
+           "0,3,tomato,60,60,70,70"]
+HANDS = [f"{f},RH_P1,20,15,15,10,25,20" for f in range(FRAMES)] + ["0,LH_P1,60,60,55,55,65,65"]
+
+
+def test_import_names_categorises_and_records_the_video(tmp_path: Path) -> None:
+    imported = import_observations(*write_inputs(tmp_path, OBJECTS, HANDS), categories=TABLE)
+    obs = imported.observations
+    assert (obs.video.fps, obs.video.width, obs.video.height, obs.video.frame_count) == (FPS, W, H, FRAMES)
+    assert [(t.track_id, t.name) for t in obs.objects] == [(1, "knife"), (2, "bowl"), (3, "tomato"), (5, "bowl_2")]
+    assert obs.categories == {"knife": Category.TOOL, "bowl": Category.CONTAINER, "bowl_2": Category.CONTAINER,
+                              "tomato": Category.INGREDIENT}
+    assert obs.object("knife").frames.tolist() == [0, 1]
+    assert [t.hand for t in obs.hands] == ["LH_P1", "RH_P1"]
+    assert (imported.objects_format, imported.hands_format) == ("csv", "csv")
+    assert imported.warnings == () and imported.gaps == ()
+    assert imported.missing == {"LH_P1": 0, "RH_P1": 0}
+    assert load_observations(*write_inputs(tmp_path, OBJECTS, HANDS), categories=TABLE).objects[0].name == "knife"
+
+
+def test_unique_names_skip_names_already_taken() -> None:
+    tracks = [ObjectTrack(i, label, "x", np.array([0]), np.zeros((1, 4))) for i, label in
+              [(1, "bowl"), (2, "Bowl 2"), (3, "bowl"), (4, "BOWL"), (5, "chopping  board!")]]
+    assert [t.name for t in unique_names(tracks)] == ["bowl", "bowl_2", "bowl_3", "bowl_4", "chopping_board"]
+
+
+def test_boxes_slightly_outside_are_clipped(tmp_path: Path) -> None:
+    objects = [*OBJECTS, "2,1,Knife,-5,110,30,125"]  # 5 px left and below: within 5 %
+    imported = import_observations(*write_inputs(tmp_path, objects, HANDS), categories=TABLE)
+    knife = imported.observations.object("knife")
+    assert knife.boxes[2].tolist() == [0, 110, 30, H]
+    assert any("clipped 1 boxes" in w for w in imported.warnings)
+
+
+@pytest.mark.parametrize(
+    ("row", "message"),
+    [
+        ("4,2,bowl,100,50,180,90", r"frame 4: track 2 \(bowl\): box \(100, 50, 180, 90\) lies outside the 160x120"),
+        ("4,2,bowl,-20,50,10,90", "frame 4: track 2"),
+        ("30,2,bowl,10,10,20,20", "frame 30: track 2 .bowl. is in frame 30, but the video v.avi has frames 0-29"),
+    ],
+)
+def test_boxes_far_outside_or_past_the_end_name_frame_and_track(tmp_path: Path, row: str, message: str) -> None:
+    with pytest.raises(InputError, match=message) as error:
+        import_observations(*write_inputs(tmp_path, [*OBJECTS, row], HANDS), categories=TABLE)
+    assert str(error.value).startswith(str(tmp_path / "objects.csv"))
+
+
+def test_hands_are_checked_and_their_boxes_clipped(tmp_path: Path) -> None:
+    hands = [*HANDS[:-1], "0,LH_P1,159,60,150,55,170,65"]
+    obs = load_observations(*write_inputs(tmp_path, OBJECTS, hands), categories=TABLE)
+    assert obs.hand("LH_P1") is not None
+    assert obs.hand("LH_P1").boxes[0].tolist() == [150, 55, W, 65]  # type: ignore[union-attr]
+    far = [*HANDS[:-1], "3,LH_P1,300,60,290,55,310,65"]
+    with pytest.raises(InputError, match=r"hands.csv:frame 3: hand LH_P1 at \(300, 60\) lies outside"):
+        load_observations(*write_inputs(tmp_path, OBJECTS, far), categories=TABLE)
+    late = [*HANDS, "31,LH_P1,30,60,25,55,35,65"]
+    with pytest.raises(InputError, match=r"hands\.csv:frame 31: hand LH_P1 is in frame 31"):
+        load_observations(*write_inputs(tmp_path, OBJECTS, late), categories=TABLE)
+
+
+def test_long_hand_gaps_are_reported_not_fatal(tmp_path: Path) -> None:
+    hands = [f"{f},RH_P1,20,15,15,10,25,20" for f in [*range(5), *range(26, 30)]]
+    hands += [f"{f},LH_P1,20,15,15,10,25,20" for f in [0, 2, 4, 20, 21]]  # gaps of 1, 1 and 15 frames
+    imported = import_observations(*write_inputs(tmp_path, OBJECTS, hands), categories=TABLE)
+    assert [(g.hand, g.start, g.end) for g in imported.gaps] == [("RH_P1", 5, 26)]
+    assert imported.gaps[0].seconds == pytest.approx(2.1)
+    assert imported.missing == {"LH_P1": 17, "RH_P1": 21}
+    assert any("RH_P1 is missing for 2.1 s, frames 5-25" in w for w in imported.warnings)
+    stricter = import_observations(*write_inputs(tmp_path, OBJECTS, hands), categories=TABLE,
+                                   checks=InputChecks(max_gap_seconds=1.0))
+    assert [(g.hand, g.start) for g in stricter.gaps] == [("LH_P1", 5), ("RH_P1", 5)]
+
+
+def test_uncategorised_labels_are_an_input_error(tmp_path: Path) -> None:
+    with pytest.raises(InputError, match=r"objects.csv: cannot categorise 'spatula'"):
+        load_observations(*write_inputs(tmp_path, [*OBJECTS, "0,9,spatula,0,0,5,5"], HANDS), categories=TABLE)
+
+
+def test_a_truncated_video_limits_the_frames_and_says_so(tmp_path: Path) -> None:
+    video, objects, hands = write_inputs(tmp_path, OBJECTS, HANDS)
+    data = video.read_bytes()
+    video.write_bytes(data[: len(data) // 2])
+    with pytest.raises(InputError, match=r"but the video v\.avi has frames 0-"):
+        load_observations(video, objects, hands, categories=TABLE)
+    hands.write_text("frame,hand,x,y,x1,y1,x2,y2\n" + "".join(f"{f},RH_P1,20,15,15,10,25,20\n" for f in range(5)))
+    imported = import_observations(video, objects, hands, categories=TABLE)
+    assert any("declares 30 frames" in w for w in imported.warnings)
+
+
+def test_a_video_that_does_not_open(tmp_path: Path) -> None:
+    _, objects, hands = write_inputs(tmp_path, OBJECTS, HANDS)
+    (tmp_path / "bad.mp4").write_text("nope")
+    with pytest.raises(InputError, match=r"bad\.mp4"):
+        load_observations(tmp_path / "bad.mp4", objects, hands, categories=TABLE)

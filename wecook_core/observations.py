@@ -1,0 +1,242 @@
+"""Everything the pipeline starts from, imported and checked: video facts, object boxes, hands, categories.
+
+Checks, each an :class:`InputError` naming the file and the frame and track, unless said otherwise:
+
+- every frame index lies in the video (``0 <= frame < frames that decode``);
+- an object box may stick out of the image by up to ``box_tolerance`` of the image size (detectors and
+  annotators overshoot a little): it is clipped, and the count is a warning; farther out is an error;
+- a hand centre obeys the same rule; hand boxes are only clipped (they are derived from keypoints);
+- gaps inside a hand track are never an error (a hand leaves the picture, a detector misses it; the
+  segmentation interpolates): a gap longer than ``max_gap_seconds`` is reported as a warning and listed in
+  :attr:`Imported.gaps` so the user sees what will be interpolated;
+- every object label has a category (the shipped table plus the user's additions).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from wecook_core.errors import InputError
+from wecook_core.formats.detect import read_hands, read_objects
+from wecook_core.formats.tracks import object_name
+from wecook_core.formats.video import frame_count_note, probe_video, usable_frames
+from wecook_core.model import Category, HandTrack, ObjectTrack, Observations, VideoInfo
+
+if TYPE_CHECKING:
+    from wecook_core.categories import CategoryTable
+
+
+@dataclass(frozen=True)
+class InputChecks:
+    """How forgiving the checks are."""
+
+    box_tolerance: float = 0.05
+    """How far a box may stick out of the image and still be clipped, as a fraction of the image width
+    (for x) or height (for y)."""
+    max_gap_seconds: float = 2.0
+    """A hand missing inside its track for longer than this is reported."""
+
+
+@dataclass(frozen=True)
+class HandGap:
+    """Frames ``[start, end)`` inside a hand's track where the hand is missing."""
+
+    hand: str
+    start: int
+    end: int
+    seconds: float
+
+
+@dataclass(frozen=True, eq=False)
+class Imported:
+    """The observations and what the import found on the way."""
+
+    observations: Observations
+    objects_format: str
+    hands_format: str
+    warnings: tuple[str, ...] = ()
+    """One line each: clipped boxes, long gaps, frame count disagreements, skipped rows..."""
+    gaps: tuple[HandGap, ...] = ()
+    """Gaps longer than ``InputChecks.max_gap_seconds``, by hand then frame."""
+    missing: dict[str, int] = field(default_factory=dict)
+    """Hand -> frames missing between its first and last detection (all gaps, short ones too)."""
+
+
+def load_observations(
+    video: str | Path,
+    objects: str | Path,
+    hands: str | Path,
+    *,
+    objects_format: str | None = None,
+    hands_format: str | None = None,
+    labels: str | Path | None = None,
+    categories: CategoryTable | None = None,
+    checks: InputChecks | None = None,
+) -> Observations:
+    """The checked observations of a video (see :func:`import_observations` for the warnings too)."""
+    return import_observations(
+        video, objects, hands, objects_format=objects_format, hands_format=hands_format, labels=labels,
+        categories=categories, checks=checks,
+    ).observations
+
+
+def import_observations(
+    video: str | Path,
+    objects: str | Path,
+    hands: str | Path,
+    *,
+    objects_format: str | None = None,
+    hands_format: str | None = None,
+    labels: str | Path | None = None,
+    categories: CategoryTable | None = None,
+    checks: InputChecks | None = None,
+) -> Imported:
+    """Import the video's facts, the object boxes and the hand tracks, name objects uniquely, categorise
+    them and check everything against the video. ``labels`` is the labels file of MOT boxes."""
+    checks = checks or InputChecks()
+    warnings: list[str] = []
+    info = probe_video(video)
+    note = frame_count_note(info)
+    if note:
+        warnings.append(note)
+    object_tracks, chosen_objects = read_objects(objects, objects_format, labels=labels, video=info,
+                                                 warn=warnings.append)
+    hand_tracks, chosen_hands = read_hands(hands, hands_format, warn=warnings.append)
+    checked_objects = _check_objects(Path(objects), unique_names(object_tracks), info, checks, warnings)
+    checked_hands = _check_hands(Path(hands), hand_tracks, info, checks, warnings)
+    gaps, missing = hand_gaps(checked_hands, info.fps, checks.max_gap_seconds)
+    for gap in gaps:
+        warnings.append(f"{hands}: {gap.hand} is missing for {gap.seconds:.1f} s, frames {gap.start}-{gap.end - 1}"
+                        " (interpolated)")
+    names = _categorise(Path(objects), checked_objects, categories)
+    observations = Observations(info, tuple(checked_objects), tuple(checked_hands), names)
+    return Imported(observations, chosen_objects, chosen_hands, tuple(warnings), tuple(gaps), missing)
+
+
+def unique_names(tracks: Iterable[ObjectTrack]) -> tuple[ObjectTrack, ...]:
+    """Tracks renamed so names are unique: the label's name, then ``_2``, ``_3``... in track id order,
+    skipping names already taken (a label ``"bowl 2"`` keeps ``bowl_2``; a second ``bowl`` becomes ``bowl_3``)."""
+    ordered = sorted(tracks, key=lambda t: t.track_id)
+    bases = [object_name(t.label) for t in ordered]
+    taken: set[str] = set()
+    counts: dict[str, int] = {}
+    result = []
+    # Names equal to their label's base go first so that a literal "bowl_2" label keeps its name.
+    firsts: dict[str, int] = {}
+    for track, base in zip(ordered, bases, strict=True):
+        firsts.setdefault(base, track.track_id)
+    taken.update(firsts)
+    for track, base in zip(ordered, bases, strict=True):
+        if firsts[base] == track.track_id:
+            name = base
+        else:
+            count = counts.get(base, 1)
+            while True:
+                count += 1
+                name = f"{base}_{count}"
+                if name not in taken:
+                    break
+            counts[base] = count
+            taken.add(name)
+        result.append(track if track.name == name else replace(track, name=name))
+    return tuple(result)
+
+
+def hand_gaps(
+    tracks: Sequence[HandTrack], fps: float, max_gap_seconds: float
+) -> tuple[list[HandGap], dict[str, int]]:
+    """Gaps longer than ``max_gap_seconds`` inside each track, and every track's missing frame count."""
+    gaps = []
+    missing = {}
+    for track in tracks:
+        frames = track.frames
+        missing[track.hand] = int(frames[-1] - frames[0] + 1 - len(frames)) if len(frames) else 0
+        steps = np.diff(frames)
+        for i in np.flatnonzero(steps > 1):
+            start, end = int(frames[i]) + 1, int(frames[i + 1])
+            seconds = (end - start) / fps
+            if seconds > max_gap_seconds:
+                gaps.append(HandGap(track.hand, start, end, seconds))
+    return gaps, missing
+
+
+# ------------------------------------------------------------------------------------------ checks
+
+
+def _check_frames(path: Path, what: str, frames: np.ndarray, info: VideoInfo) -> None:
+    count = usable_frames(info)
+    if len(frames) and (frames[0] < 0 or frames[-1] >= count):
+        bad = int(frames[-1] if frames[-1] >= count else frames[0])
+        raise InputError(path, f"{what} is in frame {bad}, but the video {Path(info.path).name} has frames "
+                         f"0-{count - 1}", place=f"frame {bad}")
+
+
+def _outside(boxes: np.ndarray, info: VideoInfo, tolerance: float) -> tuple[np.ndarray, np.ndarray]:
+    """(rows beyond the tolerance, rows needing a clip)."""
+    tx, ty = tolerance * info.width, tolerance * info.height
+    x1, y1, x2, y2 = boxes.T
+    far = (x1 < -tx) | (y1 < -ty) | (x2 > info.width + tx) | (y2 > info.height + ty)
+    near = (x1 < 0) | (y1 < 0) | (x2 > info.width) | (y2 > info.height)
+    return far, near
+
+
+def _clip(boxes: np.ndarray, info: VideoInfo) -> np.ndarray:
+    limits = np.array([info.width, info.height, info.width, info.height], dtype=np.float64)
+    return np.clip(boxes, 0.0, limits)
+
+
+def _check_objects(
+    path: Path, tracks: Sequence[ObjectTrack], info: VideoInfo, checks: InputChecks, warnings: list[str]
+) -> list[ObjectTrack]:
+    result = []
+    clipped = 0
+    for track in tracks:
+        what = f"track {track.track_id} ({track.label})"
+        _check_frames(path, what, track.frames, info)
+        far, near = _outside(track.boxes, info, checks.box_tolerance)
+        if far.any():
+            i = int(np.flatnonzero(far)[0])
+            box = ", ".join(f"{v:g}" for v in track.boxes[i])
+            raise InputError(path, f"{what}: box ({box}) lies outside the {info.width}x{info.height} image by more "
+                             f"than {checks.box_tolerance:.0%}", place=f"frame {int(track.frames[i])}")
+        if near.any():
+            clipped += int(near.sum())
+            track = replace(track, boxes=_clip(track.boxes, info))
+        result.append(track)
+    if clipped:
+        warnings.append(f"{path}: clipped {clipped} boxes that stuck out of the image a little")
+    return result
+
+
+def _check_hands(
+    path: Path, tracks: Sequence[HandTrack], info: VideoInfo, checks: InputChecks, warnings: list[str]
+) -> list[HandTrack]:
+    result = []
+    for track in tracks:
+        _check_frames(path, f"hand {track.hand}", track.frames, info)
+        points = np.concatenate([track.xy, track.xy], axis=1)
+        far, near = _outside(points, info, checks.box_tolerance)
+        if far.any():
+            i = int(np.flatnonzero(far)[0])
+            raise InputError(path, f"hand {track.hand} at ({track.xy[i, 0]:g}, {track.xy[i, 1]:g}) lies outside "
+                             f"the {info.width}x{info.height} image by more than {checks.box_tolerance:.0%}",
+                             place=f"frame {int(track.frames[i])}")
+        xy = np.clip(track.xy, 0.0, [info.width, info.height]) if near.any() else track.xy
+        boxes = _clip(track.boxes, info)
+        result.append(replace(track, xy=xy, boxes=boxes))
+    return result
+
+
+def _categorise(
+    path: Path, tracks: Sequence[ObjectTrack], table: CategoryTable | None
+) -> dict[str, Category]:
+    from wecook_core.categories import load_categories
+
+    table = table if table is not None else load_categories()
+    by_label = table.categorize_all([t.label for t in tracks], str(path))
+    return {t.name: by_label[t.label] for t in tracks}
