@@ -1,0 +1,85 @@
+from __future__ import annotations
+
+import itertools
+
+import pytest
+from handmade_scenes import cutting, handing_over, holding, pouring, squeezing, transferring
+
+from wecook_core.model import Corrections, Segment, Segmentation, SegmentStatus
+from wecook_core.pipeline import Params, analyze, apply_cuts
+from wecook_core.recognize import load_knowledge
+from wecook_core.trees import format_tree, parse_tree
+
+CUT_TREE = "(HP (HP (H RH_P1) (O knife)) (AP (A cut) (OP (O tomato) (O chopping_board))))"
+
+
+@pytest.fixture(scope="module")
+def knowledge():
+    return load_knowledge()
+
+
+def given(*edges):
+    return Segmentation({}, tuple(Segment(a, b) for a, b in itertools.pairwise(edges)))
+
+
+def texts(analysis):
+    return [(t.start, t.end, format_tree(t.tree)) for t in analysis.trees]
+
+
+def test_splits_add_and_merges_remove_breakpoints():
+    segmentation = given(0, 30, 60, 150)
+    cut = apply_cuts(segmentation, Corrections(splits=frozenset({100, 0, 400}), merges=frozenset({30})))
+    assert [(s.start, s.end) for s in cut.segments] == [(0, 60), (60, 100), (100, 150)]
+    assert apply_cuts(segmentation, Corrections()) is segmentation
+
+
+@pytest.mark.parametrize(("scene", "expected"), [
+    (cutting, CUT_TREE),
+    (squeezing, "(HP (H LH_P1) (AP (A squeeze) (O lemon)))"),
+    (pouring, "(HP (HP (H RH_P1) (O oil)) (AP (A pour) (O pot)))"),
+    (transferring, "(HP (HP (H RH_P1) (O spoon)) (AP (A transfer) (OP (O meat) (OP (O bowl) (O pot)))))"),
+    (handing_over, "(HP (HP (H RH_P1) (O knife)) (CP (C handover) (HP (H LH_P2) (O knife))))"),
+    (holding, "(HP (HP (H LH_P1) (O chopping_board)) (CP (C holding) (HP (HP (H RH_P2) (O knife)) "
+              "(AP (A cut) (O tomato)))))"),
+])
+def test_every_stage_from_hands_to_one_tree_per_action(scene, expected, knowledge):
+    analysis = analyze(scene(), knowledge, Params())
+    with_action = [t for t in texts(analysis) if "(A " in t[2] or "(C " in t[2]]
+    assert [t[2] for t in with_action] == [expected]
+    assert len(analysis.associations) == len(analysis.segmentation.segments) == len(analysis.segment_actions)
+    assert all(parse_tree(format_tree(t.tree)) == t.tree for t in analysis.trees)
+    assert [n.span for n in analysis.graph.nodes] == sorted(analysis.trees, key=lambda t: t.start)
+
+
+def test_corrections_change_the_trees(knowledge):
+    obs = cutting()
+    segmentation = given(0, 30, 60, 120, 150)
+    plain = analyze(obs, knowledge, Params(), segmentation=segmentation)
+    assert texts(plain) == [(30, 150, CUT_TREE)]
+
+    peel = analyze(obs, knowledge, Params(), Corrections(verbs={(60, "RH_P1"): "peel"}), segmentation=segmentation)
+    assert [t[2].split("(A ")[1].split(")")[0] for t in texts(peel)] == ["cut", "peel", "cut"]
+
+    rejected = analyze(obs, knowledge, Params(), Corrections(status={60: SegmentStatus.REJECTED}),
+                       segmentation=segmentation)
+    assert all(not (t.start < 120 and t.end > 60) for t in rejected.trees)
+
+    nothing = analyze(obs, knowledge, Params(), Corrections(hand_object={(s, "RH_P1"): None for s in (30, 60, 120)}),
+                      segmentation=segmentation)
+    assert nothing.trees == ()
+
+    merged = analyze(obs, knowledge, Params(), Corrections(merges=frozenset({60, 120})), segmentation=segmentation)
+    assert [(s.start, s.end) for s in merged.segmentation.segments] == [(0, 30), (30, 150)]
+    assert texts(merged) == [(30, 150, CUT_TREE)]
+
+    redirected = analyze(obs, knowledge, Params(), Corrections(object_object={(60, "knife"): ("chopping_board",)}),
+                         segmentation=segmentation)
+    assert redirected.associations[2].object_object == {"knife": ("chopping_board",)}
+    assert texts(redirected) == [(30, 150, "(HP (HP (H RH_P1) (O knife)) (AP (A cut) (O chopping_board)))")]
+
+
+def test_analysis_finds_the_segment_of_a_frame(knowledge):
+    analysis = analyze(cutting(), knowledge, Params(), segmentation=given(0, 30, 60, 120, 150))
+    assert analysis.segment_index(0) == 0 and analysis.segment_index(59) == 1 and analysis.segment_index(60) == 2
+    assert analysis.segment_index(150) is None
+    assert set(analysis.seconds) == {"segment", "associate", "actions", "graph"}
