@@ -112,3 +112,34 @@ def test_flushes_about_every_interval(tmp_path: Path) -> None:
     synthetic_run(rec, actions=2, seconds_per_action=0.5, state_hz=20, wall_per_sim=0.5)  # ~0.5 s wall
     assert 4 <= len(flushes) <= 14, flushes
     assert flushes == sorted(flushes)
+
+
+def test_fast_transforms_json_matches_the_plain_encoding() -> None:
+    import numpy as np
+
+    poses = {"P1/link0": ((0.1, -0.2, 0.3), (0.0, 0.0, 0.0, 1.0)),
+             'odd "name"': ((np.float64(1 / 3), 2.0, -5e-7), (0.5, 0.5, -0.5, 0.5)),
+             "bad": ((float("nan"), 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))}
+    fast = json.loads(foxglove.frame_transforms_json(3_000_000_007, poses))
+    plain = foxglove.frame_transforms(3_000_000_007, poses)
+    assert len(fast["transforms"]) == 3
+    for got, want in zip(fast["transforms"], plain["transforms"], strict=True):
+        assert got["timestamp"] == want["timestamp"] == {"sec": 3, "nsec": 7}
+        assert got["child_frame_id"] == want["child_frame_id"]
+        for key in ("translation", "rotation"):
+            for axis, value in want[key].items():
+                if value != value:  # NaN is written as null
+                    assert got[key][axis] is None
+                else:
+                    assert abs(got[key][axis] - value) <= 5e-7
+
+
+def test_states_are_kept_at_most_state_hz(tmp_path: Path) -> None:
+    path = tmp_path / "run.mcap"
+    with McapRecorder(path, state_hz=10) as rec:
+        rec.on_start((), "wecook_plan: 1\n", 0, {})
+        for k in range(100):  # 240 Hz for 100 steps: 0.41 s
+            rec.on_state(k / 240, {"table": ((0, 0, 0), (0, 0, 0, 1))}, {})
+        rec.on_event(1.0, RunEvent("run_end"))
+    times = [m["transforms"][0]["timestamp"]["nsec"] for t, _, m in read_all(path) if t == "/tf"]
+    assert len(times) == 5  # t = 0, 0.1, 0.2, 0.3, 0.4 (to the nearest step)

@@ -9,6 +9,8 @@ colours ``{r, g, b, a}`` in 0..1, image bytes base64. Two schemas are wecook's o
 from __future__ import annotations
 
 import base64
+import json
+import math
 from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
@@ -182,6 +184,33 @@ def frame_transforms(ns: int, poses: Mapping[str, tuple[Vec3, Quat]]) -> dict[st
     return {"transforms": [{"timestamp": ts, "parent_frame_id": WORLD_FRAME, "child_frame_id": frame,
                             "translation": _vec(pos), "rotation": _quat(quat)}
                            for frame, (pos, quat) in poses.items()]}
+
+
+def _num(value: float) -> str:
+    v = float(value)
+    return f"{v:.6f}" if math.isfinite(v) else "null"
+
+
+_NAMES: dict[str, str] = {}
+_TRANSFORM = ('{"timestamp":%s,"parent_frame_id":"' + WORLD_FRAME + '","child_frame_id":%s,'
+              '"translation":{"x":%.6f,"y":%.6f,"z":%.6f},"rotation":{"x":%.6f,"y":%.6f,"z":%.6f,"w":%.6f}}')
+
+
+def frame_transforms_json(ns: int, poses: Mapping[str, tuple[Vec3, Quat]]) -> bytes:
+    """The JSON of :func:`frame_transforms`, compact, built by string formatting (about 4x faster than
+    ``json.dumps``: ``/tf`` is most of a recording). Numbers have 6 decimals (micrometres); a non-finite one
+    is written ``null``."""
+    ts = f'{{"sec":{ns // 1_000_000_000},"nsec":{ns % 1_000_000_000}}}'
+    parts = []
+    for frame, (p, q) in poses.items():
+        name = _NAMES.get(frame)
+        if name is None:
+            name = _NAMES[frame] = json.dumps(frame)
+        if math.isfinite(p[0] + p[1] + p[2] + q[0] + q[1] + q[2] + q[3]):
+            parts.append(_TRANSFORM % (ts, name, p[0], p[1], p[2], q[0], q[1], q[2], q[3]))
+        else:
+            parts.append((_TRANSFORM.replace("%.6f", "%s")) % (ts, name, *map(_num, (*p, *q))))
+    return ('{"transforms":[' + ",".join(parts) + "]}").encode()
 
 
 def _shape(shape: Shape) -> tuple[str, dict[str, Any]]:

@@ -11,6 +11,9 @@ flushes the file (mcap 1.6.0 ``Writer.flush``), so a process killed with SIGKILL
 last flush in complete chunks. The file then lacks its summary and footer: the seeking reader rejects it, a
 ``NonSeekingReader`` reads it, and :func:`wecook_core.execution.runs.recover_recording` rewrites it whole.
 
+States (``/tf`` and ``/joint_states``) are kept at most ``state_hz`` times per simulated second (default 50:
+smooth playback; the executor may report every physics step); events, logs and images are all kept.
+
 Log times are ``time_origin_ns + t * 1e9`` where ``t`` is the simulated time the executor reports; the origin is
 the wall clock when recording starts unless given (pass 0 for byte-identical recordings of identical runs).
 """
@@ -59,7 +62,7 @@ class McapRecorder:
     """
 
     def __init__(self, path: str | Path, *, flush_every_s: float = 1.0, time_origin_ns: int | None = None,
-                 compression: Literal["zstd", "lz4", "none"] = "zstd",
+                 state_hz: float | None = 50.0, compression: Literal["zstd", "lz4", "none"] = "zstd",
                  on_flush: Callable[[int], None] | None = None) -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
@@ -85,6 +88,8 @@ class McapRecorder:
         self._frames: tuple[FrameInfo, ...] = ()
         self._last_ns = 0
         self._last_flush = time.monotonic()
+        self._state_period = 1.0 / state_hz if state_hz else 0.0
+        self._last_state: float | None = None
         self._saw_run_end = False
         self._closed = False
         self._lock = threading.Lock()
@@ -96,10 +101,11 @@ class McapRecorder:
         self._last_ns = max(self._last_ns, ns)
         return ns
 
-    def _write(self, topic: str, ns: int, message: Mapping[str, Any]) -> None:
+    def _write(self, topic: str, ns: int, message: Mapping[str, Any] | bytes) -> None:
         if self._closed:
             return
-        self._writer.add_message(self._channels[topic], log_time=ns, data=_dumps(message), publish_time=ns)
+        data = message if isinstance(message, bytes) else _dumps(message)
+        self._writer.add_message(self._channels[topic], log_time=ns, data=data, publish_time=ns)
         self.message_count += 1
 
     def _maybe_flush(self) -> None:
@@ -140,8 +146,11 @@ class McapRecorder:
     def on_state(self, t: float, poses: Mapping[str, tuple[Vec3, Quat]],
                  joints: Mapping[str, tuple[Sequence[str], Sequence[float]]]) -> None:
         with self._lock:
+            if self._last_state is not None and t - self._last_state < self._state_period - 1e-9:
+                return
+            self._last_state = t
             ns = self._ns(t)
-            self._write("/tf", ns, foxglove.frame_transforms(ns, poses))
+            self._write("/tf", ns, foxglove.frame_transforms_json(ns, poses))
             for agent, (names, positions) in joints.items():
                 self._write("/joint_states", ns, foxglove.joint_state(ns, agent, names, positions))
             self._maybe_flush()
