@@ -246,18 +246,18 @@ def rank_batch(knowledge: Knowledge, lines: Iterable[Sequence[str]], candidates:
     verbs = [knowledge.verbs[c] for c in columns]
     n_objects = len(knowledge.objects)
 
+    names = np.array(verbs, dtype=object)
+
     def flush(pending: list[tuple[list[int], tuple[str, ...], bool]]) -> Iterator[BatchItem]:
-        counts = np.zeros((len(pending), n_objects))
-        for i, (rows, _, _) in enumerate(pending):
-            np.add.at(counts[i], rows, 1.0)
-        probabilities = _posterior(counts @ table + prior)
+        lines = np.repeat(np.arange(len(pending)), [len(rows) for rows, _, _ in pending])
+        objects = np.fromiter((r for rows, _, _ in pending for r in rows), dtype=np.int64, count=len(lines))
+        counts = np.bincount(lines * n_objects + objects, minlength=len(pending) * n_objects)
+        probabilities = _posterior(counts.reshape(len(pending), n_objects) @ table + prior)
         order = np.argsort(-probabilities, axis=1, kind="stable")
+        ranked_names = names[order].tolist()
+        ranked_p = np.take_along_axis(probabilities, order, axis=1).tolist()
         for i, (_, unknown, empty) in enumerate(pending):
-            if empty:
-                yield BatchItem((), unknown)
-                continue
-            p = probabilities[i]
-            yield BatchItem(tuple((verbs[j], float(p[j])) for j in order[i].tolist()), unknown)
+            yield BatchItem((), unknown) if empty else BatchItem(tuple(zip(ranked_names[i], ranked_p[i])), unknown)
 
     pending: list[tuple[list[int], tuple[str, ...], bool]] = []
     for labels in lines:
