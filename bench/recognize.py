@@ -14,7 +14,7 @@ import time
 import numpy as np
 
 from wecook_core.knowledge.nouns import match
-from wecook_core.recognize import KNOWLEDGE_PATH, Knowledge, _parse, load_knowledge, rank_batch
+from wecook_core.recognize import KNOWLEDGE_PATH, Knowledge, knowledge_from_json, load_knowledge, rank_batch
 
 LABELS = ("knife", "tomato", "chopping board", "spoon", "pot", "pan", "oil", "salt", "lemon", "dough",
           "rolling pin", "peeler", "potato", "bread", "butter", "bowl_2", "cherry_tomato", "onion", "carrot",
@@ -79,7 +79,7 @@ def run() -> list[dict[str, object]]:
     best = math.inf
     for _ in range(5):
         t = time.perf_counter()
-        _parse(json.loads(text), KNOWLEDGE_PATH)
+        knowledge_from_json(json.loads(text), KNOWLEDGE_PATH)
         best = min(best, time.perf_counter() - t)
 
     return [

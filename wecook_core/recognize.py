@@ -119,7 +119,8 @@ def save_knowledge(knowledge: Knowledge, path: Path) -> None:
     path.write_text(knowledge_to_json(knowledge), encoding="utf-8")
 
 
-def _parse(data: Any, path: Path) -> Knowledge:
+def knowledge_from_json(data: Any, path: Path) -> Knowledge:
+    """Tables from the parsed JSON of a knowledge file; InputError naming ``path`` when malformed."""
     if not isinstance(data, dict) or data.get(FORMAT_KEY) != FORMAT_VERSION:
         raise InputError(path, f"not a wecook knowledge file (expected {FORMAT_KEY}: {FORMAT_VERSION})")
     for key, kind in (("verbs", list), ("objects", list), ("action_counts", list), ("pair_counts", list)):
@@ -163,7 +164,7 @@ def load_knowledge(path: Path | None = None) -> Knowledge:
         raise InputError(path, f"cannot read the knowledge tables: {error}") from None
     except json.JSONDecodeError as error:
         raise InputError(path, f"invalid JSON: {error.msg}", place=f"line {error.lineno}") from None
-    knowledge = _parse(data, path)
+    knowledge = knowledge_from_json(data, path)
     _CACHE[key] = knowledge
     return knowledge
 
@@ -257,7 +258,8 @@ def rank_batch(knowledge: Knowledge, lines: Iterable[Sequence[str]], candidates:
         ranked_names = names[order].tolist()
         ranked_p = np.take_along_axis(probabilities, order, axis=1).tolist()
         for i, (_, unknown, empty) in enumerate(pending):
-            yield BatchItem((), unknown) if empty else BatchItem(tuple(zip(ranked_names[i], ranked_p[i])), unknown)
+            ranking = () if empty else tuple(zip(ranked_names[i], ranked_p[i], strict=True))
+            yield BatchItem(ranking, unknown)
 
     pending: list[tuple[list[int], tuple[str, ...], bool]] = []
     for labels in lines:

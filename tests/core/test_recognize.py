@@ -13,7 +13,7 @@ import pytest
 from wecook_core.errors import InputError
 from wecook_core.recognize import (
     Knowledge,
-    _parse,
+    knowledge_from_json,
     load_knowledge,
     match_object,
     rank,
@@ -151,7 +151,7 @@ def test_shipped_tables_load_fast() -> None:
     best = math.inf
     for _ in range(5):
         started = time.perf_counter()
-        _parse(json.loads(KNOWLEDGE_PATH.read_text()), KNOWLEDGE_PATH)
+        knowledge_from_json(json.loads(KNOWLEDGE_PATH.read_text()), KNOWLEDGE_PATH)
         best = min(best, time.perf_counter() - started)
     assert best < 0.05
     knowledge = load_knowledge()
