@@ -35,6 +35,9 @@ Ranking = tuple[tuple[str, float], ...]
 class Knowledge:
     """Counts learned from a corpus and the smoothed log-probability tables derived from them.
 
+    Holds arrays, so it compares by identity (``eq=False``); :func:`load_knowledge` returns one shared
+    instance per file.
+
     P(A) = (n_A + alpha) / (N + alpha |verbs|) and P(O | A) = (n_{A,O} + alpha) / (Σ_O n_{A,O} + alpha |objects|):
     additive smoothing over the whole object vocabulary, so an object never seen with an action only
     lowers that action's score, it never rules it out.
@@ -212,6 +215,8 @@ def rank(knowledge: Knowledge, objects: Sequence[str], candidates: Sequence[str]
     (see :func:`unknown_objects`); with no known object the ranking is the prior. ``candidates``
     restricts the verbs (default: every verb of the tables); an unknown candidate is a ValueError.
     """
+    if isinstance(objects, str):
+        raise TypeError("objects must be a sequence of labels, not one string")
     columns = _columns(knowledge, candidates)
     if len(columns) == 0:
         return ()

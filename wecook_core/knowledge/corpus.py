@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from wecook_core.errors import InputError
-from wecook_core.knowledge.nouns import epic_name, normalise
+from wecook_core.knowledge.nouns import epic_name, match, normalise
 
 EPIC_LICENCE = "CC BY-NC 4.0"
 EPIC_CITATION = (
@@ -151,6 +151,13 @@ def _rows(path: Path, columns: Iterable[str]) -> list[dict[str, str]]:
         raise InputError(path, f"cannot read: {error}") from None
 
 
+def _noun(noun: str, nouns: Mapping[str, str], seen: dict[str, str]) -> str:
+    """The class of a raw EPIC noun: an instance, else its head noun (``pepper:red`` -> pepper); "" if none."""
+    if noun not in seen:
+        seen[noun] = match(epic_name(noun), nouns) or ""
+    return seen[noun]
+
+
 def _with_context(rows: list[tuple[str, int, str, tuple[str, ...]]], verb_classes: Mapping[str, str],
                   context: int) -> list[Record]:
     """Records in file order, each with the objects of the "take" records among the ``context`` before it
@@ -214,6 +221,7 @@ def read_epic(root: Path, *, context: int = 2) -> Corpus:
                     verb_classes.setdefault(verb.strip(), key)
 
     records: list[Record] = []
+    seen: dict[str, str] = {}
     for file, use_class_ids in (
         (root / "epic55" / "EPIC_train_action_labels.csv", False),
         (root / "epic100" / "EPIC_100_validation.csv", True),
@@ -228,7 +236,7 @@ def read_epic(root: Path, *, context: int = 2) -> Corpus:
                 ids = _literal_list(row["all_noun_classes"], file, place)
                 objects = [class_names.get(int(i), "") for i in ids]
             else:
-                objects = [nouns.get(epic_name(n), "") for n in _literal_list(row["all_nouns"], file, place)]
+                objects = [_noun(n, nouns, seen) for n in _literal_list(row["all_nouns"], file, place)]
             try:
                 start = int(row["start_frame"])
             except ValueError:
