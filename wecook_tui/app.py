@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -19,59 +18,12 @@ from textual.reactive import reactive
 from textual.screen import Screen
 
 from wecook_core.errors import InputError
-from wecook_tui.frames import FrameSource
 from wecook_tui.keymap import LoadedKeymap, load_keymap
 from wecook_tui.messages import AnalysisFailed, AnalysisReady, SessionFailed, SessionOpened
 from wecook_tui.screens.help import HelpScreen
 from wecook_tui.screens.main import MAIN_BINDINGS, MainScreen
 from wecook_tui.widgets.frame_view import FrameView
-
-
-@dataclass
-class Opened:
-    """What opening a session yields (the ``opener`` worker's result)."""
-
-    session: Any
-    observations: Any
-    knowledge: Any
-    frames: FrameSource | None
-    warnings: list[str] = field(default_factory=list)
-    segmentation: Any = None
-    """GGS's own segmentation, computed by the first analysis and reused by the next ones."""
-
-
-def open_workspace(path: Path) -> Opened:
-    """Open the session, read its observations and the commonsense tables, open the video (core calls only)."""
-    from wecook_core.recognize import load_knowledge
-    from wecook_core.session import open_session
-
-    session = open_session(path)
-    warnings = [str(w) for w in getattr(session, "warnings", ())]
-    obs = None
-    try:
-        obs = session.load_observations()
-    except InputError as error:
-        warnings.append(f"inputs cannot be read: {error}")
-    knowledge = None
-    try:
-        knowledge = load_knowledge()
-    except InputError as error:
-        warnings.append(f"commonsense tables cannot be read ({error}); action picker unranked")
-    frames = FrameSource(obs.video.path) if obs is not None else None
-    if frames is not None and frames.facts.error and not any(frames.facts.error in w for w in warnings):
-        warnings.append(f"{frames.facts.error}: boxes and hands are drawn on a blank frame")
-    return Opened(session, obs, knowledge, frames, warnings)
-
-
-def analyze_workspace(opened: Opened, corrections: Any) -> Any:
-    """``pipeline.analyze`` with the corrections; GGS runs once per session (corrections never change it)."""
-    from wecook_core.pipeline import analyze
-    from wecook_core.segment import segment_hands
-
-    if opened.segmentation is None:
-        opened.segmentation = segment_hands(opened.observations, opened.session.params)
-    return analyze(opened.observations, opened.knowledge, opened.session.params, corrections,
-                   segmentation=opened.segmentation)
+from wecook_tui.workspace import Opened, analyze_workspace, open_workspace
 
 
 class WecookApp(App[None]):

@@ -63,6 +63,8 @@ class MainScreen(Screen[None]):
         super().__init__()
         self._inspected: tuple | None = None
         self._timer: Timer | None = None
+        self._hand_chosen = False
+        """The user picked a hand (t); until then the first hand acting in the segment is selected."""
 
     @property
     def wb(self) -> WecookApp:
@@ -94,7 +96,7 @@ class MainScreen(Screen[None]):
         """Session, analysis or corrections changed: redraw everything."""
         wb = self.wb
         hands = review.hands_of(wb.obs)
-        if self.selected_hand not in hands:
+        if self.selected_hand not in hands or not self._hand_chosen:
             index, seg = self.current()
             acting = [h for h in hands if h in review.actions_of(wb.analysis, seg, index)]
             self.selected_hand = (acting or list(hands) or [None])[0]
@@ -162,6 +164,7 @@ class MainScreen(Screen[None]):
     def action_next_hand(self) -> None:
         hands = review.hands_of(self.wb.obs)
         if hands:
+            self._hand_chosen = True
             current = hands.index(self.selected_hand) if self.selected_hand in hands else -1
             self.selected_hand = hands[(current + 1) % len(hands)]
 

@@ -23,8 +23,11 @@ PLAN_BINDINGS: list[Binding] = [
     Binding("escape,q", "back", "Back", id="plan-back"),
 ]
 
-PLAN_FILE = "plan.yaml"
-"""Where export writes, inside the session folder."""
+
+
+def plan_file(session_path: Path) -> Path:
+    """Where export writes: ``plans/plan.yaml`` in the session (as `wecook export` does)."""
+    return session_path / "plans" / "plan.yaml"
 
 
 def plan_renderable(plan: Any) -> Group:
@@ -103,19 +106,21 @@ class PlanReviewScreen(Screen[None]):
         self.plan = message.plan
         body.update(plan_renderable(message.plan))
         self.query_one("#plan-status", Static).update(
-            f"Press w to write {self.session_path / PLAN_FILE}")
+            f"Press w to write {plan_file(self.session_path)}")
 
     def action_export(self) -> None:
         if self.plan is None:
             self.notify("The plan is not built yet.", severity="warning")
             return
-        self._export(self.plan, self.session_path / PLAN_FILE)
+        self._export(self.plan, plan_file(self.session_path))
 
     @work(thread=True, exclusive=True, group="plan-export", exit_on_error=False)
     def _export(self, plan: Any, path: Path) -> None:
-        from wecook_core.plan import write_plan
+        from wecook_core.plan import validate, write_plan
 
         try:
+            validate(plan, path)
+            path.parent.mkdir(parents=True, exist_ok=True)
             written = write_plan(plan, path)
         except Exception as error:
             self.post_message(PlanExported(path, f"{type(error).__name__}: {error}"))

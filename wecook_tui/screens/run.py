@@ -23,6 +23,7 @@ from textual.widgets import DataTable, Footer, OptionList, ProgressBar, RichLog,
 from textual.widgets.option_list import Option
 
 from wecook_tui.messages import RunFinished, RunOutput
+from wecook_tui.screens.plan_review import plan_file
 
 RUN_BINDINGS: list[Binding] = [
     Binding("escape,q", "back", "Back", id="run-back"),
@@ -32,7 +33,7 @@ RUN_BINDINGS: list[Binding] = [
 Command = Callable[[Path, Path], list[str]]
 """(plan path, mcap path) -> the argv that executes the plan."""
 
-ACTION_ID = re.compile(r"\b(a\d+)\b")
+WORD = re.compile(r"[A-Za-z0-9_]+")
 STATES = (("failed", re.compile(r"fail|error", re.I)), ("done", re.compile(r"\bdone\b|succe|\bok\b|✓", re.I)),
           ("running", re.compile(r"start|running|begin", re.I)))
 
@@ -60,14 +61,15 @@ def past_runs(session_path: Path) -> list[dict[str, Any]]:
     return sorted(records.values(), key=lambda r: r["name"], reverse=True)
 
 
-def action_state(line: str) -> tuple[str, str] | None:
-    """(action id, state) when an output line reports an action's progress."""
-    found = ACTION_ID.search(line)
-    if not found:
+def action_state(line: str, ids: set[str] | dict[str, str]) -> tuple[str, str] | None:
+    """(action id, state) when an output line of `wecook execute` reports an action's progress
+    (``[  1.20s] a3 P1 cut: started`` / ``: done`` / ``: FAILED: why``, or a summary row ``a3<TAB>P1<TAB>...``)."""
+    found = next((word for word in WORD.findall(line) if word in ids), None)
+    if found is None:
         return None
     for state, pattern in STATES:
         if pattern.search(line):
-            return found.group(1), state
+            return found, state
     return None
 
 
@@ -141,7 +143,7 @@ class RunScreen(Screen[None]):
         log_path = mcap.with_suffix(".log")
         try:
             plan = plan_from_graph(self.analysis.graph, self.obs)
-            plan_path = write_plan(plan, self.session_path / "plan.yaml")
+            plan_path = write_plan(plan, plan_file(self.session_path))
             self.call_from_thread(self._show_plan, plan)
             env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "120", "NO_COLOR": "1"}
             self.process = subprocess.Popen(self.command(Path(plan_path), mcap), stdout=subprocess.PIPE,
@@ -174,8 +176,8 @@ class RunScreen(Screen[None]):
 
     def on_run_output(self, message: RunOutput) -> None:
         self.query_one("#run-log", RichLog).write(Text.from_ansi(message.line))
-        found = action_state(message.line)
-        if found is None or found[0] not in self.states:
+        found = action_state(message.line, self.states)
+        if found is None:
             return
         action_id, state = found
         self.states[action_id] = state

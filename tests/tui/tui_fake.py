@@ -29,8 +29,8 @@ from wecook_core.model import (
 )
 from wecook_core.pipeline import Analysis
 from wecook_core.trees import tree_of
-from wecook_tui.app import Opened
 from wecook_tui.frames import FrameSource
+from wecook_tui.workspace import Opened
 
 FRAMES = 60
 SIZE = (320, 180)
@@ -57,8 +57,9 @@ def make_obs(video: Path, frames: int = FRAMES, size: tuple[int, int] = SIZE) ->
     objects = (track(1, "knife", (40, 40, 90, 60)), track(2, "tomato", (150, 80, 180, 110)),
                track(3, "chopping_board", (120, 60, 240, 150)), track(4, "bowl", (250, 20, 300, 70)))
     xy = np.stack([np.linspace(60, 160, frames), np.full(frames, 55.0)], axis=1)
+    left = xy[::-1] + np.array([0.0, 60.0])
     hands = (HandTrack("RH_P1", idx, xy, np.hstack([xy - 8, xy + 8])),
-             HandTrack("LH_P1", idx, [*xy[::-1], 0, 60], np.hstack([[*xy[::-1], -8, 52], [*xy[::-1], 8, 68]])))
+             HandTrack("LH_P1", idx, left, np.hstack([left - 8, left + 8])))
     categories = {"knife": Category.TOOL, "tomato": Category.INGREDIENT, "chopping_board": Category.CONTAINER,
                   "bowl": Category.CONTAINER}
     return Observations(VideoInfo(str(video), 30.0, frames, size[0], size[1]), objects, hands, categories)

@@ -1,0 +1,296 @@
+"""Pilot tests: every key path of the review screen on a real session, asserting on state and on the journal."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from tui_driving import journal, pick, pilot_test, settle
+
+from wecook_core.model import SegmentStatus
+from wecook_tui import review
+from wecook_tui.app import WecookApp
+from wecook_tui.screens.help import HelpScreen
+from wecook_tui.screens.main import MAIN_BINDINGS
+from wecook_tui.screens.picker import PickerScreen
+from wecook_tui.widgets.frame_view import FrameView
+from wecook_tui.widgets.inspector import SegmentTree
+from wecook_tui.widgets.timeline import Timeline
+
+SIZE = (150, 45)
+
+
+def ops(session: Path) -> list[str]:
+    return [entry["op"] for entry in journal(session)]
+
+
+@pilot_test
+async def test_opens_with_frame_timeline_and_inspector(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        view = app.main.query_one(FrameView)
+        assert view.shown == 0 and view.message is None
+        assert len(view._strips) > 10
+        timeline = app.main.query_one(Timeline)
+        assert [lane.hand for lane in timeline.lanes] == ["LH_P1", "RH_P1"]
+        segs = app.analysis.segmentation.segments
+        assert len(segs) >= 3 and timeline.segments == segs
+        tree = app.main.query_one(SegmentTree)
+        assert len(tree.root.children) == len(review.trees_of(app.analysis, segs[0]))
+        assert app.main.selected_hand == "RH_P1"  # the hand that acts in the first segment
+
+
+@pilot_test
+async def test_frame_stepping_keys(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        await pilot.press("right", "right", "l")
+        assert app.main.frame == 3
+        await pilot.press("left")
+        assert app.main.frame == 2
+        await pilot.press("shift+right")
+        assert app.main.frame == 12
+        await pilot.press("L")
+        assert app.main.frame == 22
+        await pilot.press("shift+left", "H", "H", "H")
+        assert app.main.frame == 0  # clamped at the first frame
+        for _ in range(12):
+            await pilot.press("L")
+        assert app.main.frame == app.frame_count - 1  # clamped at the last frame
+        await settle(pilot, app)
+        view = app.main.query_one(FrameView)
+        assert view.shown == app.frame_count - 1
+
+
+@pilot_test
+async def test_segment_keys_and_next_unreviewed(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        segs = app.analysis.segmentation.segments
+        await pilot.press("down")
+        assert app.main.frame == segs[1].start
+        await pilot.press("n")
+        assert app.main.frame == segs[2].start
+        await pilot.press("up")
+        assert app.main.frame == segs[1].start
+        await pilot.press("p", "p")
+        assert app.main.frame == 0
+        await pilot.press("a")  # accept segment 0, then accept segment 1
+        await pilot.press("down", "a")
+        await pilot.press("up", "u")
+        assert app.main.frame == segs[2].start  # the first unreviewed after segment 0
+
+
+@pilot_test
+async def test_accept_and_reject_are_journaled_and_shown(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        segs = app.analysis.segmentation.segments
+        await pilot.press("a")
+        assert journal(session_path)[-1] | {} == {**journal(session_path)[-1], "op": "set_status",
+                                                 "segment": 0, "status": "accepted"}
+        timeline = app.main.query_one(Timeline)
+        assert timeline.status[0] is SegmentStatus.ACCEPTED  # shown at once, before the analysis returns
+        await pilot.press("down", "x")
+        entry = journal(session_path)[-1]
+        assert (entry["op"], entry["segment"], entry["status"]) == ("set_status", segs[1].start, "rejected")
+        await settle(pilot, app)
+        assert app.analysis.corrections.status == {0: SegmentStatus.ACCEPTED, segs[1].start: SegmentStatus.REJECTED}
+        assert timeline.status[segs[1].start] is SegmentStatus.REJECTED
+
+
+@pilot_test
+async def test_change_action_picker_ranked_by_commonsense(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        segs = app.analysis.segmentation.segments
+        last = segs[-1]
+        app.main.frame = last.start
+        await pilot.press("c")
+        screen = app.screen
+        assert isinstance(screen, PickerScreen)
+        ranking = review.ranking_of(app.analysis, last, len(segs) - 1, "RH_P1")
+        assert ranking, "the scenario's last segment has a ranked action"
+        offered = [value for value, _ in screen.options]
+        assert offered[: len(ranking)] == [verb for verb, _ in ranking]
+        await pick(pilot, app, "peel")
+        entry = journal(session_path)[-1]
+        assert entry["op"] == "set_verb" and entry["verb"] == "peel" and entry["hand"] == "RH_P1"
+        assert entry["segment"] == last.start
+        await settle(pilot, app)
+        action = review.actions_of(app.analysis, last, len(segs) - 1)["RH_P1"]
+        assert action.verb == "peel"
+        assert review.status_of(app.corrections, last.start) is SegmentStatus.CORRECTED
+
+
+@pilot_test
+async def test_change_object_picker_closest_first(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        app.main.frame = 40
+        await pilot.press("o")
+        screen = app.screen
+        assert isinstance(screen, PickerScreen)
+        near = review.objects_near_hand(app.obs, "RH_P1", 40, app.main.current()[1])
+        distances = [d for _, d in near]
+        assert distances == sorted(distances)
+        assert [v for v, _ in screen.options][:-1] == [name for name, _ in near]
+        await pick(pilot, app, "tomato")
+        entry = journal(session_path)[-1]
+        assert (entry["op"], entry["hand"], entry["object"]) == ("set_hand_object", "RH_P1", "tomato")
+        await settle(pilot, app)
+        index, seg = app.main.current()
+        assert review.associations_of(app.analysis, index, seg).hand_object["RH_P1"] == "tomato"
+        await pilot.press("o")
+        await pick(pilot, app, review.NOTHING)
+        assert journal(session_path)[-1]["object"] is None
+
+
+@pilot_test
+async def test_change_object_object_link(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        segs = app.analysis.segmentation.segments
+        app.main.frame = segs[-1].start
+        await pilot.press("k")
+        screen = app.screen
+        assert isinstance(screen, PickerScreen)
+        offered = [v for v, _ in screen.options]
+        assert "knife" not in offered  # the held object itself, and tools, are never targets
+        await pick(pilot, app, "bowl")
+        entry = journal(session_path)[-1]
+        assert (entry["op"], entry["object"], entry["targets"]) == ("set_object_object", "knife", ["bowl"])
+        await settle(pilot, app)
+        assoc = review.associations_of(app.analysis, len(segs) - 1, segs[-1])
+        assert assoc.object_object["knife"] == ("bowl",)
+
+
+@pilot_test
+async def test_picker_escape_records_nothing(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        await pilot.press("c", "escape", "o", "escape")
+        assert app.screen is app.main
+        assert journal(session_path) == []
+
+
+@pilot_test
+async def test_split_and_merge(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        before = app.analysis.segmentation.segments
+        await pilot.press("s")  # at a segment's first frame: refused, nothing journaled
+        assert journal(session_path) == []
+        await pilot.press("right", "right", "right", "right", "right", "s")
+        assert journal(session_path)[-1] == {**journal(session_path)[-1], "op": "split", "frame": 5}
+        await settle(pilot, app)
+        after = app.analysis.segmentation.segments
+        assert len(after) == len(before) + 1 and after[1].start == 5
+        await pilot.press("m")  # merge [5, ...) with the next segment
+        assert journal(session_path)[-1]["op"] == "merge"
+        assert journal(session_path)[-1]["frame"] == after[2].start
+        await settle(pilot, app)
+        assert len(app.analysis.segmentation.segments) == len(after) - 1
+
+
+@pilot_test
+async def test_undo_redo_unlimited_and_journaled(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        segs = app.analysis.segmentation.segments
+        await pilot.press("a", "down", "a", "down", "x")
+        await pilot.press("z", "z", "z")
+        assert ops(session_path) == ["set_status"] * 3 + ["undo"] * 3
+        assert app.corrections.status == {}
+        await pilot.press("z")  # nothing left: nothing journaled
+        assert len(journal(session_path)) == 6
+        await pilot.press("y", "ctrl+y")
+        assert ops(session_path)[-2:] == ["redo", "redo"]
+        assert app.corrections.status == {0: SegmentStatus.ACCEPTED, segs[1].start: SegmentStatus.ACCEPTED}
+        await settle(pilot, app)
+        assert app.analysis.corrections.status == app.corrections.status
+
+
+@pilot_test
+async def test_play_pause(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        await pilot.press("space")
+        assert app.main.playing
+        await pilot.pause(0.4)
+        await pilot.press("space")
+        assert not app.main.playing
+        stopped = app.main.frame
+        assert stopped > 0
+        await pilot.pause(0.2)
+        assert app.main.frame == stopped
+
+
+@pilot_test
+async def test_next_hand_changes_what_pickers_act_on(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        assert app.main.selected_hand == "RH_P1"
+        await pilot.press("t")
+        assert app.main.selected_hand == "LH_P1"
+        await pilot.press("c")
+        await pick(pilot, app, "stir")
+        assert journal(session_path)[-1]["hand"] == "LH_P1"
+
+
+@pilot_test
+async def test_help_screen_and_command_palette_list_every_binding(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        await pilot.press("question_mark")
+        assert isinstance(app.screen, HelpScreen)
+        ids = {row for row in app.screen.bindings_}
+        assert len(ids) == len(MAIN_BINDINGS)
+        await pilot.press("escape")
+        assert app.screen is app.main
+        titles = {command.title for command in app.get_system_commands(app.main)}
+        assert {b.description for b in MAIN_BINDINGS} <= titles
+        assert len({b.id for b in MAIN_BINDINGS}) == len(MAIN_BINDINGS)
+
+
+@pilot_test
+async def test_keys_remapped_from_the_key_file(session_path: Path, tmp_path: Path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    keys = tmp_path / "keys.toml"
+    keys.write_text('[keys]\naccept = "enter"\nno-such-binding = "f5"\n')
+    monkeypatch.setenv("WECOOK_KEYS", str(keys))
+    app = WecookApp(session_path)
+    assert app.keys.keymap == {"accept": "enter"}
+    assert any("no-such-binding" in problem for problem in app.keys.problems)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        await pilot.press("a")
+        assert journal(session_path) == []  # "a" no longer accepts
+        await pilot.press("enter")
+        assert ops(session_path) == ["set_status"]
+
+
+@pilot_test
+async def test_reopen_restores_corrections_undo_and_redo(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        await pilot.press("a", "down", "x", "z")
+    again = WecookApp(session_path)
+    async with again.run_test(size=SIZE) as pilot:
+        await settle(pilot, again)
+        assert again.corrections.status == {0: SegmentStatus.ACCEPTED}
+        await pilot.press("y")  # the redo stack survived the reopen
+        segs = again.analysis.segmentation.segments
+        assert again.corrections.status == {0: SegmentStatus.ACCEPTED, segs[1].start: SegmentStatus.REJECTED}
