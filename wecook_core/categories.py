@@ -101,7 +101,7 @@ def _line(node: yaml.Node) -> str:
 def parse_categories(text: str, path: str | Path) -> CategoryTable:
     """A table from YAML text: ``objects:`` mapping label -> category (or the mapping at top level)."""
     try:
-        root = yaml.compose(text)
+        root = yaml.compose(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
     except yaml.YAMLError as error:
         mark = getattr(error, "problem_mark", None)
         raise InputError(path, f"invalid YAML: {getattr(error, 'problem', error)}",
