@@ -1,0 +1,219 @@
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+import yaml
+
+from wecook_core import __version__
+from wecook_core.errors import InputError
+from wecook_core.pipeline import Params
+from wecook_core.session import (
+    JOURNAL_FILE,
+    SESSION_FILE,
+    check_name,
+    content_hash,
+    create_session,
+    list_sessions,
+    open_session,
+    sessions_root,
+)
+
+W, H, FRAMES, FPS = 96, 64, 20, 10.0
+
+
+def make_inputs(folder: Path) -> dict[str, Path]:
+    folder.mkdir(parents=True, exist_ok=True)
+    video = folder / "take.avi"
+    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"MJPG"), FPS, (W, H))
+    for i in range(FRAMES):
+        writer.write(np.full((H, W, 3), i * 10, np.uint8))
+    writer.release()
+    objects = folder / "objects.csv"
+    objects.write_text("frame,track_id,label,x1,y1,x2,y2\n0,1,whisk,10,10,20,20\n0,2,pan,40,30,90,60\n")
+    hands = folder / "openpose"
+    hands.mkdir(exist_ok=True)
+    body = [v for x, y in [(0, -30), (0, -20), (-10, -20), (-12, -5), (-14, 8), (10, -20), (12, -5), (14, 8)]
+            for v in (30 + x, 30 + y, 0.9)]
+    for f in range(FRAMES):
+        (hands / f"take_{f:012d}_keypoints.json").write_text(json.dumps({"people": [{"pose_keypoints_2d": body}]}))
+    categories = folder / "categories.yaml"
+    categories.write_text("objects:\n  whisk: tool\n  pan: container\n")
+    return {"video": video, "objects": objects, "hands": hands, "categories": categories}
+
+
+@pytest.fixture
+def inputs(tmp_path: Path) -> dict[str, Path]:
+    return make_inputs(tmp_path / "inputs")
+
+
+def create(root: Path, inputs: dict[str, Path], name: str = "take1", **kwargs: object) -> Path:
+    return create_session(root, name, inputs["video"], inputs["objects"], inputs["hands"],
+                          categories=inputs["categories"], **kwargs)  # type: ignore[arg-type]
+
+
+def test_create_records_inputs_hashes_video_and_params(tmp_path: Path, inputs: dict[str, Path]) -> None:
+    path = create(tmp_path / "sessions", inputs, params=Params(min_frames=3))
+    assert path == tmp_path / "sessions" / "take1"
+    meta = yaml.safe_load((path / SESSION_FILE).read_text())
+    assert meta["wecook_version"] == __version__ and meta["name"] == "take1"
+    assert meta["inputs"]["objects"]["sha256"] == hashlib.sha256(inputs["objects"].read_bytes()).hexdigest()
+    assert meta["inputs"]["objects"]["format"] == "csv" and meta["inputs"]["hands"]["format"] == "openpose"
+    assert meta["inputs"]["video"]["path"] == str(inputs["video"].resolve())
+    assert meta["video"]["fps"] == FPS and meta["video"]["frame_count"] == FRAMES
+    assert meta["params"]["min_frames"] == 3
+    assert (path / JOURNAL_FILE).read_bytes() == b""
+    assert (path / "plans").is_dir() and (path / "runs").is_dir()
+    session = open_session(path)
+    assert session.warnings == []
+    assert session.params == Params(min_frames=3)
+    assert session.video is not None and session.video.width == W
+    assert session.inputs["hands"].sha256 == content_hash(inputs["hands"])
+    assert session.trees_path == path / "trees.yaml" and session.graph_path == path / "graph.yaml"
+    assert session.plans_dir == path / "plans" and session.runs_dir == path / "runs"
+    obs = session.load_observations()
+    assert [t.name for t in obs.objects] == ["whisk", "pan"]
+    assert [t.hand for t in obs.hands] == ["LH_P1", "RH_P1"]
+
+
+def test_folder_hash_covers_names_and_contents(tmp_path: Path, inputs: dict[str, Path]) -> None:
+    before = content_hash(inputs["hands"])
+    first = inputs["hands"] / "take_000000000000_keypoints.json"
+    first.rename(inputs["hands"] / "renamed_000000000000_keypoints.json")
+    renamed = content_hash(inputs["hands"])
+    assert renamed != before
+    (inputs["hands"] / "renamed_000000000000_keypoints.json").rename(first)
+    assert content_hash(inputs["hands"]) == before
+    first.write_text('{"people": []}')
+    assert content_hash(inputs["hands"]) != before
+
+
+def test_bad_input_leaves_no_session_behind(tmp_path: Path, inputs: dict[str, Path]) -> None:
+    root = tmp_path / "sessions"
+    inputs["objects"].write_text("frame,track_id,label,x1,y1,x2,y2\n0,1,whisk,10,10,20,500\n")
+    with pytest.raises(InputError, match=r"objects\.csv:frame 0: track 1 \(whisk\)"):
+        create(root, inputs)
+    assert not root.exists() or list(root.iterdir()) == []
+
+
+def test_a_failure_while_writing_removes_the_half_made_folder(tmp_path: Path, inputs: dict[str, Path],
+                                                              monkeypatch: pytest.MonkeyPatch) -> None:
+    root = tmp_path / "sessions"
+    real_rename = os.rename
+
+    def rename(src: str | Path, dst: str | Path) -> None:
+        if Path(dst).parent == root:
+            raise OSError(28, "No space left on device")
+        real_rename(src, dst)
+
+    monkeypatch.setattr(os, "rename", rename)
+    with pytest.raises(OSError, match="No space"):
+        create(root, inputs)
+    assert list(root.iterdir()) == []
+
+
+@pytest.mark.parametrize("name", ["", "a/b", "..", ".hidden", "-x", "a b", "x" * 65, "a..b"])
+def test_bad_names(name: str) -> None:
+    with pytest.raises(InputError, match="bad session name"):
+        check_name(name)
+
+
+def test_good_names_and_an_existing_name(tmp_path: Path, inputs: dict[str, Path]) -> None:
+    for name in ("take1", "Take_2.v3", "a-b"):
+        assert check_name(name) == name
+    create(tmp_path, inputs)
+    with pytest.raises(InputError, match="already exists"):
+        create(tmp_path, inputs)
+
+
+def test_corrections_undo_and_redo_survive_reopening(tmp_path: Path, inputs: dict[str, Path]) -> None:
+    session = open_session(create(tmp_path, inputs))
+    session.record({"op": "set_verb", "segment": 0, "hand": "RH_P1", "verb": "stir"})
+    session.record({"op": "set_hand_object", "segment": 0, "hand": "RH_P1", "object": "whisk"})
+    session.record({"op": "split", "frame": 8})
+    assert session.undo()
+    again = open_session(session.path)
+    assert again.corrections.verbs == {(0, "RH_P1"): "stir"}
+    assert again.corrections.hand_object == {(0, "RH_P1"): "whisk"}
+    assert again.corrections.splits == frozenset()
+    assert again.can_redo and again.redo()
+    assert open_session(session.path).corrections.splits == frozenset({8})
+    assert [e.seq for e in open_session(session.path).entries] == [1, 2, 3, 4, 5]
+
+
+def test_changed_and_missing_inputs_are_warnings(tmp_path: Path, inputs: dict[str, Path]) -> None:
+    path = create(tmp_path / "s", inputs)
+    stat = inputs["objects"].stat()
+    os.utime(inputs["objects"], ns=(stat.st_atime_ns, stat.st_mtime_ns + 5_000_000_000))  # touched, same bytes
+    assert open_session(path).warnings == []
+    inputs["objects"].write_text("frame,track_id,label,x1,y1,x2,y2\n0,1,whisk,10,10,20,21\n")
+    (inputs["hands"] / "take_000000000003_keypoints.json").write_text('{"people": []}')
+    warnings = open_session(path).warnings
+    assert any("objects input changed" in w and "sha256" in w for w in warnings)
+    assert any("hands input changed" in w for w in warnings)
+    inputs["video"].unlink()
+    session = open_session(path)
+    assert any(w.startswith("video input is missing") for w in session.warnings)
+    with pytest.raises(InputError, match=r"take\.avi"):
+        session.load_observations()
+
+
+def test_a_torn_journal_line_is_a_warning_when_opening(tmp_path: Path, inputs: dict[str, Path]) -> None:
+    session = open_session(create(tmp_path, inputs))
+    session.record({"op": "set_status", "segment": 0, "status": "accepted"})
+    with session.journal_path.open("ab") as handle:
+        handle.write(b'{"seq":2,"op":"set_st')
+    reopened = open_session(session.path)
+    assert len(reopened.warnings) == 1 and "torn" in reopened.warnings[0]
+    assert len(reopened.entries) == 1
+
+
+def test_params_can_be_changed(tmp_path: Path, inputs: dict[str, Path]) -> None:
+    session = open_session(create(tmp_path, inputs))
+    session.set_params(Params(k={"RH_P1": 4}))
+    assert open_session(session.path).params == Params(k={"RH_P1": 4})
+    meta = yaml.safe_load((session.path / SESSION_FILE).read_text())
+    meta["params"]["from_the_future"] = 1
+    (session.path / SESSION_FILE).write_text(yaml.safe_dump(meta))
+    reopened = open_session(session.path)
+    assert reopened.params == Params(k={"RH_P1": 4})
+    assert any("from_the_future" in w for w in reopened.warnings)
+
+
+def test_open_refuses_what_is_not_a_session(tmp_path: Path) -> None:
+    with pytest.raises(InputError, match="no such session"):
+        open_session(tmp_path / "nope")
+    with pytest.raises(InputError, match="not a session"):
+        open_session(tmp_path)
+    (tmp_path / SESSION_FILE).write_text("inputs: [\n")
+    with pytest.raises(InputError, match="malformed YAML"):
+        open_session(tmp_path)
+
+
+def test_sessions_root_and_listing(tmp_path: Path, inputs: dict[str, Path], monkeypatch: pytest.MonkeyPatch
+                                   ) -> None:
+    monkeypatch.delenv("WECOOK_SESSIONS", raising=False)
+    monkeypatch.chdir(tmp_path)
+    assert sessions_root() == tmp_path / "sessions"
+    monkeypatch.setenv("WECOOK_SESSIONS", str(tmp_path / "env"))
+    assert sessions_root() == tmp_path / "env"
+    assert sessions_root(tmp_path / "given") == tmp_path / "given"
+    root = tmp_path / "env"
+    assert list_sessions(root) == []
+    second = open_session(create(root, inputs, "b"))
+    create(root, inputs, "a")
+    second.record({"op": "split", "frame": 4})
+    second.record({"op": "split", "frame": 9})
+    second.undo()
+    (root / "notes").mkdir()
+    (root / "broken").mkdir()
+    (root / "broken" / SESSION_FILE).write_text(": :\n")
+    rows = list_sessions(root)
+    assert [(r.name, r.corrections) for r in rows] == [("a", 0), ("b", 1), ("broken", 0)]
+    assert rows[0].video == str(inputs["video"].resolve()) and rows[0].created.endswith("Z")
+    assert rows[2].problem is not None and rows[0].problem is None

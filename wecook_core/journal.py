@@ -1,0 +1,362 @@
+"""The journal of corrections: an append-only file of JSON lines, folded into :class:`Corrections`.
+
+Each line is ``{"seq": n, "time": "...Z", "op": OP, ...fields}``; ``seq`` counts up from 1 and is the entry's
+stable id. The operations and their fields:
+
+===================== ====================================================================
+``set_hand_object``   ``segment`` (start frame), ``hand``, ``object`` (a name, or null: holds nothing)
+``set_object_object`` ``segment``, ``object``, ``targets`` (list of names)
+``set_verb``          ``segment``, ``hand``, ``verb`` (from VERBS)
+``set_status``        ``segment``, ``status`` (unreviewed, accepted, corrected, rejected)
+``split``             ``frame`` (a new breakpoint)
+``merge``             ``frame`` (a breakpoint removed; a merge of a split frame cancels the split)
+``undo``              ``target``: the seq of the correction undone
+``redo``              ``target``: the seq of the correction redone
+===================== ====================================================================
+
+A line is written, flushed and fsynced before :meth:`Journal.append` returns. Replaying applies corrections
+in order; ``undo`` takes back the latest applied one, ``redo`` re-applies the latest undone one, and a new
+correction forgets what could be redone. So undo and redo are unlimited and survive closing the file. A torn
+last line (a crash mid-write) is reported as a warning and skipped, as is any other unreadable line; the next
+append sets the torn bytes aside in ``journal.torn`` first. Two writers are not supported: an append that finds
+the file grown since it was read raises :class:`JournalChangedError` (the file is locked while appending).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime as dt
+import fcntl
+import json
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from wecook_core.model import HANDS, VERBS, Corrections, SegmentStatus
+
+TORN_SUFFIX = ".torn"
+"""Torn bytes cut off the journal go to a file named like it with this suffix added."""
+
+OPS: dict[str, dict[str, str]] = {
+    "set_hand_object": {"segment": "frame", "hand": "hand", "object": "name?"},
+    "set_object_object": {"segment": "frame", "object": "name", "targets": "names"},
+    "set_verb": {"segment": "frame", "hand": "hand", "verb": "verb"},
+    "set_status": {"segment": "frame", "status": "status"},
+    "split": {"frame": "frame"},
+    "merge": {"frame": "frame"},
+}
+"""Correction operations and their fields (field -> kind of value)."""
+
+
+
+
+@dataclass(frozen=True)
+class JournalEntry:
+    """One line of the journal."""
+
+    seq: int
+    """Stable id, from 1, in the order written."""
+    time: str
+    """UTC, ISO 8601."""
+    op: str
+    """One of :data:`OPS`, ``undo`` or ``redo``."""
+    fields: Mapping[str, Any] = field(default_factory=dict)
+    """The operation's fields (``target`` for undo and redo)."""
+
+    def to_json(self) -> str:
+        return json.dumps({"seq": self.seq, "time": self.time, "op": self.op, **self.fields},
+                          ensure_ascii=False, separators=(",", ":"))
+
+
+def check_correction(correction: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
+    """(op, fields) of a correction, or ValueError saying what is wrong."""
+    op = correction.get("op")
+    if op not in OPS:
+        raise ValueError(f"unknown correction op {op!r}; expected one of {', '.join(OPS)}")
+    spec = OPS[op]
+    extra = set(correction) - set(spec) - {"op"}
+    if extra:
+        raise ValueError(f"{op}: unexpected fields {', '.join(sorted(extra))}")
+    fields: dict[str, Any] = {}
+    for name, kind in spec.items():
+        if name not in correction:
+            raise ValueError(f"{op}: missing field {name!r}")
+        fields[name] = _check_value(op, name, kind, correction[name])
+    return op, fields
+
+
+def _check_value(op: str, name: str, kind: str, value: Any) -> Any:
+    def bad(expected: str) -> ValueError:
+        return ValueError(f"{op}: {name} must be {expected}, got {value!r}")
+
+    if kind == "frame":
+        if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+            raise bad("a frame index (int >= 0)")
+        return value
+    if kind == "hand":
+        if value not in HANDS:
+            raise bad("one of " + " ".join(HANDS))
+        return value
+    if kind == "verb":
+        if value not in VERBS:
+            raise bad("one of " + " ".join(VERBS))
+        return value
+    if kind == "status":
+        if value not in {s.value for s in SegmentStatus}:
+            raise bad("one of " + " ".join(s.value for s in SegmentStatus))
+        return str(value)
+    if kind in ("name", "name?"):
+        if value is None and kind == "name?":
+            return None
+        if not isinstance(value, str) or not value:
+            raise bad("an object name")
+        return value
+    if kind == "names":
+        if not isinstance(value, list | tuple) or not all(isinstance(v, str) and v for v in value):
+            raise bad("a list of object names")
+        return list(value)
+    raise AssertionError(kind)
+
+
+@dataclass(frozen=True)
+class Replay:
+    """The journal folded: what is in effect and what can be undone or redone."""
+
+    applied: tuple[int, ...]
+    """Seqs of the corrections in effect, oldest first (the last one is what undo takes back)."""
+    undone: tuple[int, ...]
+    """Seqs that redo can bring back, the next one last."""
+    corrections: Corrections
+    warnings: tuple[str, ...] = ()
+
+
+def replay(entries: Sequence[JournalEntry]) -> Replay:
+    """Fold journal entries into corrections plus the undo and redo stacks (pure)."""
+    by_seq = {e.seq: e for e in entries}
+    applied: list[int] = []
+    undone: list[int] = []
+    warnings = []
+    for entry in entries:
+        if entry.op in ("undo", "redo"):
+            stack, other = (applied, undone) if entry.op == "undo" else (undone, applied)
+            target = entry.fields.get("target")
+            if not stack or stack[-1] != target:
+                warnings.append(f"journal entry {entry.seq}: {entry.op} of {target} does not match the history; "
+                                "skipped")
+                continue
+            other.append(stack.pop())
+        else:
+            applied.append(entry.seq)
+            undone.clear()
+    return Replay(tuple(applied), tuple(undone), fold([by_seq[s] for s in applied]), tuple(warnings))
+
+
+def fold(entries: Sequence[JournalEntry]) -> Corrections:
+    """Corrections of the given (applied) entries, later ones winning."""
+    splits: set[int] = set()
+    merges: set[int] = set()
+    hand_object: dict[tuple[int, str], str | None] = {}
+    object_object: dict[tuple[int, str], tuple[str, ...]] = {}
+    verbs: dict[tuple[int, str], str] = {}
+    status: dict[int, SegmentStatus] = {}
+    for entry in entries:
+        f = entry.fields
+        if entry.op == "set_hand_object":
+            hand_object[(f["segment"], f["hand"])] = f["object"]
+        elif entry.op == "set_object_object":
+            object_object[(f["segment"], f["object"])] = tuple(f["targets"])
+        elif entry.op == "set_verb":
+            verbs[(f["segment"], f["hand"])] = f["verb"]
+        elif entry.op == "set_status":
+            status[f["segment"]] = SegmentStatus(f["status"])
+        elif entry.op == "split":
+            if f["frame"] in merges:
+                merges.discard(f["frame"])
+            else:
+                splits.add(f["frame"])
+        elif entry.op == "merge":
+            if f["frame"] in splits:
+                splits.discard(f["frame"])
+            else:
+                merges.add(f["frame"])
+    return Corrections(frozenset(splits), frozenset(merges), hand_object, object_object, verbs, status)
+
+
+def read_journal(path: Path) -> tuple[list[JournalEntry], list[str], bool]:
+    """(entries, warnings, torn tail): unreadable lines are warnings, never errors."""
+    try:
+        data = path.read_bytes()
+    except FileNotFoundError:
+        return [], [], False
+    entries: list[JournalEntry] = []
+    warnings: list[str] = []
+    lines = data.split(b"\n")
+    last = len(lines) - 1  # the piece after the final newline: empty unless the last line is torn
+    torn = bool(lines[last])
+    seqs: set[int] = set()
+    for number, raw in enumerate(lines, 1):
+        if not raw.strip():
+            continue
+        entry, problem = _parse_line(raw)
+        if entry is not None and entry.seq in seqs:
+            problem = f"seq {entry.seq} again"
+            entry = None
+        if entry is None:
+            if number - 1 == last:
+                warnings.append(f"{path}: the last line is torn (a crash while writing?); skipped: "
+                                f"{raw[:60].decode('utf-8', 'replace')!r}")
+            else:
+                warnings.append(f"{path}:line {number}: unreadable journal entry ({problem}); skipped")
+            continue
+        seqs.add(entry.seq)
+        entries.append(entry)
+    return entries, warnings, torn
+
+
+def _parse_line(raw: bytes) -> tuple[JournalEntry | None, str]:
+    try:
+        value = json.loads(raw)
+    except (json.JSONDecodeError, UnicodeDecodeError) as error:
+        return None, f"not JSON: {error}"
+    if not isinstance(value, dict):
+        return None, "not a JSON object"
+    seq, time, op = value.pop("seq", None), value.pop("time", ""), value.pop("op", None)
+    if isinstance(seq, bool) or not isinstance(seq, int) or seq < 1:
+        return None, f"bad seq {seq!r}"
+    if op in ("undo", "redo"):
+        target = value.get("target")
+        if isinstance(target, bool) or not isinstance(target, int) or set(value) != {"target"}:
+            return None, f"{op} needs only an int target"
+        return JournalEntry(seq, str(time), op, {"target": target}), ""
+    try:
+        op, fields = check_correction({"op": op, **value})
+    except ValueError as error:
+        return None, str(error)
+    return JournalEntry(seq, str(time), op, fields), ""
+
+
+def _now() -> str:
+    return dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%S.%fZ")
+
+
+class JournalChangedError(RuntimeError):
+    """Another process wrote the journal since it was read: read it again."""
+
+
+class Journal:
+    """An open journal file: its entries, their replay, and durable appends."""
+
+    def __init__(self, path: str | Path) -> None:
+        self.path = Path(path)
+        entries, warnings, self._torn = read_journal(self.path)
+        self._entries = entries
+        self._replay = replay(entries)
+        self.warnings: list[str] = warnings + list(self._replay.warnings)
+        """Unreadable lines (a torn last one) and undo / redo lines that did not fit the history."""
+        self._size = self.path.stat().st_size if self.path.exists() else 0
+
+    @property
+    def entries(self) -> tuple[JournalEntry, ...]:
+        return tuple(self._entries)
+
+    @property
+    def corrections(self) -> Corrections:
+        return self._replay.corrections
+
+    @property
+    def applied(self) -> tuple[JournalEntry, ...]:
+        """Corrections in effect, oldest first."""
+        by_seq = {e.seq: e for e in self._entries}
+        return tuple(by_seq[s] for s in self._replay.applied)
+
+    @property
+    def can_undo(self) -> bool:
+        return bool(self._replay.applied)
+
+    @property
+    def can_redo(self) -> bool:
+        return bool(self._replay.undone)
+
+    def record(self, correction: Mapping[str, Any]) -> JournalEntry:
+        """Append a correction (``{"op": ..., fields}``); durable on return.
+
+        ValueError for a malformed correction; OSError when the disk refuses (nothing changes then).
+        """
+        op, fields = check_correction(correction)
+        return self._append(op, fields)
+
+    def undo(self) -> JournalEntry | None:
+        """Take back the latest correction in effect; None when there is none."""
+        if not self._replay.applied:
+            return None
+        return self._append("undo", {"target": self._replay.applied[-1]})
+
+    def redo(self) -> JournalEntry | None:
+        """Re-apply the latest undone correction; None when there is none."""
+        if not self._replay.undone:
+            return None
+        return self._append("redo", {"target": self._replay.undone[-1]})
+
+    def _append(self, op: str, fields: dict[str, Any]) -> JournalEntry:
+        seq = max((e.seq for e in self._entries), default=0) + 1
+        entry = JournalEntry(seq, _now(), op, fields)
+        line = (entry.to_json() + "\n").encode("utf-8")
+        fd = os.open(self.path, os.O_RDWR | os.O_APPEND | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+            size = os.fstat(fd).st_size
+            if size != self._size:
+                raise JournalChangedError(f"{self.path} changed since it was read (another wecook?); "
+                                          "reopen the session")
+            if self._torn:
+                size = self._set_torn_aside(fd)
+            try:
+                written = 0
+                while written < len(line):
+                    written += os.write(fd, line[written:])
+                os.fsync(fd)
+            except BaseException:
+                # The caller is told it failed, so the line must not count: cut it off again, or failing that
+                # treat whatever got on disk as torn (set aside before the next write, skipped when read).
+                try:
+                    os.ftruncate(fd, size)
+                    os.fsync(fd)
+                    self._size = size
+                except OSError:
+                    self._torn = True
+                    with contextlib.suppress(OSError):
+                        self._size = os.fstat(fd).st_size
+                raise
+        finally:
+            os.close(fd)
+        self._size = size + len(line)
+        self._entries.append(entry)
+        self._replay = replay(self._entries)
+        return entry
+
+    def _set_torn_aside(self, fd: int) -> int:
+        """Cut the bytes after the last newline off the journal (kept in ``journal.jsonl.torn``); the new size."""
+        size = os.fstat(fd).st_size
+        os.lseek(fd, 0, os.SEEK_SET)
+        data = b""
+        while chunk := os.read(fd, 1 << 20):
+            data += chunk
+        keep = data.rfind(b"\n") + 1
+        tail = data[keep:]
+        if tail:
+            entry, _ = _parse_line(tail)
+            if entry is not None and entry.seq in {e.seq for e in self._entries}:
+                os.write(fd, b"\n")  # a complete entry that only lacks its newline
+                os.fsync(fd)
+                self._torn = False
+                return size + 1
+            with self.path.with_name(self.path.name + TORN_SUFFIX).open("ab") as torn:
+                torn.write(tail + b"\n")
+                torn.flush()
+                os.fsync(torn.fileno())
+            os.ftruncate(fd, keep)
+            os.fsync(fd)
+        self._torn = False
+        return keep

@@ -1,0 +1,438 @@
+"""A session on disk: the inputs (by path and content hash), the parameters, and the journal of corrections.
+
+Layout of ``sessions/NAME/``::
+
+    session.yaml     inputs (path, sha256, size, mtime, format), video facts, Params, created time, version
+    journal.jsonl    corrections, one JSON line each, append-only (see :mod:`wecook_core.journal`)
+    trees.yaml       graph.yaml     plans/     runs/          (written by later stages)
+
+Opening a session never fails on what a crash or a later change can do: a torn journal line, an input file
+that changed (its sha256 differs) or went missing are :attr:`Session.warnings`, for the workbench to show.
+Creating one imports every input first, and builds the folder under a temporary name, so bad input leaves
+nothing behind.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import datetime as dt
+import hashlib
+import os
+import re
+import shutil
+import tempfile
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import yaml
+
+from wecook_core import __version__
+from wecook_core.errors import InputError
+from wecook_core.journal import Journal, JournalEntry, read_journal, replay
+from wecook_core.model import Corrections, Observations, VideoInfo
+from wecook_core.observations import Imported, import_observations
+from wecook_core.pipeline import Params
+
+if TYPE_CHECKING:
+    from wecook_core.categories import CategoryTable
+
+SESSION_FILE = "session.yaml"
+JOURNAL_FILE = "journal.jsonl"
+SESSION_FORMAT = 1
+ENV_ROOT = "WECOOK_SESSIONS"
+
+_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$")
+
+# ---------------------------------------------------------------------------------------- names, root
+
+
+def sessions_root(root: str | Path | None = None) -> Path:
+    """Where sessions live: ``root`` when given, else ``$WECOOK_SESSIONS``, else ``./sessions``."""
+    if root is not None:
+        return Path(root)
+    env = os.environ.get(ENV_ROOT)
+    return Path(env) if env else Path.cwd() / "sessions"
+
+
+def check_name(name: str) -> str:
+    """``name`` if it can name a session folder: letters, digits, ``. _ -``, not starting with a dot."""
+    if not _NAME.match(name) or ".." in name:
+        raise InputError(None, f"bad session name {name!r}: use 1-64 letters, digits, '.', '_' or '-', starting "
+                         "with a letter or digit")
+    return name
+
+
+# ----------------------------------------------------------------------------------------- inputs
+
+
+@dataclass(frozen=True)
+class InputFile:
+    """One input of a session, as it was when the session was made."""
+
+    role: str
+    """``video``, ``objects``, ``hands`` or ``labels``."""
+    path: str
+    """Absolute path."""
+    sha256: str
+    """Hex digest of the content; of a folder: of its sorted relative file names and their contents."""
+    size: int
+    """Bytes (of all files, for a folder)."""
+    mtime_ns: int
+    """Latest modification time (ns); with ``size``, lets opening skip re-hashing an unchanged input."""
+    format: str | None = None
+
+
+def content_hash(path: str | Path) -> str:
+    """sha256 of a file's bytes, or of a folder's sorted ``relative/name\\0`` + file digest pairs."""
+    path = Path(path)
+    if path.is_dir():
+        digest = hashlib.sha256()
+        for file in _files(path):
+            digest.update(file.relative_to(path).as_posix().encode() + b"\0")
+            digest.update(bytes.fromhex(content_hash(file)))
+        return digest.hexdigest()
+    digest = hashlib.sha256()
+    with path.open("rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def _files(folder: Path) -> list[Path]:
+    return sorted((p for p in folder.rglob("*") if p.is_file()), key=lambda p: p.relative_to(folder).as_posix())
+
+
+def _stat(path: Path) -> tuple[int, int]:
+    """(size, latest mtime_ns) of a file or a folder's files."""
+    if path.is_dir():
+        stats = [p.stat() for p in _files(path)]
+        return sum(s.st_size for s in stats), max((s.st_mtime_ns for s in stats), default=path.stat().st_mtime_ns)
+    stat = path.stat()
+    return stat.st_size, stat.st_mtime_ns
+
+
+def _input_file(role: str, path: str | Path, format: str | None = None) -> InputFile:
+    path = Path(path).resolve()
+    size, mtime = _stat(path)
+    return InputFile(role, str(path), content_hash(path), size, mtime, format)
+
+
+def _input_problem(item: InputFile) -> str | None:
+    """A warning when the input is missing or its content changed, else None."""
+    path = Path(item.path)
+    if not path.exists():
+        return f"{item.role} input is missing: {item.path}"
+    try:
+        if _stat(path) == (item.size, item.mtime_ns):
+            return None
+        if content_hash(path) == item.sha256:
+            return None
+    except OSError as error:
+        return f"{item.role} input cannot be read: {item.path} ({error.strerror})"
+    return f"{item.role} input changed since the session was made (sha256 differs): {item.path}"
+
+
+def _fsync_dir(path: Path) -> None:
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+# ---------------------------------------------------------------------------------------- session
+
+
+class Session:
+    """An open session. Corrections go through :meth:`record`, :meth:`undo` and :meth:`redo`."""
+
+    def __init__(self, path: Path, meta: Mapping[str, Any], warnings: list[str]) -> None:
+        self.path = path
+        self.name = path.name
+        self.meta = dict(meta)
+        self.warnings: list[str] = warnings
+        """Problems found on opening (changed or missing inputs, torn or unreadable journal lines)."""
+        self.created: str = str(meta.get("created", ""))
+        self.version: str = str(meta.get("wecook_version", ""))
+        self.inputs: dict[str, InputFile] = _inputs(meta.get("inputs"), warnings)
+        self.params: Params = _params(meta.get("params"), warnings)
+        self.video: VideoInfo | None = _video(meta.get("video"))
+        """The video's facts when the session was made (without opening the video)."""
+        self.journal = Journal(self.path / JOURNAL_FILE)
+        self.warnings.extend(self.journal.warnings)
+        self._imported: Imported | None = None
+
+    # paths
+    @property
+    def journal_path(self) -> Path:
+        return self.journal.path
+
+    @property
+    def trees_path(self) -> Path:
+        return self.path / "trees.yaml"
+
+    @property
+    def graph_path(self) -> Path:
+        return self.path / "graph.yaml"
+
+    @property
+    def plans_dir(self) -> Path:
+        return self.path / "plans"
+
+    @property
+    def runs_dir(self) -> Path:
+        return self.path / "runs"
+
+    # journal
+    @property
+    def entries(self) -> tuple[JournalEntry, ...]:
+        return self.journal.entries
+
+    @property
+    def corrections(self) -> Corrections:
+        """The journal folded: what the pipeline applies on top of its own results."""
+        return self.journal.corrections
+
+    @property
+    def can_undo(self) -> bool:
+        return self.journal.can_undo
+
+    @property
+    def can_redo(self) -> bool:
+        return self.journal.can_redo
+
+    def record(self, correction: Mapping[str, Any]) -> JournalEntry:
+        """Append a correction ``{"op": ..., fields}`` (ops: :data:`wecook_core.journal.OPS`); durable on return.
+
+        ValueError for a malformed correction, OSError when the disk refuses (nothing changes then),
+        :class:`JournalChangedError` when another process wrote the journal meanwhile.
+        """
+        return self.journal.record(correction)
+
+    def undo(self) -> bool:
+        """Take back the latest correction in effect; False when there is none."""
+        return self.journal.undo() is not None
+
+    def redo(self) -> bool:
+        """Re-apply the latest undone correction; False when there is none."""
+        return self.journal.redo() is not None
+
+    # inputs
+    def import_observations(self) -> Imported:
+        """Import the inputs again (cached): InputError when one is missing or no longer reads."""
+        if self._imported is None:
+            video, objects, hands = (self._input("video"), self._input("objects"), self._input("hands"))
+            labels, categories = self.inputs.get("labels"), self.inputs.get("categories")
+            self._imported = import_observations(
+                video.path, objects.path, hands.path, objects_format=objects.format, hands_format=hands.format,
+                labels=labels.path if labels else None,
+                categories=_category_table(Path(categories.path) if categories else None),
+            )
+        return self._imported
+
+    def load_observations(self) -> Observations:
+        return self.import_observations().observations
+
+    def _input(self, role: str) -> InputFile:
+        item = self.inputs.get(role)
+        if item is None:
+            raise InputError(self.path / SESSION_FILE, f"no {role} input recorded", place="inputs")
+        return item
+
+    def set_params(self, params: Params) -> None:
+        """Record new parameters in ``session.yaml`` (atomically)."""
+        self.meta["params"] = dataclasses.asdict(params)
+        _write_yaml(self.path / SESSION_FILE, self.meta)
+        self.params = params
+
+
+def _category_table(extra: Path | None) -> CategoryTable | None:
+    """The category table with the session's extra file on top (None: the default table)."""
+    if extra is None:
+        return None
+    from wecook_core.categories import load_categories
+
+    return load_categories(extra=[extra])
+
+
+def _inputs(value: Any, warnings: list[str]) -> dict[str, InputFile]:
+    inputs = {}
+    names = {f.name for f in dataclasses.fields(InputFile)}
+    for role, item in (value or {}).items():
+        if not isinstance(item, dict) or not {"path", "sha256", "size", "mtime_ns"} <= set(item):
+            warnings.append(f"session.yaml: input {role!r} is incomplete; ignored")
+            continue
+        inputs[role] = InputFile(role=role, **{k: v for k, v in item.items() if k in names and k != "role"})
+        problem = _input_problem(inputs[role])
+        if problem:
+            warnings.append(problem)
+    return inputs
+
+
+def _params(value: Any, warnings: list[str]) -> Params:
+    known = {f.name for f in dataclasses.fields(Params)}
+    value = dict(value or {})
+    unknown = sorted(set(value) - known)
+    if unknown:
+        warnings.append(f"session.yaml: unknown parameters {', '.join(unknown)} ignored")
+    try:
+        return Params(**{k: v for k, v in value.items() if k in known})
+    except TypeError as error:
+        warnings.append(f"session.yaml: parameters unusable ({error}); defaults used")
+        return Params()
+
+
+def _video(value: Any) -> VideoInfo | None:
+    if not isinstance(value, dict):
+        return None
+    try:
+        return VideoInfo(**value)
+    except TypeError:
+        return None
+
+
+def _write_yaml(path: Path, data: Mapping[str, Any]) -> None:
+    """Write ``path`` atomically: a temporary file in the same folder, fsynced, renamed over it."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            yaml.safe_dump(dict(data), handle, sort_keys=False, allow_unicode=True)
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
+    _fsync_dir(path.parent)
+
+
+# ----------------------------------------------------------------------------------- create / open
+
+
+def create_session(
+    root: str | Path,
+    name: str,
+    video: str | Path,
+    objects: str | Path,
+    hands: str | Path,
+    *,
+    objects_format: str | None = None,
+    hands_format: str | None = None,
+    labels: str | Path | None = None,
+    categories: str | Path | None = None,
+    params: Params | None = None,
+    imported: Imported | None = None,
+) -> Path:
+    """Make ``root/name`` from the inputs, after importing them all; return its path.
+
+    Bad input raises :class:`InputError` and leaves nothing behind (the folder is built under a temporary
+    name and renamed into place). ``imported`` skips the import when the caller already did it with the same
+    arguments.
+    """
+    check_name(name)
+    root = Path(root)
+    target = root / name
+    if target.exists():
+        raise InputError(target, "a session of that name already exists")
+    if imported is None:
+        imported = import_observations(video, objects, hands, objects_format=objects_format,
+                                       hands_format=hands_format, labels=labels,
+                                       categories=_category_table(Path(categories) if categories else None))
+    inputs = {
+        "video": _input_file("video", video),
+        "objects": _input_file("objects", objects, imported.objects_format),
+        "hands": _input_file("hands", hands, imported.hands_format),
+    }
+    if labels is not None:
+        inputs["labels"] = _input_file("labels", labels)
+    if categories is not None:
+        inputs["categories"] = _input_file("categories", categories)
+    meta = {
+        "wecook_session": SESSION_FORMAT,
+        "name": name,
+        "created": dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "wecook_version": __version__,
+        "inputs": {role: {k: v for k, v in dataclasses.asdict(item).items() if k != "role"}
+                   for role, item in inputs.items()},
+        "video": dataclasses.asdict(imported.observations.video),
+        "params": dataclasses.asdict(params or Params()),
+    }
+    root.mkdir(parents=True, exist_ok=True)
+    building = Path(tempfile.mkdtemp(prefix=f".{name}.creating-", dir=root))
+    try:
+        _write_yaml(building / SESSION_FILE, meta)
+        (building / JOURNAL_FILE).touch()
+        (building / "plans").mkdir()
+        (building / "runs").mkdir()
+        _fsync_dir(building)
+        if target.exists():
+            raise InputError(target, "a session of that name already exists")
+        os.rename(building, target)
+        _fsync_dir(root)
+    except BaseException:
+        shutil.rmtree(building, ignore_errors=True)
+        raise
+    return target
+
+
+def open_session(path: str | Path) -> Session:
+    """Open the session folder ``path``. Missing or changed inputs, torn or unreadable journal lines are
+    :attr:`Session.warnings`; only a folder that is not a session (no readable ``session.yaml``) is an
+    InputError."""
+    path = Path(path)
+    meta_path = path / SESSION_FILE
+    if not path.is_dir():
+        raise InputError(path, "no such session")
+    try:
+        meta = yaml.safe_load(meta_path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError(path, f"not a session: no {SESSION_FILE}") from None
+    except yaml.YAMLError as error:
+        mark = getattr(error, "problem_mark", None)
+        place = f"line {mark.line + 1}" if mark is not None else None
+        raise InputError(meta_path, f"malformed YAML ({getattr(error, 'problem', error)})", place=place) from None
+    if not isinstance(meta, dict) or "inputs" not in meta:
+        raise InputError(meta_path, "not a wecook session file (no inputs)")
+    warnings: list[str] = []
+    if meta.get("wecook_session", SESSION_FORMAT) > SESSION_FORMAT:
+        warnings.append(f"{meta_path}: made by a newer wecook (session format {meta.get('wecook_session')})")
+    return Session(path, meta, warnings)
+
+
+@dataclass(frozen=True)
+class SessionSummary:
+    """One line of ``wecook sessions``."""
+
+    name: str
+    path: Path
+    video: str
+    created: str
+    corrections: int
+    """Corrections in effect (after undo / redo)."""
+    problem: str | None = None
+    """Why the session could not be read, when it could not."""
+
+
+def list_sessions(root: str | Path) -> list[SessionSummary]:
+    """Every session under ``root``, by name; unreadable ones are listed with their problem."""
+    root = Path(root)
+    if not root.is_dir():
+        return []
+    summaries = []
+    for folder in sorted(p for p in root.iterdir() if p.is_dir() and not p.name.startswith(".")):
+        if not (folder / SESSION_FILE).exists():
+            continue
+        try:
+            meta = yaml.safe_load((folder / SESSION_FILE).read_text(encoding="utf-8"))
+            video = str(meta["inputs"]["video"]["path"])
+            created = str(meta.get("created", ""))
+        except (OSError, yaml.YAMLError, KeyError, TypeError) as error:
+            summaries.append(SessionSummary(folder.name, folder, "", "", 0, f"unreadable session.yaml ({error})"))
+            continue
+        entries, _, _ = read_journal(folder / JOURNAL_FILE)
+        summaries.append(SessionSummary(folder.name, folder, video, created, len(replay(entries).applied)))
+    return summaries
