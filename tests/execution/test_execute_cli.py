@@ -119,3 +119,74 @@ def test_export_writes_a_valid_plan_into_the_session(tmp_path: Path, capsys: pyt
     assert dump_plan(read_plan(other)) == dump_plan(plan)  # the analysis is deterministic
     assert main(["export", "nobody", "--root", str(root)]) == 2
     assert "no such session" in capsys.readouterr().err
+
+
+ONE_ARM = """\
+wecook_plan: 1
+agents:
+- {pid: P1, robot: franka_panda/panda.urdf, base: {position: [-0.5, 0.0, 0.0], yaw: 0.0}}
+scene:
+  table: {size: [1.0, 0.8], height: 0.0}
+  objects:
+  - {name: knife, category: tool, shape: box, size: [0.2, 0.03, 0.025], pose: {x: -0.1, y: 0.15, yaw: 1.5708}}
+  - {name: tomato, category: ingredient, shape: sphere, size: [0.05, 0.05, 0.05], pose: {x: 0.0, y: 0.0}}
+  - {name: chopping_board, category: container, shape: box, size: [0.25, 0.18, 0.02], pose: {x: 0.0, y: 0.0}}
+  containing: [[tomato, chopping_board]]
+actions:
+- {id: a1, pid: [P1], verb: cut, tool: knife, ingredients: [tomato], location: chopping_board, after: []}
+- {id: a2, pid: [P1], verb: cut, tool: knife, ingredients: [tomato], location: chopping_board, after: [a1]}
+"""
+
+
+@pytest.mark.sim
+def test_execute_records_a_run_and_reports_every_action(tmp_path: Path,
+                                                        capsys: pytest.CaptureFixture[str]) -> None:
+    from wecook_core.execution.runs import check_recording
+
+    plan = tmp_path / "plan.yaml"
+    plan.write_text(ONE_ARM)
+    record = tmp_path / "run.mcap"
+    code = main(["execute", str(plan), "--record", str(record), "--seed", "3"])
+    out = capsys.readouterr().out
+    rows = [line.split("\t") for line in out.splitlines() if line.startswith("a")]  # plain lines: not a tty
+    assert [r[0] for r in rows] == ["a1", "a2"] and all(r[2] == "cut" for r in rows)
+    statuses = [r[3] for r in rows]
+    assert set(statuses) <= {"done", "failed", "skipped"}
+    assert code == (0 if statuses == ["done", "done"] else 1)
+    report = check_recording(record)
+    assert report.ok, report.problems
+    assert {k: v.split(":")[0] for k, v in report.actions.items()} == \
+        {r[0]: ("done" if r[3] == "done" else "failed") for r in rows}
+    assert report.metadata["wecook"]["seed"] == "3"
+
+
+@pytest.mark.sim
+def test_killed_execute_leaves_a_recoverable_recording(tmp_path: Path) -> None:
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    from wecook_core.execution.runs import check_recording, recover_recording
+
+    plan = tmp_path / "plan.yaml"
+    more = "".join(f"- {{id: a{k}, pid: [P1], verb: cut, tool: knife, ingredients: [tomato], "
+                   f"location: chopping_board, after: [a{k - 1}]}}\n" for k in range(3, 9))
+    plan.write_text(ONE_ARM + more)  # eight cuts: long enough to be killed midway
+    record = tmp_path / "run.mcap"
+    child = subprocess.Popen([sys.executable, "-m", "wecook_tui.cli", "execute", str(plan), "--record",
+                              str(record)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 60
+    sizes = {0}
+    while time.monotonic() < deadline and len(sizes) < 4 and child.poll() is None:  # three flushes seen
+        sizes.add(record.stat().st_size if record.exists() else 0)
+        time.sleep(0.05)
+    assert child.poll() is None, "the run ended before it could be killed"
+    os.kill(child.pid, signal.SIGKILL)
+    child.wait()
+    report = recover_recording(record, tmp_path / "recovered.mcap")
+    assert not report.complete and report.messages.get("/tf", 0) > 0
+    check = check_recording(tmp_path / "recovered.mcap")
+    assert check.ok, check.problems
+    assert "a1" in check.actions

@@ -149,3 +149,14 @@ def test_sigkilled_run_is_recovered_up_to_the_last_flush(tmp_path: Path) -> None
     with open(out, "rb") as f:
         events = [json.loads(m.data) for _, c, m in make_reader(f).iter_messages(topics=["/plan/events"])]
     assert events[-1]["kind"] == "run_end" and events[-1]["data"] == {"recovered": True}
+
+
+def test_a_skipped_action_fails_without_starting(tmp_path: Path) -> None:
+    path = tmp_path / "skip.mcap"
+    with McapRecorder(path, time_origin_ns=0) as rec:
+        synthetic_run(rec, actions=1, seconds_per_action=0.2, fail=("a1",), end=False)
+        rec.on_event(1.0, RunEvent("action_failed", "a2", agent="P2", detail="skipped: needs a1, which failed"))
+        rec.on_event(1.0, RunEvent("run_end"))
+    report = check_recording(path)
+    assert report.ok, report.problems
+    assert report.actions == {"a1": "failed: synthetic failure", "a2": "failed: skipped: needs a1, which failed"}

@@ -141,6 +141,8 @@ class McapRecorder:
                     **{str(k): str(v) for k, v in metadata.items()}}
             self._writer.add_metadata("wecook", info)
             self._write("/scene", ns, foxglove.scene_update(ns, self._frames))
+            self._write("/log", ns, foxglove.log(ns, "info", f"run started: seed {seed}, {len(self._frames)} frames, "
+                                                 f"wecook {info['wecook']}"))
             self._flush()
 
     def on_state(self, t: float, poses: Mapping[str, tuple[Vec3, Quat]],
@@ -176,10 +178,11 @@ class McapRecorder:
 
     def on_end(self, t: float) -> None:
         with self._lock:
+            ns = self._ns(t)
             if not self._closed and not self._saw_run_end:
-                ns = self._ns(t)
                 self._write("/plan/events", ns, foxglove.run_event(ns, RunEvent("run_end")))
                 self._saw_run_end = True
+            self._write("/log", ns, foxglove.log(ns, "info", f"run ended at {t:.2f} s simulated"))
         self.close()
 
     # ------------------------------------------------------------------------------------ closing

@@ -119,8 +119,11 @@ def _event_problems(events: list[dict[str, Any]]) -> tuple[list[str], dict[str, 
                 problems.append(f"/plan/events[{k}]: action {aid} started twice")
             state[aid] = "running"
         elif kind in ("action_end", "action_failed"):
-            if state.get(aid) != "running":
+            if kind == "action_end" and state.get(aid) != "running":
                 problems.append(f"/plan/events[{k}]: action {aid} ends without having started")
+            elif kind == "action_failed" and aid in state and state[aid] != "running":
+                problems.append(f"/plan/events[{k}]: action {aid} fails after it had ended")
+            # an action that fails without starting was skipped (a predecessor failed)
             state[aid] = "done" if kind == "action_end" else f"failed: {event.get('detail') or 'no reason given'}"
         elif kind == "run_end" and k != len(events) - 1:
             problems.append(f"/plan/events[{k}]: run_end is not the last event")

@@ -96,7 +96,7 @@ class ActionRow:
     agents: str
     verb: str
     status: str = "not run"
-    """``done``, ``failed``, ``running`` or ``not run``."""
+    """``done``, ``failed``, ``skipped`` (a predecessor failed), ``running`` or ``not run``."""
     reason: str = ""
 
 
@@ -149,9 +149,14 @@ class Progress:
             if not self.live:
                 self._say(f"[{t:7.2f}s] {row.id} {row.agents} {row.verb}: started")
         elif event.kind in ("action_end", "action_failed") and row is not None:
-            row.status = "done" if event.kind == "action_end" else "failed"
+            started = row.status == "running"
+            row.status = "done" if event.kind == "action_end" else "failed" if started else "skipped"
             row.reason = event.detail if event.kind == "action_failed" else ""
-            mark = "done" if row.status == "done" else f"FAILED: {row.reason or 'no reason given'}"
+            if row.status == "skipped" and row.reason.startswith("skipped: "):
+                row.reason = row.reason.removeprefix("skipped: ")
+            mark = {"done": "done", "failed": "FAILED", "skipped": "skipped"}[row.status]
+            if row.status != "done":
+                mark += f": {row.reason or 'no reason given'}"
             self._say(f"[{t:7.2f}s] {row.id} {row.agents} {row.verb}: {mark}")
             if self._overall is not None:
                 self._bar.advance(self._overall)
@@ -215,7 +220,7 @@ def summary_table(rows: Sequence[ActionRow]) -> Any:
     table = Table(title="run summary")
     for column in ("action", "agent", "verb", "status", "reason"):
         table.add_column(column)
-    style = {"done": "green", "failed": "red"}
+    style = {"done": "green", "failed": "red", "skipped": "magenta"}
     for row in rows:
         table.add_row(row.id, row.agents, row.verb, f"[{style.get(row.status, 'yellow')}]{row.status}[/]",
                       row.reason)
@@ -271,7 +276,10 @@ def run_execute(args: argparse.Namespace) -> int:
     done = sum(r.status == "done" for r in rows)
     speed = f", {progress.sim_time / wall:.1f}x real time" if wall > 0 and progress.sim_time > 0 else ""
     print(f"{done}/{len(rows)} actions done in {progress.sim_time:.1f} s simulated, {wall:.1f} s wall{speed}")
-    return 0 if done == len(rows) else 1
+    contacts = int(getattr(result, "arm_contacts", 0) or 0)
+    if contacts:
+        print(f"the arms touched each other {contacts} times")
+    return 0 if done == len(rows) and not contacts else 1
 
 
 # ------------------------------------------------------------------------------------------------ runs
