@@ -1,0 +1,780 @@
+"""The PyBullet world of the executor: a simulating client, a planning client, and the primitives
+grasp / engage / actuate / place as programs (generators, see :mod:`wecook_core.execution.executor`).
+
+Arms are driven along their trajectories kinematically (joints set every step, motors holding them); objects
+are dynamic bodies; a grasped object rides on a fixed constraint to the hand (and is kept exactly on it).
+Goals come from TSR samples through re-seeded IK, checked for collisions in the planning client; paths come from
+the motion planner (every query time-limited). A goal that fails is retried with new samples, up to
+``attempts`` rounds of ``samples`` samples; then the primitive fails with its reason.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pybullet as p
+
+from wecook_core.execution.executor import WAIT, WORK, ActionFailed, Meeting, Program
+from wecook_core.execution.motion import MotionProblem, path_free, plan_motion
+from wecook_core.execution.observer import FrameInfo, RunEvent, RunObserver
+from wecook_core.execution.planning_scene import PlanningScene, Riding, boxes_overlap
+from wecook_core.execution.robot import EE_LINK, HOME, LOWER, MAX_SPEED, UPPER, Panda, attach, detach, set_arm_collisions
+from wecook_core.execution.scene import SIM_HZ, SceneBodies, build_scene, link_frames, world_poses
+from wecook_core.execution.skills import Half, SkillLibrary, TSRSpec, actuation_path, evaluate, load_skills, \
+    object_kind, skill_name
+from wecook_core.execution.tsr import TSR, matrix_to_pose, pose_to_matrix, sample
+from wecook_core.model import Category
+from wecook_core.plan import Plan, PlanAction
+
+STATE_EVERY = SIM_HZ // 30
+"""Steps between two ``on_state`` calls (30 Hz)."""
+CONTACT_EVERY = 2
+"""Steps between two arm-arm contact queries."""
+JOINT_SPEED = 0.45
+"""Fraction of the joint speed limits used by planned motions."""
+LINEAR_SPEED = 0.12
+"""Metres per second of straight moves and actuations."""
+TURN_SPEED = 1.2
+"""Radians per second of the effector's rotation in straight moves and actuations."""
+IMAGE_SIZE = (320, 240)
+
+
+@dataclass
+class Hand:
+    """What one arm holds now."""
+
+    carried: str | None = None
+    constraint: int | None = None
+    riding: list[Riding] = field(default_factory=list)
+    grip: float = 0.04
+
+
+class BulletWorld:
+    def __init__(self, plan: Plan, observer: RunObserver | None, *, seed: int = 0, realtime: bool = False,
+                 planner: str = "rrtconnect", planning_time: float = 1.0, images: bool = True,
+                 skills: SkillLibrary | None = None, attempts: int = 3, samples: int = 8):
+        self.plan = plan
+        self.observer = observer
+        self.client = p.connect(p.DIRECT)
+        self.bodies: SceneBodies = build_scene(self.client, plan)
+        self.planning = PlanningScene(plan)
+        self.arms = {pid: Panda(self.client, arm.body) for pid, arm in self.bodies.arms.items()}
+        self.skills = skills or load_skills()
+        self.rng = np.random.default_rng(seed)
+        self.seed = seed
+        self.realtime = realtime
+        self.planner = planner
+        self.planning_time = planning_time
+        self.images = images
+        self.attempts = attempts
+        self.samples = samples
+        self.steps = 0
+        self.queries = 0
+        self.wall_start = time.perf_counter()
+        self.hands = {pid: Hand() for pid in self.arms}
+        self.commands: dict[str, np.ndarray] = {}
+        self._applied: dict[str, np.ndarray] = {}
+        self.reserved: dict[str, np.ndarray | None] = {pid: None for pid in self.arms}
+        self.arm_contacts = 0
+        self._touching = False
+        self.homes: dict[str, np.ndarray] = {n: b.home.copy() for n, b in self.bodies.objects.items()}
+        for pid, arm in self.arms.items():
+            arm.set_q(HOME, 0.04)
+            self.commands[pid] = HOME.copy()
+        for _ in range(60):  # let the objects settle before the clock starts
+            p.stepSimulation(physicsClientId=self.client)
+        self._frames = link_frames(self.bodies)
+
+    # ------------------------------------------------------------------------------------ world API
+
+    @property
+    def time(self) -> float:
+        return self.steps / SIM_HZ
+
+    @property
+    def dt(self) -> float:
+        return 1 / SIM_HZ
+
+    def close(self) -> None:
+        self.planning.close()
+        if p.isConnected(self.client):
+            p.disconnect(self.client)
+
+    def frames(self) -> list[FrameInfo]:
+        return self._frames
+
+    def step(self) -> None:
+        c = self.client
+        for pid, arm in self.arms.items():
+            q = self.commands[pid]
+            if self._applied.get(pid) is not q:
+                arm.set_q(q)
+                self._applied[pid] = q
+        for pid, hand in self.hands.items():
+            if hand.riding:
+                state = p.getLinkState(self.bodies.arms[pid].body, EE_LINK, computeForwardKinematics=True,
+                                       physicsClientId=c)
+                for r in hand.riding:
+                    body = self.bodies.objects[r.name].body
+                    local = r.local
+                    pos, orn = p.multiplyTransforms(state[4], state[5], local[0], local[1])
+                    p.resetBasePositionAndOrientation(body, pos, orn, physicsClientId=c)
+                    p.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0], physicsClientId=c)
+        p.stepSimulation(physicsClientId=c)
+        self.steps += 1
+        if self.steps % CONTACT_EVERY == 0:
+            self._check_arm_contact()
+        if self.steps % STATE_EVERY == 0:
+            self.publish_state()
+        if self.realtime:
+            ahead = self.time - (time.perf_counter() - self.wall_start)
+            if ahead > 0:
+                time.sleep(ahead)
+
+    def publish_state(self) -> None:
+        if self.observer is None:
+            return
+        joints = {}
+        for pid, arm in self.arms.items():
+            names = self.bodies.arms[pid].links
+            q = list(arm.q()) + [arm.fingers()] * 2
+            joints[pid] = ([f"panda_joint{k + 1}" for k in range(7)] + ["panda_finger_joint1", "panda_finger_joint2"], q)
+            del names
+        self.observer.on_state(self.time, world_poses(self.bodies), joints)
+
+    def _check_arm_contact(self) -> None:
+        c = self.client
+        pids = sorted(self.arms)
+        if len(pids) < 2:
+            return
+        a, b = (self.bodies.arms[pid].body for pid in pids[:2])
+        touching = bool(p.getContactPoints(a, b, physicsClientId=c))
+        if touching and not self._touching:
+            self.arm_contacts += 1
+            self._event("primitive_failed", None, None, "the two arms touched")
+            if self.observer is not None:
+                self.observer.on_log(self.time, "error", "the two arms touched")
+        self._touching = touching
+
+    def _event(self, kind: str, action: PlanAction | None, pid: str | None, detail: str = "",
+               primitive: str | None = None) -> None:
+        if self.observer is not None:
+            self.observer.on_event(self.time, RunEvent(kind, action.id if action else None, primitive, pid, detail))  # type: ignore[arg-type]
+
+    def action_boundary(self, action: PlanAction, kind: str) -> None:
+        if not self.images or self.observer is None:
+            return
+        import cv2
+
+        w, h = IMAGE_SIZE
+        view = p.computeViewMatrix([0.0, -1.1, 0.9], [0.0, 0.0, 0.1], [0, 0, 1])
+        proj = p.computeProjectionMatrixFOV(55, w / h, 0.05, 5.0)
+        image = p.getCameraImage(w, h, view, proj, renderer=p.ER_TINY_RENDERER, physicsClientId=self.client)
+        rgb = np.reshape(np.asarray(image[2], dtype=np.uint8), (h, w, 4))[:, :, :3]
+        ok, jpeg = cv2.imencode(".jpg", cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR), [cv2.IMWRITE_JPEG_QUALITY, 80])
+        if ok:
+            self.observer.on_image(self.time, jpeg.tobytes(), w, h)
+
+    # ------------------------------------------------------------------------------------ geometry
+
+    def pose(self, name: str) -> np.ndarray:
+        pos, orn = p.getBasePositionAndOrientation(self.bodies.objects[name].body, physicsClientId=self.client)
+        return pose_to_matrix((pos, orn))
+
+    def half(self, name: str | None) -> Half:
+        if name is None:
+            return Half()
+        s = self.bodies.objects[name].size
+        return Half(s[0] / 2, s[1] / 2, s[2] / 2)
+
+    def _facing(self, name: str, pid: str) -> np.ndarray:
+        T = self.pose(name)
+        base = self.bodies.arms[pid].base[:3, 3]
+        yaw = math.atan2(base[1] - T[1, 3], base[0] - T[0, 3])
+        out = np.eye(4)
+        out[:3, :3] = [[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]]
+        out[:3, 3] = T[:3, 3]
+        return out
+
+    def _meet(self, giver: str, receiver: str) -> np.ndarray:
+        a, b = self.bodies.arms[giver].base[:3, 3], self.bodies.arms[receiver].base[:3, 3]
+        yaw = math.atan2(b[1] - a[1], b[0] - a[0])
+        out = np.eye(4)
+        out[:3, :3] = [[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]]
+        out[:3, 3] = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, self.bodies.table_height + self.skills.meet_height]
+        return out
+
+    def _drop(self, pid: str) -> np.ndarray:
+        base = self.bodies.arms[pid].base
+        out = base.copy()
+        out[:3, 3] = base[:3, 3] + base[:3, 0] * self.skills.drop_distance
+        out[2, 3] = self.bodies.table_height
+        out[:3, :3] = base[:3, :3] @ np.diag([-1.0, -1.0, 1.0])  # x toward the arm
+        return out
+
+    def frame(self, spec: TSRSpec, roles: dict[str, str | None], pid: str, meet: tuple[str, str] | None = None
+              ) -> tuple[np.ndarray, dict[str, Half]]:
+        """The TSR frame (4x4) and the half-extent table for expressions."""
+        sizes = {"t": self.half(roles.get("tool")), "i": self.half(roles.get("ingredient")),
+                 "l": self.half(roles.get("location"))}
+        if spec.frame == "meet":
+            assert meet is not None
+            return self._meet(*meet), sizes
+        if spec.frame == "drop":
+            return self._drop(pid), sizes
+        kind, role = spec.frame.split(":", 1)
+        name = roles.get(role)
+        if name is None:
+            raise ActionFailed(f"the skill needs a {role} and the action names none")
+        sizes["f"] = self.half(name)
+        return (self.pose(name) if kind == "object" else self._facing(name, pid)), sizes
+
+    # ------------------------------------------------------------------------------------ planning
+
+    def _sync(self) -> None:
+        self.planning.sync(self.bodies, {pid: h.riding for pid, h in self.hands.items()})
+
+    def _planning_seed(self) -> int:
+        self.queries += 1
+        return (self.seed * 1_000_003 + self.queries * 7919) % (2**31 - 2)
+
+    def _ik_goal(self, pid: str, targets: Iterable[np.ndarray], ignore: Sequence[str],
+                 check: bool = True) -> tuple[np.ndarray, np.ndarray] | None:
+        """First target (ee pose) with a collision-free IK solution: (q, pose). Each target is tried from the
+        current joints, from home and from two random seeds (IK finds one of several arm postures)."""
+        arm = self.planning.arms[pid]
+        collides = self.planning.collision_fn(pid, ignore=ignore)
+        current = self.arms[pid].q()
+        for T in targets:
+            for seed_q in (current, HOME, self.rng.uniform(LOWER, UPPER), self.rng.uniform(LOWER, UPPER)):
+                q = arm.ik(T, self.rng, seed_q, restarts=0)
+                if q is None:
+                    continue
+                if not (check and collides(q)):
+                    return q, T
+        return None
+
+    def _goal_samples(self, tsrs: Sequence[TSR], T_eff_ee: np.ndarray, n: int,
+                      accept: object = None) -> list[np.ndarray]:
+        out = []
+        for _ in range(n * 4):
+            if len(out) >= n:
+                break
+            region = tsrs[int(self.rng.integers(len(tsrs)))]
+            T = sample(region, self.rng) @ T_eff_ee
+            if accept is None or accept(T):  # type: ignore[operator]
+                out.append(T)
+        return out
+
+    def _plan(self, pid: str, goal: np.ndarray, ignore: Sequence[str]) -> list[np.ndarray] | str:
+        self._sync()
+        start = self.arms[pid].q()
+        problem = MotionProblem(start=start, goal=goal, lower=LOWER, upper=UPPER,
+                                collision_fn=self.planning.collision_fn(pid, ignore=ignore), resolution=0.03)
+        result = plan_motion(problem, planner=self.planner, time_limit=self.planning_time, seed=self._planning_seed())
+        if not result.ok:
+            return result.status
+        return list(result.path)
+
+    def _other(self, pid: str) -> str | None:
+        return next((k for k in self.arms if k != pid), None)
+
+    # ------------------------------------------------------------------------------------ motion
+
+    def _follow(self, pid: str, path: Sequence[np.ndarray], durations: Sequence[float] | None = None) -> Program:
+        """Move along joint waypoints (linear interpolation), ``durations[k]`` seconds for segment k."""
+        for k, (a, b) in enumerate(zip(path[:-1], path[1:], strict=True)):
+            d = durations[k] if durations is not None else float(np.max(np.abs(b - a) / (MAX_SPEED * JOINT_SPEED)))
+            n = max(int(math.ceil(d * SIM_HZ)), 1)
+            for i in range(1, n + 1):
+                self.commands[pid] = a + (b - a) * (i / n)
+                yield WORK
+
+    def _reserve(self, pid: str, path: Sequence[np.ndarray]) -> Program:
+        """Wait until the swept region of ``path`` is clear of the other arm's moving region, then hold it."""
+        self._sync()
+        boxes = self.planning.swept_boxes(pid, path)
+        other = self._other(pid)
+        waited = 0
+        while other is not None and self.reserved[other] is not None:
+            theirs = self.reserved[other]
+            if not boxes_overlap(boxes, theirs):  # type: ignore[arg-type]
+                break
+            while self.reserved[other] is theirs:  # the same motion still runs
+                waited += 1
+                yield WAIT
+        self.reserved[pid] = boxes
+        if waited:
+            raise _Replan()
+
+    def transit(self, pid: str, goal: np.ndarray, ignore: Sequence[str] = (), what: str = "move") -> Program:
+        """A planned, collision-free move to joint goal ``goal`` (re-planned if the other arm was in the way)."""
+        for _ in range(20):
+            path = self._plan(pid, goal, ignore)
+            if isinstance(path, str):
+                raise ActionFailed(f"{what}: no path ({path} after {self.planning_time:.1f} s)")
+            try:
+                yield from self._reserve(pid, path)
+            except _Replan:
+                self.reserved[pid] = None
+                continue
+            try:
+                yield from self._follow(pid, path)
+            finally:
+                self.reserved[pid] = None
+            return
+        raise ActionFailed(f"{what}: the other arm kept the way blocked")
+
+    def linear(self, pid: str, poses: Sequence[np.ndarray], ignore: Sequence[str] | None = None,
+               holds: Sequence[float] | None = None, fingers: Sequence[float | None] | None = None,
+               what: str = "straight move") -> Program:
+        """Straight effector moves through ee poses (IK on each, densified to 1 cm / 0.1 rad), checked against
+        the other arm and the table (objects in ``ignore``, or all objects when None, are skipped)."""
+        self._sync()
+        arm = self.planning.arms[pid]
+        q = self.arms[pid].q()
+        start = self.arms[pid].ee()
+        names = list(self.bodies.objects) if ignore is None else list(ignore)
+        collides = self.planning.collision_fn(pid, ignore=names, margin=-0.01)
+        path = [q]
+        durations: list[float] = []
+        marks: list[int] = []
+        prev = start
+        for T in poses:
+            dist = float(np.linalg.norm(T[:3, 3] - prev[:3, 3]))
+            from scipy.spatial.transform import Rotation
+
+            turn = float(Rotation.from_matrix(prev[:3, :3].T @ T[:3, :3]).magnitude())
+            n = max(int(math.ceil(max(dist / 0.01, turn / 0.1))), 1)
+            slerp_rots = Rotation.from_matrix(np.stack([prev[:3, :3], T[:3, :3]]))
+            for i in range(1, n + 1):
+                s = i / n
+                M = np.eye(4)
+                from scipy.spatial.transform import Slerp
+
+                M[:3, :3] = Slerp([0, 1], slerp_rots)([s]).as_matrix()[0]
+                M[:3, 3] = prev[:3, 3] + (T[:3, 3] - prev[:3, 3]) * s
+                qn = arm.ik(M, self.rng, path[-1], restarts=0, iterations=30)
+                if qn is None or np.max(np.abs(qn - path[-1])) > 0.6:
+                    raise ActionFailed(f"{what}: no continuous IK along the straight path")
+                path.append(qn)
+                durations.append(max(dist / n / LINEAR_SPEED, turn / n / TURN_SPEED, 1 / SIM_HZ))
+            marks.append(len(path) - 1)
+            prev = T
+        if not path_free(collides, path, 0.05):
+            raise ActionFailed(f"{what}: the straight path collides")
+        try:
+            yield from self._reserve(pid, path)
+        except _Replan:
+            pass  # a straight move cannot change: it waited for the way to clear
+        try:
+            k = 0
+            for j, end in enumerate(marks):
+                yield from self._follow(pid, path[k:end + 1], durations[k:end])
+                k = end
+                if fingers is not None and fingers[j] is not None:
+                    self._set_grip(pid, float(fingers[j]))  # type: ignore[arg-type]
+                    yield from self._hold(0.15)
+                if holds is not None and holds[j] > 0:
+                    yield from self._hold(holds[j])
+        finally:
+            self.reserved[pid] = None
+
+    def _hold(self, seconds: float) -> Program:
+        for _ in range(max(int(seconds * SIM_HZ), 1)):
+            yield WORK
+
+    def _set_grip(self, pid: str, width: float) -> None:
+        self.hands[pid].grip = width
+        self.arms[pid].set_fingers(width)
+
+    def go_home(self, pid: str) -> Program:
+        if np.max(np.abs(self.arms[pid].q() - HOME)) < 1e-3:
+            return
+        yield from self.transit(pid, HOME.copy(), what="return home")
+
+    # ------------------------------------------------------------------------------------ primitives
+
+    def _kind(self, name: str) -> str:
+        b = self.bodies.objects[name]
+        return object_kind(b.category, b.size, b.open_top)
+
+    def _grasp_tsrs(self, name: str, pid: str, kinds: Sequence[str] | None = None,
+                    flip: bool = False) -> list[TSR]:
+        out = []
+        for kind in kinds or [self._kind(name)]:
+            for spec in self.skills.grasps[kind]:
+                T0_w, sizes = self.frame(spec, {"object": name}, pid)
+                if spec.frame.startswith("object") and flip:
+                    T0_w = T0_w @ np.diag([-1.0, -1.0, 1.0, 1.0])
+                sizes["f"] = self.half(name)
+                out.append(spec.tsr(T0_w, sizes))
+                if flip and spec.frame.startswith("object"):
+                    out.append(spec.tsr(self.pose(name), sizes))
+        return out
+
+    def grasp(self, action: PlanAction, pid: str, name: str, *, lift: bool = True, ignore_extra: Sequence[str] = (),
+              tsrs: list[TSR] | None = None, accept: object = None, primitive: str = "grasp") -> Program:
+        """Pre-grasp (planned), straight approach, close, attach, lift (straight up)."""
+        self._event("primitive_start", action, pid, name, primitive)
+        body = self.bodies.objects[name]
+        kind = self._kind(name)
+        regions = tsrs or self._grasp_tsrs(name, pid)
+        support = [n for n, c in self.plan.scene.containing if n == name] + \
+            [c for n, c in self.plan.scene.containing if n == name]
+        ignore = [name, *support, *ignore_extra]
+        approach = self.skills.approach_distance
+        reason = "no reachable collision-free grasp"
+        for attempt in range(self.attempts):
+            if attempt:
+                self._event("retry", action, pid, f"{primitive} {name}: attempt {attempt + 1} ({reason})", primitive)
+            self._sync()
+            candidates = self._goal_samples(regions, np.eye(4), self.samples, accept)
+            pre_goal = None
+            for G in candidates:
+                found = self._ik_goal(pid, [G], ignore)
+                if found is None:
+                    continue
+                pre = G.copy()
+                pre[:3, 3] -= G[:3, 2] * approach
+                found_pre = self._ik_goal(pid, [pre], ignore_extra)
+                if found_pre is not None:
+                    pre_goal = (found_pre[0], pre, G)
+                    break
+            if pre_goal is None:
+                reason = f"no reachable collision-free grasp of {name} in {len(candidates)} TSR samples"
+                continue
+            try:
+                yield from self.transit(pid, pre_goal[0], ignore_extra, what=f"{primitive} {name}")
+                self._set_grip(pid, 0.04)
+                yield from self.linear(pid, [pre_goal[2]], ignore=ignore, what=f"approach {name}")
+            except ActionFailed as error:
+                reason = str(error)
+                continue
+            sizes = {"f": self.half(name)}
+            grip = max(evaluate(self.skills.grip[kind], sizes), 0.0)
+            self._set_grip(pid, min(grip, 0.04))
+            yield from self._hold(0.2)
+            constraint, T_ee_obj = attach(self.client, self.bodies.arms[pid].body, body.body)
+            hand = self.hands[pid]
+            hand.carried, hand.constraint = name, constraint
+            hand.riding = [Riding(name, T_ee_obj)]
+            if lift:
+                up = self.arms[pid].ee()
+                up[2, 3] += self.skills.lift
+                yield from self.linear(pid, [up], ignore=[*ignore], what=f"lift {name}")
+            self._event("primitive_end", action, pid, name, primitive)
+            return
+        self._event("primitive_failed", action, pid, reason, primitive)
+        raise ActionFailed(f"{primitive} {name}: {reason}")
+
+    def release(self, pid: str, retreat: bool = True) -> Program:
+        """Open, detach, move straight back along the approach."""
+        hand = self.hands[pid]
+        name = hand.carried
+        self._set_grip(pid, 0.04)
+        if hand.constraint is not None:
+            detach(self.client, hand.constraint)
+        hand.carried, hand.constraint, hand.riding = None, None, []
+        yield from self._hold(0.15)
+        if retreat:
+            back = self.arms[pid].ee()
+            back[:3, 3] -= back[:3, 2] * self.skills.approach_distance
+            try:
+                yield from self.linear(pid, [back], ignore=[name] if name else [], what="retreat")
+            except ActionFailed:
+                pass
+        if name is not None:
+            set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body, enabled=True)
+
+    def engage(self, action: PlanAction, pid: str, spec: TSRSpec, roles: dict[str, str | None],
+               meet: tuple[str, str] | None = None, accept: object = None) -> Program:
+        """Carry the effector (the carried object, else the gripper) into a TSR, by a planned move."""
+        self._event("primitive_start", action, pid, spec.frame, "engage")
+        hand = self.hands[pid]
+        T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
+        reason = "no reachable collision-free pose"
+        for attempt in range(self.attempts):
+            if attempt:
+                self._event("retry", action, pid, f"engage: attempt {attempt + 1} ({reason})", "engage")
+            self._sync()
+            T0_w, sizes = self.frame(spec, roles, pid, meet)
+            region = spec.tsr(T0_w, sizes)
+            candidates = self._goal_samples([region], T_eff_ee, self.samples, accept)
+            found = self._ik_goal(pid, candidates, [])
+            if found is None:
+                reason = f"no reachable collision-free pose in {len(candidates)} TSR samples ({spec.frame})"
+                continue
+            try:
+                yield from self.transit(pid, found[0], what="engage")
+            except ActionFailed as error:
+                reason = str(error)
+                continue
+            self._event("primitive_end", action, pid, spec.frame, "engage")
+            return
+        self._event("primitive_failed", action, pid, reason, "engage")
+        raise ActionFailed(f"engage {spec.frame}: {reason}")
+
+    def place(self, action: PlanAction, pid: str, target: np.ndarray | list[TSR]) -> Program:
+        """Put the carried object down at ``target`` (object pose, or TSRs of object poses): planned move above,
+        straight down, release."""
+        hand = self.hands[pid]
+        name = hand.carried
+        if name is None:
+            return
+        self._event("primitive_start", action, pid, name, "place")
+        T_obj_ee = np.linalg.inv(hand.riding[0].T_ee_obj)
+        regions = target if isinstance(target, list) else [TSR(target, np.eye(4), np.array(
+            [[-0.01, 0.01], [-0.01, 0.01], [0.002, 0.006], [0, 0], [0, 0], [-0.1, 0.1]]))]
+        reason = "no reachable place pose"
+        for attempt in range(self.attempts):
+            if attempt:
+                self._event("retry", action, pid, f"place {name}: attempt {attempt + 1} ({reason})", "place")
+            self._sync()
+            goals = self._goal_samples(regions, T_obj_ee, self.samples)
+            chosen = None
+            for G in goals:
+                found = self._ik_goal(pid, [G], [], check=False)
+                if found is None:
+                    continue
+                above = G.copy()
+                above[2, 3] += self.skills.lift
+                found_above = self._ik_goal(pid, [above], [])
+                if found_above is not None:
+                    chosen = (found_above[0], G)
+                    break
+            if chosen is None:
+                reason = f"no reachable place pose for {name} in {len(goals)} samples"
+                continue
+            try:
+                yield from self.transit(pid, chosen[0], what=f"place {name}")
+                yield from self.linear(pid, [chosen[1]], ignore=None, what=f"put down {name}")
+            except ActionFailed as error:
+                reason = str(error)
+                continue
+            yield from self.release(pid)
+            self._event("primitive_end", action, pid, name, "place")
+            return
+        self._event("primitive_failed", action, pid, reason, "place")
+        raise ActionFailed(f"place {name}: {reason}")
+
+    def actuate(self, action: PlanAction, pid: str, step: object, roles: dict[str, str | None]) -> Program:
+        from wecook_core.execution.skills import Step
+
+        assert isinstance(step, Step) and step.motion is not None
+        self._event("primitive_start", action, pid, step.motion, "actuate")
+        hand = self.hands[pid]
+        T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
+        T_ee_eff = np.linalg.inv(T_eff_ee)
+        ee = self.arms[pid].ee()
+        E = ee @ T_ee_eff
+        sizes = {"t": self.half(roles.get("tool")), "i": self.half(roles.get("ingredient")),
+                 "l": self.half(roles.get("location"))}
+        if step.contact is not None:
+            sizes["f"] = self.half(roles.get(step.contact[1]))
+        params = {k: (v if k == "axis" else evaluate(v, sizes)) for k, v in step.params.items()}
+        Rw = self._facing(roles[step.contact[1]], pid)[:3, :3] if step.contact and roles.get(step.contact[1]) \
+            else np.eye(3)
+        if not step.contact:
+            target = roles.get("location") or roles.get("ingredient")
+            if target is not None:
+                Rw = self._facing(target, pid)[:3, :3]
+        waypoints = actuation_path(step.motion, params, E, Rw, grip=hand.grip)  # type: ignore[arg-type]
+        pair = None
+        if step.contact is not None:
+            a, b = roles.get(step.contact[0]), roles.get(step.contact[1])
+            if a is not None and b is not None and a != b:
+                pair = (self.bodies.objects[a].body, self.bodies.objects[b].body)
+                p.setCollisionFilterPair(pair[0], pair[1], -1, -1, 0, physicsClientId=self.client)
+        try:
+            yield from self.linear(pid, [w.pose @ T_eff_ee for w in waypoints], ignore=None,
+                                   holds=[w.hold for w in waypoints], fingers=[w.fingers for w in waypoints],
+                                   what=f"actuate {step.motion}")
+        except ActionFailed as error:
+            self._event("primitive_failed", action, pid, str(error), "actuate")
+            raise
+        finally:
+            if pair is not None:
+                p.setCollisionFilterPair(pair[0], pair[1], -1, -1, 1, physicsClientId=self.client)
+        for role in step.attach:
+            name = roles.get(role)
+            if name is not None and hand.riding:
+                carrier = hand.riding[0]
+                tool = self.half(carrier.name)
+                ing = self.half(name)
+                T_tool_ing = np.eye(4)
+                T_tool_ing[:3, 3] = [0.6 * tool.hx, 0.0, tool.hz + ing.hz + 0.002]
+                hand.riding.append(Riding(name, carrier.T_ee_obj @ T_tool_ing))
+                set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body, enabled=False)
+                p.setCollisionFilterPair(self.bodies.objects[carrier.name].body, self.bodies.objects[name].body,
+                                         -1, -1, 0, physicsClientId=self.client)
+        for role in step.release:
+            name = roles.get(role)
+            if name is None:
+                continue
+            if name == hand.carried:
+                yield from self.release(pid)
+            else:
+                hand.riding = [r for r in hand.riding if r.name != name]
+                yield from self._hold(0.6)  # let it fall
+                set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body, enabled=True)
+                if hand.riding:
+                    p.setCollisionFilterPair(self.bodies.objects[hand.riding[0].name].body,
+                                             self.bodies.objects[name].body, -1, -1, 1, physicsClientId=self.client)
+        self._event("primitive_end", action, pid, step.motion, "actuate")
+
+    # ------------------------------------------------------------------------------------ actions
+
+    def program(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        if action.verb == "handover":
+            giver, receiver = action.pids
+            yield from (self._giver(action, pid, meeting) if pid == giver else self._receiver(action, pid, meeting))
+        elif action.verb == "holding":
+            holder = action.pids[0]
+            yield from (self._holder(action, pid, meeting) if pid == holder else self._actor(action, pid, meeting))
+        else:
+            yield from self._individual(action, pid, action.verb, action.tool, action.ingredients, action.location,
+                                        action.source)
+
+    def _container_of(self, name: str) -> str | None:
+        """The container an object is in now: the one whose footprint holds its centre, above its floor."""
+        T = self.pose(name)
+        for other, body in self.bodies.objects.items():
+            if other == name or body.category is not Category.CONTAINER:
+                continue
+            local = np.linalg.inv(self.pose(other)) @ T
+            h = self.half(other)
+            if abs(local[0, 3]) <= h.hx and abs(local[1, 3]) <= h.hy and -h.hz <= local[2, 3] <= h.hz + 0.1:
+                return other
+        return None
+
+    def _individual(self, action: PlanAction, pid: str, verb: str, tool: str | None, ingredients: Sequence[str],
+                    location: str | None, source: str | None) -> Program:
+        tool_category = self.bodies.objects[tool].category if tool else None
+        skill = self.skills.skills.get(skill_name(verb, tool, tool_category))
+        if skill is None:
+            raise ActionFailed(f"no skill for {verb!r}")
+        carried = tool if (skill.carry == "tool" or tool is not None) else None
+        carried = carried or (ingredients[0] if ingredients else None)
+        if carried is None:
+            raise ActionFailed(f"{verb} needs an object to hold (a tool or an ingredient)")
+        ingredient = ingredients[0] if ingredients else None
+        if ingredient is None and carried != tool:
+            ingredient = carried
+        loc = location or (self._container_of(ingredient) if ingredient else None) or ingredient
+        roles: dict[str, str | None] = {"tool": carried, "ingredient": ingredient or loc, "location": loc,
+                                        "source": source or (self._container_of(ingredient) if ingredient else None)}
+        home = self.pose(carried)
+        yield from self.grasp(action, pid, carried)
+        if skill.name == "transfer_tipping":
+            hand = self.hands[pid]
+            for name in ingredients:
+                if self._container_of(name) == carried:
+                    T = np.linalg.inv(self.arms[pid].ee()) @ self.pose(name)
+                    hand.riding.append(Riding(name, T))
+                    set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body,
+                                       enabled=False)
+        for step in skill.steps:
+            if step.primitive == "engage":
+                assert step.tsr is not None
+                yield from self.engage(action, pid, step.tsr, roles)
+            else:
+                yield from self.actuate(action, pid, step, roles)
+        if self.hands[pid].carried is not None:
+            yield from self.place(action, pid, home)
+        yield from self.go_home(pid)
+
+    def _giver(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        name = action.tool
+        assert name is not None
+        giver, receiver = action.pids
+        yield from self.grasp(action, pid, name)
+        T_ee_obj = self.hands[pid].riding[0].T_ee_obj
+        meet = self._meet(giver, receiver)
+
+        def on_giver_side(T_ee: np.ndarray) -> bool:
+            local = np.linalg.inv(meet) @ T_ee
+            return bool(local[0, 3] < -0.02)
+
+        del T_ee_obj
+        yield from self.engage(action, pid, self.skills.meet, {"tool": name}, meet=(giver, receiver),
+                               accept=on_giver_side)
+        meeting.signal("at_meet")
+        yield from meeting.wait_for("taken")
+        yield from self._hold(0.2)
+        yield from self.release(pid)
+        meeting.signal("released")
+        yield from self.go_home(pid)
+
+    def _receiver(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        name = action.tool
+        assert name is not None
+        giver = action.pids[0]
+        yield from meeting.wait_for("at_meet")
+        giver_ee = self.arms[giver].ee()
+        clearance = self.skills.receiver_clearance
+        kind = self._kind(name)
+        kinds = [kind] + (["handover_side"] if kind in ("ingredient", "tall") else [])
+        regions = self._grasp_tsrs(name, pid, kinds, flip=True)
+
+        def clear_of_giver(T: np.ndarray) -> bool:
+            return bool(np.linalg.norm(T[:3, 3] - giver_ee[:3, 3]) >= clearance)
+
+        yield from self.grasp(action, pid, name, lift=False, tsrs=regions, accept=clear_of_giver,
+                              primitive="take")
+        self.hands[giver].riding = []
+        meeting.signal("taken")
+        yield from meeting.wait_for("released")
+        drop = self.skills.drop
+        T0_w, sizes = self.frame(drop, {"tool": name}, pid)
+        target = [drop.tsr(T0_w, sizes)]
+        yield from self.place(action, pid, target)
+        yield from self.go_home(pid)
+
+    def _holder(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        name = action.tool
+        assert name is not None
+        yield from self.grasp(action, pid, name, lift=False, primitive="hold")
+        yield from self._hold(self.skills.hold_time)
+        meeting.signal("held")
+        yield from meeting.wait_for("acted")
+        yield from self._hold(self.skills.hold_time)
+        yield from self.release(pid)
+        yield from self.go_home(pid)
+
+    def _actor(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        act = action.partner
+        if act is None:
+            raise ActionFailed("holding without the partner's action")
+        yield from meeting.wait_for("held")
+        location = act.location or action.tool
+        yield from self._individual(action, pid, act.verb, act.tool, act.ingredients, location, act.source)
+        meeting.signal("acted")
+
+    def recover(self, pid: str) -> Program:
+        self.reserved[pid] = None
+        if self.hands[pid].carried is not None or self.hands[pid].riding:
+            hand = self.hands[pid]
+            for r in hand.riding:
+                set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[r.name].body,
+                                   enabled=True)
+            if hand.constraint is not None:
+                detach(self.client, hand.constraint)
+            hand.carried, hand.constraint, hand.riding = None, None, []
+            self._set_grip(pid, 0.04)
+        try:
+            yield from self.go_home(pid)
+        except ActionFailed as error:
+            if self.observer is not None:
+                self.observer.on_log(self.time, "warning", f"{pid} could not return home: {error}")
+        self.reserved[pid] = None
+
+
+class _Replan(Exception):
+    """The other arm was in the way: plan again from where things are now."""
+
+

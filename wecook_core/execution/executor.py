@@ -1,0 +1,255 @@
+"""Runs a plan: both arms concurrently in one simulation, each following its person's actions.
+
+Scheduling. Each agent runs a cooperative program (a generator) over its actions in plan order (a
+collaboration is in both agents' lists). Every simulation tick the scheduler advances each program once, then
+steps the world; a program yields :data:`WORK` when it commanded motion (or holds on purpose) and :data:`WAIT`
+when it is blocked. Before an action starts, every ``after`` action must be done; if one failed or was skipped,
+the action is skipped with that reason (and so, transitively, everything depending on it). A collaboration
+starts when both agents have arrived at it; the roles then meet through a :class:`Meeting` (named signals, or
+a failure that aborts the partner). The world turns an action and a role into primitives (``world.program``).
+If every program waits for :data:`DEADLOCK_SECONDS` of simulated time, the waiting actions fail ("deadlock")
+instead of hanging; the whole run is bounded by ``max_sim_time``.
+
+How the arms avoid each other (the PyBullet world, :mod:`wecook_core.execution.bullet_world`): each motion is
+planned against the other arm's current configuration (it is in the planning client), and before it starts
+it reserves the region it sweeps (AABBs of its links and carried objects along the path, padded). A motion
+whose region overlaps the other arm's active reservation waits until that motion ends, then is re-planned.
+An arm at rest holds no reservation but is an obstacle to every plan, so a motion never enters where the
+other arm stands or where it is going. Arms rest at their home configuration between actions. During the run
+the world also queries contacts between the two arms every few steps and reports any touch as a failure
+event (``RunResult.arm_contacts``).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Generator, Iterator, Mapping
+from dataclasses import dataclass, field
+from typing import Literal, Protocol
+
+from wecook_core.execution.observer import RunEvent, RunObserver
+from wecook_core.plan import Plan, PlanAction
+
+WORK = "work"
+WAIT = "wait"
+Tick = Literal["work", "wait"]
+Program = Generator[Tick, None, None]
+DEADLOCK_SECONDS = 20.0
+"""Simulated seconds of every program waiting before the waiting actions fail as deadlocked."""
+
+
+class ActionFailed(Exception):
+    """A role of an action cannot go on; the message is the reason shown to the user."""
+
+
+@dataclass(frozen=True)
+class ActionResult:
+    action_id: str
+    status: Literal["done", "failed", "skipped"]
+    reason: str = ""
+    """Why it failed or was skipped; empty when done."""
+    agents: tuple[str, ...] = ()
+    start: float | None = None
+    """Simulated seconds when it started (None if it never did)."""
+    end: float | None = None
+
+
+@dataclass(frozen=True)
+class RunResult:
+    actions: tuple[ActionResult, ...]
+    """One per plan action, in plan order."""
+    sim_time: float
+    """Simulated seconds."""
+    wall_time: float
+    """Seconds."""
+    seed: int = 0
+    arm_contacts: int = 0
+    """Times the two arms (or what they carry) were found touching during the run (0 in a good run)."""
+
+    @property
+    def ok(self) -> bool:
+        return all(a.status == "done" for a in self.actions) and self.arm_contacts == 0
+
+    def result(self, action_id: str) -> ActionResult:
+        return next(a for a in self.actions if a.action_id == action_id)
+
+
+@dataclass
+class Meeting:
+    """Where the roles of one collaboration meet: who has arrived, signals raised, a failure."""
+
+    needed: frozenset[str]
+    arrived: set[str] = field(default_factory=set)
+    finished: set[str] = field(default_factory=set)
+    signals: set[str] = field(default_factory=set)
+    failure: str | None = None
+
+    def signal(self, name: str) -> None:
+        self.signals.add(name)
+
+    def fail(self, reason: str) -> None:
+        if self.failure is None:
+            self.failure = reason
+
+    def wait_for(self, name: str, ticks: Callable[[], Iterator[Tick]] | None = None) -> Program:
+        """Yield WAIT until ``name`` is signalled; raise :class:`ActionFailed` if the partner failed."""
+        while name not in self.signals:
+            if self.failure is not None:
+                raise ActionFailed(f"partner failed: {self.failure}")
+            yield WAIT
+        if self.failure is not None:
+            raise ActionFailed(f"partner failed: {self.failure}")
+
+
+class World(Protocol):
+    """What the scheduler needs from a simulation (the PyBullet world, or a fake in tests)."""
+
+    @property
+    def time(self) -> float: ...
+
+    @property
+    def dt(self) -> float: ...
+
+    def step(self) -> None: ...
+
+    def program(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        """The primitives of ``pid``'s role in ``action``; raises :class:`ActionFailed` with the reason."""
+        ...
+
+    def recover(self, pid: str) -> Program:
+        """After a failure: let go of what the arm holds and return it home (best effort, never raises)."""
+        ...
+
+    def action_boundary(self, action: PlanAction, kind: str) -> None:
+        """Called at action start and end (the PyBullet world takes a camera image)."""
+        ...
+
+
+def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, *,
+                 max_sim_time: float = 1800.0) -> tuple[ActionResult, ...]:
+    """Run every agent's program to the end; one result per plan action, in plan order."""
+    results: dict[str, ActionResult] = {}
+    started: dict[str, float] = {}
+    meetings: dict[str, Meeting] = {}
+    pids = sorted({a.pid for a in plan.agents} | {pid for a in plan.actions for pid in a.pids})
+    by_id = {a.id: a for a in plan.actions}
+
+    def emit(kind: str, action: PlanAction | None, pid: str | None = None, detail: str = "") -> None:
+        if observer is not None:
+            observer.on_event(world.time, RunEvent(kind, action.id if action else None, None, pid, detail))  # type: ignore[arg-type]
+
+    def finish(action: PlanAction, status: Literal["done", "failed", "skipped"], reason: str = "") -> None:
+        if action.id in results:
+            return
+        results[action.id] = ActionResult(action.id, status, reason, tuple(action.pids), started.get(action.id),
+                                          world.time if action.id in started else None)
+        if status == "done":
+            world.action_boundary(action, "end")
+            emit("action_end", action)
+        else:
+            if action.id in started:
+                world.action_boundary(action, "end")
+            emit("action_failed", action, detail=f"{status}: {reason}")
+            if observer is not None:
+                observer.on_log(world.time, "warning" if status == "skipped" else "error",
+                                f"{action.id} ({action.verb}) {status}: {reason}")
+
+    def agent_program(pid: str) -> Program:
+        for action in (a for a in plan.actions if pid in a.pids):
+            while action.id not in results:
+                blocked = [d for d in action.after if d in results and results[d].status != "done"]
+                if blocked:
+                    d = blocked[0]
+                    finish(action, "skipped", f"needs {d} ({by_id[d].verb}), which {results[d].status}")
+                    break
+                if all(d in results for d in action.after):
+                    break
+                yield WAIT
+            if action.id in results:
+                continue
+            meeting = meetings.setdefault(action.id, Meeting(frozenset(action.pids)))
+            meeting.arrived.add(pid)
+            while not meeting.needed <= meeting.arrived and meeting.failure is None:
+                yield WAIT
+            if action.id not in started:
+                started[action.id] = world.time
+                emit("action_start", action, detail=f"{action.verb} by {'+'.join(action.pids)}")
+                world.action_boundary(action, "start")
+            failed = meeting.failure is not None
+            if not failed:
+                try:
+                    yield from world.program(action, pid, meeting)
+                except ActionFailed as error:
+                    meeting.fail(str(error))
+                    failed = True
+            if failed:
+                yield from world.recover(pid)
+            meeting.finished.add(pid)
+            while not meeting.needed <= meeting.finished:
+                yield WAIT
+            if meeting.failure is None:
+                finish(action, "done")
+            else:
+                finish(action, "failed", meeting.failure)
+
+    programs: dict[str, Program] = {pid: agent_program(pid) for pid in pids}
+    idle = 0.0
+    while programs:
+        worked = False
+        for pid in list(programs):
+            try:
+                worked |= next(programs[pid]) == WORK
+            except StopIteration:
+                del programs[pid]
+        if not programs:
+            break
+        idle = 0.0 if worked else idle + world.dt
+        if idle > DEADLOCK_SECONDS or world.time > max_sim_time:
+            why = "deadlock: every arm is waiting" if idle > DEADLOCK_SECONDS else "the run exceeded its time limit"
+            for meeting_id, meeting in meetings.items():
+                if meeting_id not in results:
+                    meeting.fail(why)
+            pending = [a for a in plan.actions if a.id not in results and a.id not in meetings]
+            for action in pending:
+                finish(action, "skipped", why)
+            for action in plan.actions:
+                if action.id in meetings and action.id not in results:
+                    finish(action, "failed", why)
+            break
+        world.step()
+    for action in plan.actions:
+        if action.id not in results:
+            finish(action, "skipped", "never reached")
+    return tuple(results[a.id] for a in plan.actions)
+
+
+def execute_plan(plan: Plan, observer: RunObserver, *, seed: int = 0, realtime: bool = False,
+                 planner: str = "rrtconnect", planning_time: float = 1.0, images: bool = True,
+                 metadata: Mapping[str, str] | None = None) -> RunResult:
+    """Execute ``plan`` in PyBullet (DIRECT, headless) with two Panda arms; report through ``observer``.
+
+    The same plan and seed give the same run. ``realtime`` paces the simulation to the wall clock.
+    ``planning_time`` bounds every motion-planning query (seconds). ``images``: camera images at action
+    boundaries (``observer.on_image``). The observer sees ``on_start`` first and ``on_end`` last.
+    """
+    from wecook_core.execution.bullet_world import BulletWorld
+    from wecook_core.plan import plan_to_dict
+
+    import yaml
+
+    began = time.perf_counter()
+    world = BulletWorld(plan, observer, seed=seed, realtime=realtime, planner=planner,
+                        planning_time=planning_time, images=images)
+    try:
+        meta = {"seed": str(seed), "planner": planner, **(metadata or {})}
+        observer.on_start(world.frames(), yaml.safe_dump(plan_to_dict(plan), sort_keys=False), seed, meta)
+        world.publish_state()
+        results = run_schedule(plan, world, observer)
+        done = sum(r.status == "done" for r in results)
+        observer.on_event(world.time, RunEvent("run_end", detail=f"{done}/{len(results)} actions done",
+                                               data={"done": done, "total": len(results),
+                                                     "arm_contacts": world.arm_contacts}))
+        observer.on_end(world.time)
+        return RunResult(results, world.time, time.perf_counter() - began, seed, world.arm_contacts)
+    finally:
+        world.close()

@@ -1,0 +1,372 @@
+"""The skill library (``assets/skills.yaml``): for each verb, transfer, handover and holding, the primitives
+grasp / engage / actuate / place, their Task Space Regions and the actuation motions. Pure data and numpy:
+nothing here touches the simulator, so skills are tested without it.
+
+Frames and units are those of :mod:`wecook_core.execution.tsr`; the YAML file documents its own fields.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+from scipy.spatial.transform import Rotation
+
+from wecook_core.errors import InputError
+from wecook_core.execution.tsr import TSR
+from wecook_core.model import VERBS, Category
+from wecook_core.resources import ASSETS_DIR
+
+SKILLS_PATH = ASSETS_DIR / "skills.yaml"
+MOTIONS: tuple[str, ...] = ("saw", "circle", "tilt", "strokes", "dip", "squeeze", "wrap", "scoop")
+KINDS: tuple[str, ...] = ("tool", "ingredient", "tall", "open_container", "flat_container")
+FRAME_RE = re.compile(r"^(object|facing):(tool|ingredient|location|source|object)$|^(meet|drop)$")
+EXPR_RE = re.compile(r"^[0-9a-z_.+\-*/(), ]*$")
+AXIS_NAMES = {"x": 0, "y": 1, "z": 2}
+Expr = float | str
+"""A number, or an arithmetic expression over half extents (``"0.5*t.hx + 0.01"``)."""
+
+
+@dataclass(frozen=True)
+class Half:
+    """Half extents of an object, metres."""
+
+    hx: float = 0.0
+    hy: float = 0.0
+    hz: float = 0.0
+
+
+def evaluate(expr: Expr, sizes: Mapping[str, Half]) -> float:
+    """The value of a number or an expression over ``f t i l`` half extents (missing roles count as zeros)."""
+    if isinstance(expr, int | float):
+        return float(expr)
+    names: dict[str, Any] = {k: sizes.get(k, Half()) for k in ("f", "t", "i", "l")}
+    names.update(min=min, max=max)
+    return float(eval(expr, {"__builtins__": {}}, names))  # noqa: S307 - validated by EXPR_RE at load
+
+
+@dataclass(frozen=True)
+class TSRSpec:
+    frame: str
+    """``object:<role>``, ``facing:<role>``, ``meet`` or ``drop``."""
+    at: tuple[Expr, Expr, Expr]
+    """Metres in the frame."""
+    axes: tuple[tuple[str, tuple[float, float, float]], ...]
+    """Two effector axes (``x``/``y``/``z``) and their directions in the frame."""
+    bounds: tuple[tuple[float, float], ...] = ((0.0, 0.0),) * 6
+    """x y z (metres), roll pitch yaw (radians)."""
+
+    @property
+    def role(self) -> str | None:
+        return self.frame.split(":", 1)[1] if ":" in self.frame else None
+
+    def rotation(self) -> np.ndarray:
+        """3x3 effector orientation in the frame, from the two given axes (the first is kept exactly)."""
+        (a, va), (b, vb) = self.axes
+        u = np.array(va, dtype=float)
+        u /= np.linalg.norm(u)
+        w = np.array(vb, dtype=float)
+        w = w - u * (u @ w)
+        w /= np.linalg.norm(w)
+        R = np.zeros((3, 3))
+        ia, ib = AXIS_NAMES[a], AXIS_NAMES[b]
+        ic = 3 - ia - ib
+        R[:, ia], R[:, ib] = u, w
+        third = np.cross(R[:, (ic + 1) % 3], R[:, (ic + 2) % 3])
+        R[:, ic] = third
+        return R
+
+    def tsr(self, T0_w: np.ndarray, sizes: Mapping[str, Half]) -> TSR:
+        Tw_e = np.eye(4)
+        Tw_e[:3, :3] = self.rotation()
+        Tw_e[:3, 3] = [evaluate(v, sizes) for v in self.at]
+        return TSR(T0_w=T0_w, Tw_e=Tw_e, Bw=np.array(self.bounds))
+
+
+@dataclass(frozen=True)
+class Step:
+    primitive: str
+    """``engage`` or ``actuate`` (grasp and place are added around every skill by the executor)."""
+    tsr: TSRSpec | None = None
+    motion: str | None = None
+    params: Mapping[str, Expr] = field(default_factory=dict)
+    contact: tuple[str, str] | None = None
+    """Roles that touch during the actuation (their collisions are switched off meanwhile)."""
+    attach: tuple[str, ...] = ()
+    release: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Skill:
+    name: str
+    carry: str
+    """Role of the object the arm grasps first: ``tool`` or ``ingredient``."""
+    steps: tuple[Step, ...]
+
+
+@dataclass(frozen=True)
+class SkillLibrary:
+    grasps: Mapping[str, tuple[TSRSpec, ...]]
+    grip: Mapping[str, Expr]
+    skills: Mapping[str, Skill]
+    meet: TSRSpec
+    drop: TSRSpec
+    meet_height: float = 0.32
+    approach_distance: float = 0.08
+    lift: float = 0.12
+    receiver_clearance: float = 0.09
+    drop_distance: float = 0.32
+    hold_time: float = 0.5
+
+
+# ------------------------------------------------------------------------------------------- loading
+
+
+def _bad(path: Path, place: str, message: str) -> InputError:
+    return InputError(path, message, place=place)
+
+
+def _expr(value: Any, path: Path, place: str) -> Expr:
+    if isinstance(value, bool) or not isinstance(value, int | float | str):
+        raise _bad(path, place, f"expected a number or an expression, got {value!r}")
+    if isinstance(value, str):
+        if not EXPR_RE.match(value):
+            raise _bad(path, place, f"bad expression {value!r}")
+        try:
+            evaluate(value, {})
+        except Exception as error:
+            raise _bad(path, place, f"bad expression {value!r}: {error}") from None
+        return value
+    return float(value)
+
+
+def _direction(value: Any, path: Path, place: str) -> tuple[float, float, float]:
+    if isinstance(value, str):
+        m = re.fullmatch(r"([+-]?)([xyz])", value.strip())
+        if not m:
+            raise _bad(path, place, f"expected an axis like -z or a vector, got {value!r}")
+        v = [0.0, 0.0, 0.0]
+        v[AXIS_NAMES[m.group(2)]] = -1.0 if m.group(1) == "-" else 1.0
+        return v[0], v[1], v[2]
+    if isinstance(value, list) and len(value) == 3 and all(isinstance(x, int | float) for x in value):
+        if np.linalg.norm(value) < 1e-9:
+            raise _bad(path, place, "zero direction")
+        return float(value[0]), float(value[1]), float(value[2])
+    raise _bad(path, place, f"expected an axis like -z or a vector [a, b, c], got {value!r}")
+
+
+def _tsr_spec(data: Any, path: Path, place: str) -> TSRSpec:
+    if not isinstance(data, dict):
+        raise _bad(path, place, "expected a mapping {frame, at, axes, bounds}")
+    frame = data.get("frame")
+    if not isinstance(frame, str) or not FRAME_RE.match(frame):
+        raise _bad(path, f"{place}.frame", f"unknown frame {frame!r}")
+    at = data.get("at", [0, 0, 0])
+    if not isinstance(at, list) or len(at) != 3:
+        raise _bad(path, f"{place}.at", f"expected [x, y, z], got {at!r}")
+    axes = data.get("axes")
+    if not isinstance(axes, dict) or len(axes) != 2 or not set(axes) <= set(AXIS_NAMES):
+        raise _bad(path, f"{place}.axes", f"expected two effector axes such as {{z: -z, y: x}}, got {axes!r}")
+    pairs = tuple((str(k), _direction(v, path, f"{place}.axes.{k}")) for k, v in axes.items())
+    cross = np.cross(pairs[0][1], pairs[1][1])
+    if np.linalg.norm(cross) < 1e-6:
+        raise _bad(path, f"{place}.axes", "the two axes are parallel")
+    bounds = [[0.0, 0.0] for _ in range(6)]
+    raw = data.get("bounds") or {}
+    if not isinstance(raw, dict):
+        raise _bad(path, f"{place}.bounds", "expected a mapping")
+    keys = ("x", "y", "z", "roll", "pitch", "yaw")
+    for key, value in raw.items():
+        if key not in keys:
+            raise _bad(path, f"{place}.bounds.{key}", f"unknown bound, expected one of {', '.join(keys)}")
+        if not (isinstance(value, list) and len(value) == 2 and value[0] <= value[1]):
+            raise _bad(path, f"{place}.bounds.{key}", f"expected [low, high], got {value!r}")
+        scale = 1.0 if keys.index(key) < 3 else math.pi / 180
+        bounds[keys.index(key)] = [value[0] * scale, value[1] * scale]
+    return TSRSpec(frame, tuple(_expr(v, path, f"{place}.at") for v in at),  # type: ignore[arg-type]
+                   pairs, tuple((lo, hi) for lo, hi in bounds))
+
+
+def _step(data: Any, path: Path, place: str) -> Step:
+    if not isinstance(data, dict) or data.get("primitive") not in ("engage", "actuate"):
+        raise _bad(path, place, "expected a step {primitive: engage | actuate, ...}")
+    if data["primitive"] == "engage":
+        return Step("engage", tsr=_tsr_spec(data.get("tsr"), path, f"{place}.tsr"))
+    motion = data.get("motion")
+    if motion not in MOTIONS:
+        raise _bad(path, f"{place}.motion", f"unknown motion {motion!r}, expected one of {', '.join(MOTIONS)}")
+    params: dict[str, Expr] = {}
+    for k, v in (data.get("params") or {}).items():
+        if k == "axis":
+            if v not in AXIS_NAMES:
+                raise _bad(path, f"{place}.params.axis", f"expected x, y or z, got {v!r}")
+            params[k] = v
+        else:
+            params[str(k)] = _expr(v, path, f"{place}.params.{k}")
+    contact = data.get("contact")
+    if contact is not None and not (isinstance(contact, list) and len(contact) == 2):
+        raise _bad(path, f"{place}.contact", "expected two roles")
+    return Step("actuate", motion=motion, params=params, contact=tuple(contact) if contact else None,
+                attach=tuple(data.get("attach") or ()), release=tuple(data.get("release") or ()))
+
+
+def load_skills(path: str | Path = SKILLS_PATH) -> SkillLibrary:
+    """Read and check the skill library; problems raise :class:`InputError` naming the place."""
+    path = Path(path)
+    try:
+        data = yaml.safe_load(path.read_text())
+    except (OSError, yaml.YAMLError) as error:
+        raise InputError(path, f"cannot read the skill library ({error})") from None
+    if not isinstance(data, dict):
+        raise _bad(path, "top", "expected a mapping")
+    grasps = {}
+    for kind in KINDS + ("handover_side",):
+        specs = (data.get("grasps") or {}).get(kind)
+        if not specs:
+            raise _bad(path, f"grasps.{kind}", "missing")
+        grasps[kind] = tuple(_tsr_spec(s, path, f"grasps.{kind}[{k}]") for k, s in enumerate(specs))
+    grip = {kind: _expr((data.get("grip") or {}).get(kind, 0.0), path, f"grip.{kind}") for kind in KINDS}
+    skills = {}
+    for name, raw in (data.get("verbs") or {}).items():
+        if not isinstance(raw, dict) or raw.get("carry") not in ("tool", "ingredient"):
+            raise _bad(path, f"verbs.{name}.carry", "expected tool or ingredient")
+        steps = tuple(_step(s, path, f"verbs.{name}.steps[{k}]") for k, s in enumerate(raw.get("steps") or []))
+        skills[name] = Skill(name, raw["carry"], steps)
+    missing = [v for v in (*VERBS, "transfer_tipping", "transfer_by_hand") if v not in skills]
+    if missing:
+        raise _bad(path, "verbs", f"no skill for {', '.join(missing)}")
+    collab = data.get("collaborations") or {}
+    handover = collab.get("handover") or {}
+    return SkillLibrary(
+        grasps=grasps, grip=grip, skills=skills,
+        meet=_tsr_spec(handover.get("meet"), path, "collaborations.handover.meet"),
+        drop=_tsr_spec(handover.get("drop"), path, "collaborations.handover.drop"),
+        meet_height=float(data.get("meet_height", 0.32)), approach_distance=float(data.get("approach_distance", 0.08)),
+        lift=float(data.get("lift", 0.12)), receiver_clearance=float(handover.get("receiver_clearance", 0.09)),
+        drop_distance=float(handover.get("drop_distance", 0.32)),
+        hold_time=float((collab.get("holding") or {}).get("hold_time", 0.5)))
+
+
+# ------------------------------------------------------------------------------------- choosing skills
+
+
+def object_kind(category: Category, size: Sequence[float], open_top: bool) -> str:
+    """Which grasp an object gets."""
+    if category is Category.TOOL:
+        return "tool"
+    if category is Category.CONTAINER:
+        return "open_container" if open_top else "flat_container"
+    return "tall" if size[2] > 0.08 else "ingredient"
+
+
+def skill_name(verb: str, tool: str | None, tool_category: Category | None) -> str:
+    """The skill of an individual action: the verb's, except transfers by tipping a container or by hand."""
+    if verb == "transfer":
+        if tool is None:
+            return "transfer_by_hand"
+        if tool_category is Category.CONTAINER:
+            return "transfer_tipping"
+    return verb
+
+
+# ------------------------------------------------------------------------------------ actuation paths
+
+
+@dataclass(frozen=True, eq=False)
+class Waypoint:
+    pose: np.ndarray
+    """4x4 world pose of the effector."""
+    fingers: float | None = None
+    """Finger opening to command at this waypoint (metres per finger), None to keep."""
+    hold: float = 0.0
+    """Seconds to stay at this waypoint."""
+
+
+def _moved(E: np.ndarray, Rw: np.ndarray, dp: Sequence[float] = (0, 0, 0), axis: str | None = None,
+           angle: float = 0.0) -> np.ndarray:
+    """``E`` translated by ``dp`` (engage-frame axes) and rotated by ``angle`` about an engage-frame axis through
+    the effector origin."""
+    T = E.copy()
+    T[:3, 3] = E[:3, 3] + Rw @ np.asarray(dp, dtype=float)
+    if axis is not None and angle:
+        v = np.zeros(3)
+        v[AXIS_NAMES[axis]] = angle
+        T[:3, :3] = (Rw @ Rotation.from_rotvec(v).as_matrix() @ Rw.T) @ E[:3, :3]
+    return T
+
+
+def actuation_path(motion: str, params: Mapping[str, float], E: np.ndarray, Rw: np.ndarray,
+                   grip: float = 0.0) -> list[Waypoint]:
+    """Effector waypoints of an actuation starting at the engage pose ``E`` (4x4, world); ``Rw`` is the engage
+    frame's rotation (its x, y, z give the motion's axes; z is up for every shipped skill). Ends where it
+    starts unless the motion says otherwise."""
+    g = params.get
+    out: list[Waypoint] = []
+    if motion == "saw":
+        down, depth, n, amp = g("down", 0.03), g("depth", 0.02), int(g("strokes", 3)), g("amplitude", 0.03)
+        ax = AXIS_NAMES[str(g("axis", "x"))] if isinstance(g("axis", "x"), str) else 0
+        base = np.zeros(3)
+        base[2] = -down
+        out.append(Waypoint(_moved(E, Rw, base)))
+        for k in range(n):
+            for sign in (1, -1):
+                d = base.copy()
+                d[ax] += sign * amp
+                d[2] -= depth * (2 * k + (1 if sign > 0 else 2)) / (2 * n)
+                out.append(Waypoint(_moved(E, Rw, d)))
+        end = base.copy()
+        end[2] -= depth
+        out.append(Waypoint(_moved(E, Rw, end)))
+    elif motion == "circle":
+        down, r, turns = g("down", 0.05), g("radius", 0.03), g("turns", 2)
+        out.append(Waypoint(_moved(E, Rw, (0, 0, -down))))
+        steps = int(16 * turns)
+        for k in range(steps + 1):
+            a = 2 * math.pi * k / 16
+            out.append(Waypoint(_moved(E, Rw, (r * math.sin(a), r * (1 - math.cos(a)) - 0 * r, -down))))
+    elif motion == "tilt":
+        angle = math.radians(g("angle", 90))
+        axis = str(params.get("axis", "y"))
+        sign = -1.0 if axis == "y" else 1.0  # positive angles tip the top away from the arm (-x) or sideways
+        tilted = _moved(E, Rw, axis=axis, angle=sign * angle)
+        out.append(Waypoint(tilted, hold=g("hold", 0.5)))
+        for _ in range(int(g("shakes", 0))):
+            out.append(Waypoint(_moved(E, Rw, axis=axis, angle=sign * (angle + 0.25))))
+            out.append(Waypoint(tilted))
+    elif motion == "strokes":
+        down, amp, n = g("down", 0.03), g("amplitude", 0.03), int(g("count", 3))
+        ax = AXIS_NAMES[str(params.get("axis", "x"))]
+        base = np.array([0.0, 0.0, -down])
+        out.append(Waypoint(_moved(E, Rw, base)))
+        for _ in range(n):
+            for sign in (1, -1):
+                d = base.copy()
+                d[ax] += sign * amp
+                out.append(Waypoint(_moved(E, Rw, d)))
+        out.append(Waypoint(_moved(E, Rw, base)))
+    elif motion == "dip":
+        out.append(Waypoint(_moved(E, Rw, (0, 0, -g("down", 0.05))), hold=g("hold", 0.5)))
+    elif motion == "squeeze":
+        twist = math.radians(g("twist", 20))
+        for _ in range(int(g("cycles", 3))):
+            out.append(Waypoint(_moved(E, Rw, axis="z", angle=twist), fingers=max(grip - 0.006, 0.0), hold=0.2))
+            out.append(Waypoint(E, fingers=grip, hold=0.1))
+    elif motion == "wrap":
+        r = g("radius", 0.04)
+        for k in range(1, 9):
+            a = math.pi * k / 8
+            out.append(Waypoint(_moved(E, Rw, (r * (1 - math.cos(a)), 0, r * math.sin(a)), axis="y", angle=-a / 2)))
+    elif motion == "scoop":
+        down, sweep, angle = g("down", 0.05), g("sweep", 0.03), math.radians(g("angle", 15))
+        out.append(Waypoint(_moved(E, Rw, (0, 0, -down))))
+        out.append(Waypoint(_moved(E, Rw, (sweep, 0, -down), axis="y", angle=angle)))
+    else:
+        raise ValueError(f"unknown motion {motion!r}")
+    out.append(Waypoint(E))
+    return out
