@@ -18,7 +18,7 @@ if TYPE_CHECKING:  # pipeline imports the stages: no import cycle at run time
 SAMPLE_HZ = 10.0
 """GGS runs on each trajectory sampled at about this rate (every ``round(fps / SAMPLE_HZ)``-th frame), then
 the chosen breakpoints are placed at full frame rate. Hand phases last half a second or more, so 10 Hz loses
-nothing, and it keeps GGS fast and its results independent of the video's frame rate."""
+little, and it makes GGS 3 to 5 times faster at 30 fps and its choices nearly independent of the frame rate."""
 
 
 def hand_series(track: HandTrack, frame_count: int, width: float, height: float) -> tuple[np.ndarray, int]:
@@ -46,12 +46,19 @@ def hand_series(track: HandTrack, frame_count: int, width: float, height: float)
 def segment_hands(obs: Observations, params: Params, *, sample_hz: float = SAMPLE_HZ) -> Segmentation:
     """Cut the video ``[0, obs.video.frame_count)`` into segments from the hands' trajectories.
 
-    For each hand track: its trajectory over all frames (gaps interpolated, see :func:`hand_series`) is
-    segmented by :func:`ggs` with ``params.lamb`` and ``params.k_max`` on a ~``sample_hz`` sampling; the number
-    of breakpoints is ``params.k[hand]`` when given (clipped to what GGS found), else :func:`choose_k` (BIC);
-    the breakpoints are then placed at full frame rate. A track with no detection contributes no
-    breakpoints (``per_hand[hand] == ()``, no ``interpolated`` entry). ``segments`` cut ``[0, frame_count)``
-    at the union of every hand's breakpoints.
+    For each hand track:
+
+    1. its centre over all frames, scaled to the unit square, gaps interpolated (:func:`hand_series`);
+    2. a running median over 5 frames (or ``step`` if longer) removes the tracker's one- and two-frame jumps;
+    3. :func:`ggs` (``params.lamb``, ``params.k_max``) runs on every ``step``-th frame, ``step =
+       round(fps / sample_hz)`` (3 at 30 fps), with λ divided by ``step`` so a span of frames keeps the same
+       covariance floor; it stops once 3 breakpoints in a row gain less than the BIC price;
+    4. the number of breakpoints is ``params.k[hand]`` when given (not capped by ``k_max``; fewer only if no
+       split helps), else :func:`choose_k` (BIC);
+    5. each breakpoint is moved to its best frame within ``± 1.5 step`` frames at full rate.
+
+    A track with no detection in the video contributes no breakpoints (``per_hand[hand] == ()``, no
+    ``interpolated`` entry). ``segments`` cut ``[0, frame_count)`` at the union of every hand's breakpoints.
     """
     video = obs.video
     frame_count = int(video.frame_count)
@@ -72,9 +79,24 @@ def segment_hands(obs: Observations, params: Params, *, sample_hz: float = SAMPL
     return Segmentation(per_hand=per_hand, segments=segments, interpolated=interpolated)
 
 
+def running_median(series: np.ndarray, window: int) -> np.ndarray:
+    """Median of each sample's ``window`` (odd) neighbours along time, edges padded with the end values.
+
+    With ``window`` 5, removes a tracker's one- or two-frame jumps (a detection on the wrong hand), which GGS
+    would otherwise cut out as segments of their own; keeps steps and smooth motion."""
+    half = window // 2
+    if half == 0 or len(series) == 0:
+        return series
+    padded = np.concatenate([np.repeat(series[:1], half, axis=0), series, np.repeat(series[-1:], half, axis=0)])
+    windows = np.lib.stride_tricks.sliding_window_view(padded, window, axis=0)
+    return np.median(windows, axis=-1)
+
+
 def _segment_series(series: np.ndarray, params: Params, step: int, forced_k: int | None) -> tuple[int, ...]:
-    """Breakpoints (frames) of one hand's full-rate series: GGS every ``step``-th frame, then refinement."""
-    sampled = series[::step]
+    """Breakpoints (frames) of one hand's full-rate series: GGS on every ``step``-th frame of the
+    median-filtered series (sample ``j`` stands for frames ``[j step, (j + 1) step)``), then refinement."""
+    smooth = running_median(series, max(5, step + 1 - step % 2))
+    sampled = smooth[step // 2 :: step]
     if len(sampled) < 4:
         return ()
     # λ / step keeps the covariance floor λ / count of a span of frames the same as at full rate
@@ -89,4 +111,4 @@ def _segment_series(series: np.ndarray, params: Params, step: int, forced_k: int
     coarse = tuple(b * step for b in result.breakpoints_by_k[k])
     if step == 1 or not coarse:
         return coarse
-    return refine_breakpoints(series, coarse, params.lamb, radius=math.ceil(1.5 * step))
+    return refine_breakpoints(smooth, coarse, params.lamb, radius=math.ceil(1.5 * step))
