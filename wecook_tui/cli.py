@@ -15,6 +15,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "execute",
     "knowledge",
     "segment",
+    "session",
     "workbench",
 )
 """Modules of `wecook_tui.commands`, in the order their commands are listed by `wecook --help`."""
