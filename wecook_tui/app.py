@@ -47,6 +47,8 @@ class WecookApp(App[None]):
         self.generation = 0
         """Bumped by every journal change; an analysis of an older generation is dropped."""
         self.main = MainScreen()
+        self.run_command: Callable[[Path, Path], list[str]] | None = None
+        """argv that executes a plan (plan path, MCAP path); None: `wecook execute`."""
         if self.keys.keymap:
             self.set_keymap(self.keys.keymap)
 
@@ -206,7 +208,8 @@ class WecookApp(App[None]):
             return
         from wecook_tui.screens.run import RunScreen
 
-        self.push_screen(RunScreen(self.session_path, self.analysis if start else None, self.obs))
+        command = {"command": self.run_command} if self.run_command is not None else {}
+        self.push_screen(RunScreen(self.session_path, self.analysis if start else None, self.obs, **command))
 
     def get_system_commands(self, screen: Screen) -> Iterable[SystemCommand]:
         yield from super().get_system_commands(screen)

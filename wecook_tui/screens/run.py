@@ -101,7 +101,8 @@ class RunScreen(Screen[None]):
 
     def on_mount(self) -> None:
         table = self.query_one("#run-actions", DataTable)
-        table.add_columns("action", "persons", "verb", "state")
+        for column in ("action", "persons", "verb", "state"):
+            table.add_column(column, key=column)
         self._list_runs()
         if self.analysis is None:
             self.query_one("#run-summary", Static).update("Past runs of this session (r on the main screen runs).")
@@ -144,7 +145,7 @@ class RunScreen(Screen[None]):
         try:
             plan = plan_from_graph(self.analysis.graph, self.obs)
             plan_path = write_plan(plan, plan_file(self.session_path))
-            self.call_from_thread(self._show_plan, plan)
+            self.app.call_from_thread(self._show_plan, plan)
             env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "120", "NO_COLOR": "1"}
             self.process = subprocess.Popen(self.command(Path(plan_path), mcap), stdout=subprocess.PIPE,
                                             stderr=subprocess.STDOUT, text=True, bufsize=1, env=env)
@@ -153,17 +154,21 @@ class RunScreen(Screen[None]):
             self.post_message(RunFinished(-1, mcap, log_path, time.perf_counter() - started))
             return
         tail: list[str] = []
+        states = {action.id: "waiting" for action in plan.actions}
         assert self.process.stdout is not None
         with log_path.open("w") as log:
             for line in self.process.stdout:
                 line = line.rstrip("\n")
                 log.write(line + "\n")
                 tail = [*tail[-199:], line]
+                found = action_state(line, states)
+                if found is not None:
+                    states[found[0]] = found[1]
                 self.post_message(RunOutput(line))
         code = self.process.wait()
         seconds = time.perf_counter() - started
         record = {"returncode": code, "mcap": str(mcap), "log": str(log_path), "seconds": round(seconds, 2),
-                  "actions": self.states, "tail": tail[-40:]}
+                  "actions": states, "tail": tail[-40:]}
         mcap.with_suffix(".json").write_text(json.dumps(record, indent=1))
         self.post_message(RunFinished(code, mcap, log_path, seconds))
 
