@@ -1,8 +1,10 @@
 """Recording overhead: run time with an MCAP recorder over run time without one (target: ratio < 1.15).
 
-With the real executor (``wecook_core.execution.executor.execute_plan``) and a demo plan, the same plan and seed
-run twice per repetition: once with an observer that drops everything, once with :class:`McapRecorder` (the
-median of the repetitions is reported). When either is missing, a synthetic run of the same message rates stands
+With the real executor (``wecook_core.execution.executor.execute_plan``) on the demo plan (or, until one
+exists, the small :data:`BENCH_PLAN`), the same plan and seed run twice per repetition, interleaved: once with an
+observer that drops everything, once with :class:`McapRecorder`; the medians of the process CPU times are
+compared (the machine is shared: wall times are noisier), and the time spent inside the recorder's calls is
+reported too. Without the executor, a synthetic run of the same message rates stands
 in (:mod:`wecook_core.execution.synthetic_run`: 30 states/s of simulated time with two 9-link arms and five
 objects, events, logs and images at action boundaries), paced at 20x real time like the simulation; the note
 says which was measured.
@@ -55,8 +57,27 @@ class Discard:
         pass
 
 
+BENCH_PLAN = """\
+wecook_plan: 1
+agents:
+- {pid: P1, robot: franka_panda/panda.urdf, base: {position: [-0.5, 0.0, 0.0], yaw: 0.0}}
+scene:
+  table: {size: [1.0, 0.8], height: 0.0}
+  objects:
+  - {name: knife, category: tool, shape: box, size: [0.2, 0.03, 0.025], pose: {x: -0.1, y: 0.15, yaw: 1.5708}}
+  - {name: tomato, category: ingredient, shape: sphere, size: [0.05, 0.05, 0.05], pose: {x: 0.0, y: 0.0}}
+  - {name: chopping_board, category: container, shape: box, size: [0.25, 0.18, 0.02], pose: {x: 0.0, y: 0.0}}
+  containing: [[tomato, chopping_board]]
+actions:
+- {id: a1, pid: [P1], verb: cut, tool: knife, ingredients: [tomato], location: chopping_board, after: []}
+- {id: a2, pid: [P1], verb: cut, tool: knife, ingredients: [tomato], location: chopping_board, after: [a1]}
+"""
+"""Stand-in when no demo plan exists yet: two cuts by one arm (about 20 s simulated)."""
+
+
 def _demo_plan() -> Path | None:
-    for candidate in (ASSETS_DIR / "demo" / "plan.yaml", ASSETS_DIR / "demo_plan.yaml"):
+    sessions = ASSETS_DIR.parent / "sessions"
+    for candidate in (ASSETS_DIR / "demo" / "plan.yaml", sessions / "demo" / "plans" / "plan.yaml"):
         if candidate.is_file():
             return candidate
     return None
@@ -64,54 +85,81 @@ def _demo_plan() -> Path | None:
 
 def _runner() -> tuple[str, Callable[[Any], float]]:
     """(description, run(observer) -> simulated seconds)."""
-    plan_path = _demo_plan()
     try:
-        from wecook_core.execution.bullet_world import BulletWorld  # noqa: F401 (the executor needs it)
         from wecook_core.execution.executor import execute_plan
-    except ImportError:
-        plan_path = None
-    if plan_path is not None:
-        from wecook_core.plan import read_plan
+        from wecook_core.plan import load_plan, read_plan
 
-        plan = read_plan(plan_path)
+        plan_path = _demo_plan()
+        if plan_path is not None:
+            plan, what = read_plan(plan_path), f"real executor on {plan_path.relative_to(ASSETS_DIR.parent)}"
+        else:
+            plan, what = load_plan(BENCH_PLAN), "real executor on bench.recording.BENCH_PLAN (no demo plan yet)"
 
         def run_real(observer: Any) -> float:
             return float(execute_plan(plan, observer, seed=0).sim_time)
 
-        return f"real executor on {plan_path.relative_to(ASSETS_DIR.parent)}", run_real
+        run_real(Discard())  # warm up imports and URDF caches; also proves the executor runs
+        return what, run_real
+    except ImportError as error:
+        reason = f"executor unavailable: {error}"
 
     def run_synthetic(observer: Any) -> float:
         return synthetic_run(observer, actions=6, seconds_per_action=2.0, state_hz=30.0,
                              wall_per_sim=1.0 / SPEEDUP).sim_seconds
 
-    return f"synthetic stream paced at {SPEEDUP:.0f}x real time (no executor or demo plan available)", run_synthetic
+    return f"synthetic stream paced at {SPEEDUP:.0f}x real time ({reason})", run_synthetic
+
+
+class Timed:
+    """Forwards to an observer and adds up the time spent inside its calls."""
+
+    def __init__(self, inner: Any) -> None:
+        self.inner = inner
+        self.seconds = 0.0
+
+    def __getattr__(self, name: str) -> Any:
+        method = getattr(self.inner, name)
+
+        def timed(*args: Any, **kwargs: Any) -> Any:
+            clock = time.perf_counter()
+            try:
+                return method(*args, **kwargs)
+            finally:
+                self.seconds += time.perf_counter() - clock
+
+        return timed
 
 
 def run() -> list[dict[str, object]]:
     what, run_once = _runner()
-    without, with_rec, sizes, counts, sims = [], [], [], [], []
+    without, with_rec, inside, sizes, counts, sims = [], [], [], [], [], []
     with tempfile.TemporaryDirectory() as tmp:
-        for k in range(REPEATS):
-            clock = time.perf_counter()
+        for k in range(REPEATS):  # interleaved, CPU time of this process: less sensitive to other load
+            clock = time.process_time()
             sims.append(run_once(Discard()))
-            without.append(time.perf_counter() - clock)
+            without.append(time.process_time() - clock)
             path = Path(tmp) / f"run{k}.mcap"
             recorder = McapRecorder(path)
-            clock = time.perf_counter()
-            run_once(recorder)
+            timed = Timed(recorder)
+            clock = time.process_time()
+            run_once(timed)
             recorder.close()
-            with_rec.append(time.perf_counter() - clock)
+            with_rec.append(time.process_time() - clock)
+            inside.append(timed.seconds)
             sizes.append(path.stat().st_size)
             counts.append(recorder.message_count)
     base, rec = statistics.median(without), statistics.median(with_rec)
     sim = statistics.median(sims)
     ratio = rec / base
+    own = statistics.median(inside)
     verdict = "meets" if ratio < 1.15 else "misses"
     return [
-        {"benchmark": "run time without recording", "value": base, "unit": "s", "ratio_vs_baseline": 1.0,
+        {"benchmark": "run CPU time without recording", "value": base, "unit": "s", "ratio_vs_baseline": 1.0,
          "note": f"baseline; {what}; {sim:.1f} s simulated; median of {REPEATS}"},
-        {"benchmark": "run time with MCAP recording", "value": rec, "unit": "s", "ratio_vs_baseline": ratio,
+        {"benchmark": "run CPU time with MCAP recording", "value": rec, "unit": "s", "ratio_vs_baseline": ratio,
          "note": f"{verdict} the < 1.15 target; {statistics.median(counts):.0f} messages, flushed every 1 s"},
+        {"benchmark": "time inside the recorder", "value": own, "unit": "s", "ratio_vs_baseline": 1 + own / base,
+         "note": "wall time spent in McapRecorder calls, as 1 + share of the baseline (least noisy estimate)"},
         {"benchmark": "recording size", "value": statistics.median(sizes) / max(sim, 1e-9) / 1024,
          "unit": "KiB per simulated s", "ratio_vs_baseline": None, "note": "zstd chunks, JSON messages"},
     ]
