@@ -223,6 +223,26 @@ def test_segment_hands_uses_the_forced_k_and_refines_at_full_rate():
     assert max(abs(a - b) for a, b in zip(found, coarse, strict=True)) <= 5
 
 
+def test_segment_hands_on_tiny_or_unsized_videos():
+    xy = np.column_stack([np.arange(10.0), np.zeros(10)])
+    tiny = Observations(VideoInfo("t.mp4", 30.0, 10, 0, 0), (), (HandTrack("LH_P1", np.arange(10), xy,
+                                                                             np.zeros((10, 4))),), {})
+    seg = segment_hands(tiny, Params())
+    assert seg.per_hand == {"LH_P1": ()}
+    assert [(s.start, s.end) for s in seg.segments] == [(0, 10)]
+    empty = Observations(VideoInfo("e.mp4", 0.0, 0, 640, 480), (), (), {})
+    assert segment_hands(empty, Params()).segments == ()
+    # no video size: positions scaled by the trajectory's own extent; no frame rate: GGS at full rate
+    frames = 600
+    trajectory = hand_trajectory(np.random.default_rng(4), frames)
+    unsized = Observations(VideoInfo("u.mp4", 0.0, frames, 0, 0), (),
+                           (HandTrack("RH_P1", np.arange(frames), trajectory.xy, np.zeros((frames, 4))),), {})
+    found = np.array(segment_hands(unsized, Params(lamb=1e-4)).per_hand["RH_P1"])
+    true = np.array(trajectory.breakpoints)
+    assert np.abs(true[:, None] - found[None, :]).min(axis=0).max() <= 8
+    assert len(found) >= len(true) - 1
+
+
 def test_refine_breakpoints_moves_a_coarse_breakpoint_to_the_true_change():
     rng = np.random.default_rng(2)
     x = np.concatenate([rng.normal(0, 0.1, (300, 2)), rng.normal(1, 0.1, (300, 2))])
