@@ -225,13 +225,18 @@ class Session:
         """Import the inputs again (cached): InputError when one is missing or no longer reads."""
         if self._imported is None:
             video, objects, hands = (self._input("video"), self._input("objects"), self._input("hands"))
-            labels, categories = self.inputs.get("labels"), self.inputs.get("categories")
+            labels = self.inputs.get("labels")
             self._imported = import_observations(
                 video.path, objects.path, hands.path, objects_format=objects.format, hands_format=hands.format,
                 labels=labels.path if labels else None,
-                categories=_category_table(Path(categories.path) if categories else None),
+                categories=self.category_table(),
             )
         return self._imported
+
+    def category_table(self) -> CategoryTable | None:
+        """The category table with the session's extra categories file on top; None: the default table."""
+        extra = self.inputs.get("categories")
+        return _category_table(Path(extra.path) if extra else None)
 
     def load_observations(self) -> Observations:
         return self.import_observations().observations
