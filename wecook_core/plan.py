@@ -50,6 +50,10 @@ PLAN_VERSION = 1
 DEFAULT_ROBOT = "franka_panda/panda.urdf"
 """URDF of an arm, relative to ``pybullet_data`` unless absolute."""
 SHAPES: tuple[str, ...] = ("box", "cylinder", "sphere")
+ARM_REACH: dict[str, float] = {DEFAULT_ROBOT: 0.85}
+"""Metres: how far from its base (horizontally) an arm reaches an object on the table, by robot URDF (the
+Franka Panda reaches 0.855 m from its shoulder). Objects an action uses must lie within the reach of one of its
+agents; robots not listed are not checked."""
 PLAN_VERBS: tuple[str, ...] = (*VERBS, *COLLABORATIONS)
 """Verbs a plan action may have: the vocabulary, ``handover`` and ``holding``."""
 
@@ -255,6 +259,7 @@ def plan_problems(plan: Plan, path: str | Path | None = None) -> list[InputError
             ids[action.id] = i
     for i, action in enumerate(plan.actions):
         _check_action(i, action, pids, names, ids, bad)
+        _check_reach(i, action, plan, bad)
     cycle = _after_cycle(plan.actions)
     if cycle:
         i = ids[cycle[0]]
@@ -298,6 +303,27 @@ def _check_action(i: int, action: PlanAction, pids: set[str], names: set[str], i
             bad(_place(i, action, "after"), "an action cannot come after itself")
     if action.frames is not None and not 0 <= action.frames[0] < action.frames[1]:
         bad(_place(i, action, "frames"), f"expected [start, end) with 0 <= start < end, got {list(action.frames)}")
+
+
+def _check_reach(i: int, action: PlanAction, plan: Plan, bad: Any) -> None:
+    agents = [a for a in plan.agents if a.pid in action.pids]
+    reaches = [(a, ARM_REACH.get(a.robot)) for a in agents]
+    if not agents or any(r is None for _, r in reaches):
+        return
+    fields: list[tuple[str, str | None]] = [("tool", action.tool), ("location", action.location),
+                                            ("source", action.source)]
+    fields += [(f"ingredients[{k}]", name) for k, name in enumerate(action.ingredients)]
+    objects = {o.name: o for o in plan.scene.objects}
+    for key, name in fields:
+        obj = objects.get(name) if name is not None else None
+        if obj is None:
+            continue
+        distances = {a.pid: math.hypot(obj.x - a.base_position[0], obj.y - a.base_position[1]) for a in agents}
+        if all(distances[a.pid] > (reach or 0.0) for a, reach in reaches):
+            nearest = min(distances, key=distances.__getitem__)
+            reach = {a.pid: r for a, r in reaches}[nearest]
+            bad(_place(i, action, key), f"{name} at ({obj.x:.2f}, {obj.y:.2f}) is {distances[nearest]:.2f} m from "
+                f"{nearest}'s base, beyond the arm's reach ({reach:.2f} m)")
 
 
 def _check_objects(i: int, action: PlanAction, prefix: str, tool: str | None, ingredients: Sequence[str],

@@ -118,6 +118,16 @@ def test_pose_off_the_table() -> None:
     assert "off the table" in problems[0].message
 
 
+def test_object_beyond_the_arms_reach() -> None:
+    plan = small_plan()
+    objects = list(plan.scene.objects)
+    objects[1] = replace(objects[1], x=0.45, y=0.3)  # the tomato, at P2's end: 1.0 m from P1's base
+    problems = plan_problems(replace(plan, scene=replace(plan.scene, objects=tuple(objects))))
+    places = [e.place for e in problems]
+    assert places == ["actions[0] (a1).ingredients[0]"], [str(e) for e in problems]  # a4 is P2's: in reach
+    assert "beyond the arm's reach (0.85 m)" in problems[0].message and "from P1's base" in problems[0].message
+
+
 def test_reading_bad_yaml_names_the_place(tmp_path: Path) -> None:
     text = dump_plan(small_plan())
     with pytest.raises(InputError, match=r"p.yaml:actions\[0\] \(a1\).verb: unknown verb 'juggle'"):

@@ -111,6 +111,8 @@ def scene_update_schema() -> dict[str, Any]:
                   "cylinders": _array(_primitive("foxglove.CylinderPrimitive", "a cylinder along z",
                                                  {"bottom_scale": _number("bottom diameter ratio 0..1"),
                                                   "top_scale": _number("top diameter ratio 0..1")}), "cylinders"),
+                  **{kind: _array({"type": "object"}, f"{kind} primitives (never written by wecook)")
+                     for kind in ("arrows", "lines", "triangles", "texts", "models")},
               }}
     return {"title": "foxglove.SceneUpdate", "type": "object", "description": "entities of a 3D scene",
             "properties": {"deletions": _array(deletion, "entities to delete"),
@@ -232,7 +234,8 @@ def scene_update(ns: int, frames: Iterable[FrameInfo]) -> dict[str, Any]:
             continue
         entity: dict[str, Any] = {"timestamp": stamp(ns), "frame_id": frame.frame_id, "id": frame.frame_id,
                                   "lifetime": {"sec": 0, "nsec": 0}, "frame_locked": True, "metadata": [],
-                                  "cubes": [], "spheres": [], "cylinders": []}
+                                  "arrows": [], "cubes": [], "spheres": [], "cylinders": [], "lines": [],
+                                  "triangles": [], "texts": [], "models": []}
         for shape in frame.shapes:
             key, primitive = _shape(shape)
             entity[key].append(primitive)
