@@ -1,6 +1,6 @@
 """Segmentation: Greedy Gaussian Segmentation of each hand's trajectory, and the union over hands.
 
-- :mod:`.ggs`: the algorithm (``ggs``), exact to the reference code's answers, vectorised.
+- :mod:`.ggs`: the algorithm (``ggs``), exact to the reference code's answers; :mod:`.scorer` scores splits.
 - :mod:`.choose`: how many breakpoints to keep (``choose_k``, BIC).
 - :mod:`.hands`: ``segment_hands(obs, params) -> Segmentation``, the pipeline stage.
 - :mod:`.series`: ``load_series`` for numeric text files (the ``wecook segment`` command).
