@@ -71,7 +71,7 @@ def open_workspace(path: Path) -> Opened:
     except InputError as error:
         warnings.append(f"commonsense tables cannot be read ({error}); action picker unranked")
     frames = FrameSource(obs.video.path) if obs is not None else None
-    if frames is not None and frames.facts.error and not any(frames.facts.error in w for w in warnings):
+    if frames is not None and frames.facts.error and not any(str(obs.video.path) in w for w in warnings):
         warnings.append(f"{frames.facts.error}: boxes and hands are drawn on a blank frame")
     return Opened(session, obs, knowledge, frames, warnings)
 

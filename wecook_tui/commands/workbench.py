@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 from pathlib import Path
 
 from wecook_core.errors import InputError
@@ -37,9 +38,8 @@ def session_path(name: str, root: Path | None) -> Path:
 
 def demo_session(root: Path | None) -> Path:
     """The demo session, created from ``assets/demo`` the first time."""
-    from wecook_core.synth import demo_dir
-
     from wecook_core.session import create_session, sessions_root
+    from wecook_core.synth import demo_dir
 
     path = sessions_root(root) / DEMO_NAME
     if (path / "session.yaml").is_file():
@@ -49,7 +49,14 @@ def demo_session(root: Path | None) -> Path:
                                assets / "hands.csv"))
 
 
+def quiet_decoders() -> None:
+    """FFmpeg and OpenCV log to stderr, where the terminal UI draws: silence them before cv2 loads."""
+    os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
+    os.environ.setdefault("OPENCV_LOG_LEVEL", "OFF")
+
+
 def launch(path: Path) -> int:
+    quiet_decoders()
     from wecook_tui.app import WecookApp
 
     WecookApp(path).run()
@@ -57,8 +64,10 @@ def launch(path: Path) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
+    quiet_decoders()
     return launch(session_path(args.name, args.root))
 
 
 def run_demo(args: argparse.Namespace) -> int:
+    quiet_decoders()
     return launch(demo_session(args.root))
