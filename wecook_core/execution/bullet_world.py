@@ -21,7 +21,7 @@ import pybullet as p
 from wecook_core.execution.executor import WAIT, WORK, ActionFailed, Meeting, Program
 from wecook_core.execution.motion import MotionProblem, path_free, plan_motion
 from wecook_core.execution.observer import FrameInfo, RunEvent, RunObserver
-from wecook_core.execution.planning_scene import PlanningScene, Riding, boxes_overlap
+from wecook_core.execution.planning_scene import ARM_MARGIN, PlanningScene, Riding, boxes_overlap
 from wecook_core.execution.robot import EE_LINK, HOME, LOWER, MAX_SPEED, UPPER, Panda, attach, detach, set_arm_collisions
 from wecook_core.execution.scene import SIM_HZ, SceneBodies, build_scene, link_frames, world_poses
 from wecook_core.execution.skills import Half, SkillLibrary, TSRSpec, actuation_path, evaluate, load_skills, \
@@ -80,6 +80,8 @@ class BulletWorld:
         self._applied: dict[str, np.ndarray] = {}
         self.reserved: dict[str, np.ndarray | None] = {pid: None for pid in self.arms}
         self.arm_contacts = 0
+        self.arm_margin = ARM_MARGIN
+        """Metres kept between the arms when planning (lowered while the receiver of a handover takes)."""
         self._touching = False
         self.homes: dict[str, np.ndarray] = {n: b.home.copy() for n, b in self.bodies.objects.items()}
         for pid, arm in self.arms.items():
@@ -247,7 +249,7 @@ class BulletWorld:
         """First target (ee pose) with a collision-free IK solution: (q, pose). Each target is tried from the
         current joints, from home and from two random seeds (IK finds one of several arm postures)."""
         arm = self.planning.arms[pid]
-        collides = self.planning.collision_fn(pid, ignore=ignore)
+        collides = self.planning.collision_fn(pid, ignore=ignore, arm_margin=self.arm_margin)
         current = self.arms[pid].q()
         for T in targets:
             for seed_q in (current, HOME, self.rng.uniform(LOWER, UPPER), self.rng.uniform(LOWER, UPPER)):
@@ -274,7 +276,7 @@ class BulletWorld:
         self._sync()
         start = self.arms[pid].q()
         problem = MotionProblem(start=start, goal=goal, lower=LOWER, upper=UPPER,
-                                collision_fn=self.planning.collision_fn(pid, ignore=ignore), resolution=0.03)
+                                collision_fn=self.planning.collision_fn(pid, ignore=ignore, arm_margin=self.arm_margin), resolution=0.03)
         result = plan_motion(problem, planner=self.planner, time_limit=self.planning_time, seed=self._planning_seed())
         if not result.ok:
             return result.status
@@ -339,7 +341,7 @@ class BulletWorld:
         q = self.arms[pid].q()
         start = self.arms[pid].ee()
         names = list(self.bodies.objects) if ignore is None else list(ignore)
-        collides = self.planning.collision_fn(pid, ignore=names, margin=-0.01)
+        collides = self.planning.collision_fn(pid, ignore=names, margin=-0.01, arm_margin=min(self.arm_margin, 0.005))
         path = [q]
         durations: list[float] = []
         marks: list[int] = []
@@ -689,18 +691,29 @@ class BulletWorld:
         yield from self.go_home(pid)
 
     def _giver(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        """Mid-air for long objects (tools): carry it to the meeting pose, wait until the receiver holds it, let
+        go. Small objects (both grippers would not fit on them) are handed over on the table between the arms:
+        put down at the meeting spot, then the receiver picks them up."""
         name = action.tool
         assert name is not None
         giver, receiver = action.pids
         yield from self.grasp(action, pid, name)
-        T_ee_obj = self.hands[pid].riding[0].T_ee_obj
         meet = self._meet(giver, receiver)
+        if self._kind(name) != "tool":
+            spot = meet.copy()
+            spot[2, 3] = self.bodies.table_height + self.half(name).hz
+            region = TSR(spot, np.eye(4), np.array([[-0.03, 0.03], [-0.06, 0.06], [0.002, 0.006], [0, 0], [0, 0],
+                                                    [-math.pi, math.pi]]))
+            yield from self.place(action, pid, [region])
+            meeting.signal("at_meet")
+            yield from self.go_home(pid)
+            meeting.signal("released")  # out of the way
+            return
 
         def on_giver_side(T_ee: np.ndarray) -> bool:
             local = np.linalg.inv(meet) @ T_ee
-            return bool(local[0, 3] < -0.02)
+            return bool(local[0, 3] < 0.01)
 
-        del T_ee_obj
         yield from self.engage(action, pid, self.skills.meet, {"tool": name}, meet=(giver, receiver),
                                accept=on_giver_side)
         meeting.signal("at_meet")
@@ -715,24 +728,29 @@ class BulletWorld:
         assert name is not None
         giver = action.pids[0]
         yield from meeting.wait_for("at_meet")
-        giver_ee = self.arms[giver].ee()
-        clearance = self.skills.receiver_clearance
-        kind = self._kind(name)
-        kinds = [kind] + (["handover_side"] if kind in ("ingredient", "tall") else [])
-        regions = self._grasp_tsrs(name, pid, kinds, flip=True)
+        if self._kind(name) != "tool":  # on the table: an ordinary grasp once the giver has let go
+            yield from meeting.wait_for("released")
+            yield from self.grasp(action, pid, name, primitive="take")
+        else:
+            giver_ee = self.arms[giver].ee()
+            clearance = self.skills.receiver_clearance
+            regions = self._grasp_tsrs(name, pid, flip=True)
 
-        def clear_of_giver(T: np.ndarray) -> bool:
-            return bool(np.linalg.norm(T[:3, 3] - giver_ee[:3, 3]) >= clearance)
+            def clear_of_giver(T: np.ndarray) -> bool:
+                return bool(np.linalg.norm(T[:3, 3] - giver_ee[:3, 3]) >= clearance)
 
-        yield from self.grasp(action, pid, name, lift=False, tsrs=regions, accept=clear_of_giver,
-                              primitive="take")
-        self.hands[giver].riding = []
-        meeting.signal("taken")
-        yield from meeting.wait_for("released")
+            self.arm_margin = 0.0
+            try:
+                yield from self.grasp(action, pid, name, lift=False, tsrs=regions, accept=clear_of_giver,
+                                      primitive="take")
+            finally:
+                self.arm_margin = ARM_MARGIN
+            self.hands[giver].riding = []
+            meeting.signal("taken")
+            yield from meeting.wait_for("released")
         drop = self.skills.drop
         T0_w, sizes = self.frame(drop, {"tool": name}, pid)
-        target = [drop.tsr(T0_w, sizes)]
-        yield from self.place(action, pid, target)
+        yield from self.place(action, pid, [drop.tsr(T0_w, sizes)])
         yield from self.go_home(pid)
 
     def _holder(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
