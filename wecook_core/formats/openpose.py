@@ -167,12 +167,16 @@ def _keypoints(file: Path, person: dict[str, object], index: int, key: str, expe
     place = f"people[{index}].{key}"
     if value is None:
         value = []
-    if not isinstance(value, list) or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in value):
+    try:
+        array = np.asarray(value) if isinstance(value, list) else None
+    except ValueError:  # ragged nesting
+        array = None
+    if array is None or array.ndim != 1 or (len(array) and array.dtype.kind not in "iuf"):
         raise InputError(file, "expected a flat list of numbers (x, y, confidence triples)", place=place)
-    if len(value) % 3:
-        raise InputError(file, f"{len(value)} numbers is not a whole number of x, y, confidence triples",
+    if len(array) % 3:
+        raise InputError(file, f"{len(array)} numbers is not a whole number of x, y, confidence triples",
                          place=place)
-    points = np.asarray(value, dtype=np.float64).reshape(-1, 3)
+    points = array.astype(np.float64).reshape(-1, 3)
     if expected is not None and len(points) not in (0, expected):
         raise InputError(file, f"{len(points)} keypoints, expected {expected}", place=place)
     if not np.isfinite(points).all():
@@ -209,6 +213,21 @@ def _distance(a: _Detection, b: _Detection, min_confidence: float) -> float:
     return float(np.linalg.norm(a.centre - b.centre)) / scale
 
 
+def _costs(last: list[_Detection], detections: list[_Detection], params: OpenPoseParams) -> np.ndarray:
+    """:func:`_distance` of every (person, detection) pair, skipping pairs whose centres alone rule them out.
+
+    A centroid of some of a skeleton's keypoints lies within its bounding box, so centres farther apart than
+    ``max_distance + 2`` body sizes cannot have keypoints within ``max_distance`` body sizes on average.
+    """
+    centres = np.array([d.centre for d in last])[:, None, :] - np.array([d.centre for d in detections])[None]
+    scales = np.maximum(np.array([d.scale for d in last])[:, None], np.array([d.scale for d in detections])[None])
+    possible = np.linalg.norm(centres, axis=2) <= (params.max_distance + 2) * scales
+    cost = np.full(possible.shape, _INFEASIBLE)
+    for i, j in zip(*np.nonzero(possible), strict=True):
+        cost[i, j] = _distance(last[i], detections[j], params.min_confidence)
+    return cost
+
+
 def _track(frames: list[list[_Detection]], params: OpenPoseParams) -> list[_Person]:
     persons: list[_Person] = []
     for detections in frames:
@@ -216,7 +235,7 @@ def _track(frames: list[list[_Detection]], params: OpenPoseParams) -> list[_Pers
             continue
         assigned: set[int] = set()
         if persons:
-            cost = np.array([[_distance(p.last, d, params.min_confidence) for d in detections] for p in persons])
+            cost = _costs([p.last for p in persons], detections, params)
             cost[cost > params.max_distance] = _INFEASIBLE
             rows, cols = linear_sum_assignment(cost)
             for r, c in zip(rows, cols, strict=True):
