@@ -152,8 +152,8 @@ class Progress:
             started = row.status == "running"
             row.status = "done" if event.kind == "action_end" else "failed" if started else "skipped"
             row.reason = event.detail if event.kind == "action_failed" else ""
-            if row.status == "skipped" and row.reason.startswith("skipped: "):
-                row.reason = row.reason.removeprefix("skipped: ")
+            for prefix in ("skipped: ", "failed: "):  # the status column already says it
+                row.reason = row.reason.removeprefix(prefix)
             mark = {"done": "done", "failed": "FAILED", "skipped": "skipped"}[row.status]
             if row.status != "done":
                 mark += f": {row.reason or 'no reason given'}"
