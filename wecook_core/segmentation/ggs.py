@@ -112,25 +112,32 @@ def segment_objective(data: np.ndarray, breakpoints: tuple[int, ...] | list[int]
 def refine_breakpoints(data: np.ndarray, breakpoints: tuple[int, ...], lamb: float, radius: int) -> tuple[int, ...]:
     """Move each breakpoint, within ``± radius`` samples of where it is, to its best place between its
     neighbours (the objective of :func:`ggs`), until none moves: used after segmenting a decimated series, to
-    place the breakpoints at full resolution. Keeps every segment at least 2 samples long."""
+    place the breakpoints at full resolution. Keeps every segment at least 2 samples long.
+
+    Coordinate ascent in two alternating half-passes (odd-numbered breakpoints, then even-numbered ones), each
+    a single batched evaluation: within a half-pass no breakpoint is the neighbour of another."""
     x = np.asarray(data, dtype=np.float64)
     if x.ndim == 1:
         x = x[:, None]
     scorer = SplitScorer(x, lamb, False)
-    bp = [0, *breakpoints, x.shape[0]]
-    origin = list(bp)
+    bp = np.array([0, *breakpoints, x.shape[0]], dtype=np.int64)
+    origin = bp.copy()
+    count = len(bp) - 2
     for _ in range(MAX_SHUFFLES):
         moved = False
-        for i in range(1, len(bp) - 1):
-            lo, hi = max(bp[i - 1] + 2, origin[i] - radius), min(bp[i + 1] - 2, origin[i] + radius)
-            if lo > hi:
+        for first in (1, 2):
+            index = np.arange(first, count + 1, 2)
+            lo = np.maximum(bp[index - 1] + 2, origin[index] - radius)
+            hi = np.minimum(bp[index + 1] - 2, origin[index] + radius)
+            index, lo, hi = index[lo <= hi], lo[lo <= hi], hi[lo <= hi]
+            if len(index) == 0:
                 continue
-            at = scorer.best_cut_within(bp[i - 1], bp[i + 1], lo, hi)
-            if at != bp[i]:
-                bp[i], moved = at, True
+            best = scorer.best_cuts(bp[index - 1], bp[index + 1], lo, hi)
+            if np.any(best != bp[index]):
+                bp[index], moved = best, True
         if not moved:
             break
-    return tuple(bp[1:-1])
+    return tuple(int(b) for b in bp[1:-1])
 
 
 def _adjust(breaks: list[int], new: int, scorer: SplitScorer) -> list[int]:
@@ -145,15 +152,12 @@ def _adjust(breaks: list[int], new: int, scorer: SplitScorer) -> list[int]:
     count = len(bp) - 2
     if count == 1:
         return bp
-    this_pass = [False] * (count + 2)  # by index: a breakpoint keeps its index when it moves
-    this_pass[bp.index(new)] = True
+    moved = [bp.index(new)]  # by index: a breakpoint keeps its index when it moves
     for z in range(MAX_SHUFFLES):
-        last_pass, this_pass = this_pass, [False] * (count + 2)
         order, position = _pass_order(count, z)
-        due = [position[i] for i in range(1, count + 1) if last_pass[i - 1] or last_pass[i + 1]]
-        heapq.heapify(due)
+        due = sorted({position[i] for m in moved for i in (m - 1, m + 1) if 1 <= i <= count})
+        moved = []
         visited: set[int] = set()
-        moved_any = False
         while due:
             turn = heapq.heappop(due)
             i = order[turn]
@@ -163,11 +167,11 @@ def _adjust(breaks: list[int], new: int, scorer: SplitScorer) -> list[int]:
             at, gain = scorer.best_split(bp[i - 1], bp[i + 1])
             if at != bp[i] and gain != 0:
                 bp[i] = at
-                this_pass[i] = moved_any = True
+                moved.append(i)
                 for neighbour in (i - 1, i + 1):  # due later in this pass, now that i moved
                     if 1 <= neighbour <= count and position[neighbour] > turn:
                         heapq.heappush(due, position[neighbour])
-        if not moved_any:
+        if not moved:
             break
     return bp
 

@@ -14,9 +14,10 @@ import numpy as np
 class SplitScorer:
     """Segment costs and best splits of one series, from prefix sums; caches the best split per range.
 
-    Prefix sums are stored feature-major: ``s1[j, t]`` sums feature ``j`` of samples ``[0, t)`` (centred on
-    the series mean: less cancellation), ``s2[p, t]`` the products of the ``p``-th pair of features (upper
-    triangle of ``x xᵀ``). A segment's split candidates are then contiguous slices.
+    ``prefix[f, t]`` sums, over samples ``[0, t)``, the feature ``f`` for ``f < n`` and then the product of
+    each pair of features (upper triangle of ``x xᵀ``), all on data centred on the series mean (less
+    cancellation). A segment's split candidates are then contiguous slices. ``quirk``: score splits as the
+    reference code does (see :func:`~wecook_core.segmentation.ggs.ggs`).
     """
 
     def __init__(self, x: np.ndarray, lamb: float, quirk: bool) -> None:
@@ -27,20 +28,19 @@ class SplitScorer:
         self.center = x.mean(axis=0)
         xc = (x - self.center).T
         self.pairs = [(i, j) for i in range(n) for j in range(i, n)]
-        self.s1 = np.zeros((n, m + 1))
-        np.cumsum(xc, axis=1, out=self.s1[:, 1:])
-        self.s2 = np.zeros((len(self.pairs), m + 1))
-        np.cumsum(np.stack([xc[i] * xc[j] for i, j in self.pairs]), axis=1, out=self.s2[:, 1:])
+        self.prefix = np.zeros((n + len(self.pairs), m + 1))
+        np.cumsum(np.concatenate([xc, np.stack([xc[i] * xc[j] for i, j in self.pairs])]), axis=1,
+                  out=self.prefix[:, 1:])
         self.counts = np.arange(m + 1, dtype=np.float64)
         self.quirk = quirk and n > 1
         self.cache: dict[tuple[int, int], tuple[int, float]] = {}
 
-    def cost(self, count: np.ndarray, sums: np.ndarray, squares: np.ndarray) -> np.ndarray:
-        """``c log det Σ - λ tr Σ⁻¹`` per segment, from its sample count ``c`` ``(k,)``, sums of x ``(n, k)``
-        and sums of the feature pairs' products ``(pairs, k)`` (centred data)."""
+    def cost(self, count: np.ndarray, moments: np.ndarray) -> np.ndarray:
+        """``c log det Σ - λ tr Σ⁻¹`` per segment, from its sample count ``c`` ``(k,)`` and its sums (rows of
+        ``moments``, ``(n + pairs, k)``, laid out like ``prefix``; overwritten)."""
         inv = 1.0 / count
-        mean = sums * inv
-        cov = squares * inv
+        moments *= inv
+        mean, cov = moments[: self.n], moments[self.n :]
         for p, (i, j) in enumerate(self.pairs):
             cov[p] -= mean[i] * mean[j]
         return self._cost_of_cov(count, inv, cov)
@@ -75,8 +75,7 @@ class SplitScorer:
 
     def segment_costs(self, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
         """Cost of each segment ``[starts[i], ends[i])``."""
-        return self.cost(self.counts[ends - starts], self.s1[:, ends] - self.s1[:, starts],
-                         self.s2[:, ends] - self.s2[:, starts])
+        return self.cost(self.counts[ends - starts], self.prefix[:, ends] - self.prefix[:, starts])
 
     def objective(self, breaks: list[int]) -> float:
         edges = np.asarray(breaks)
@@ -97,40 +96,45 @@ class SplitScorer:
         self.cache[key] = result
         return result
 
-    def best_cut_within(self, start: int, end: int, lo: int, hi: int) -> int:
-        """The cut ``t`` in ``[lo, hi]`` minimising the cost of ``[start, t)`` plus ``[t, end)`` (first on ties)."""
-        total, _ = self._split_costs(start, end, lo, hi)
-        return lo + int(np.argmin(total))
-
     def _split_costs(self, start: int, end: int, lo: int, hi: int) -> tuple[np.ndarray, float]:
         """Cost of ``[start, t)`` plus ``[t, end)`` for every cut ``t`` in ``[lo, hi]``, and of ``[start, end)``.
 
-        One batched evaluation: rows ``[0, k)`` are the left parts, row ``k`` the whole segment, rows
-        ``k + 1 ..`` the right parts."""
+        One batched evaluation: columns ``[0, k)`` are the left parts, column ``k`` the whole segment,
+        columns ``k + 1 ..`` the right parts."""
         k = hi - lo + 1
-        s1, s2 = self.s1, self.s2
-        sums = np.empty((self.n, 2 * k + 1))
-        squares = np.empty((len(self.pairs), 2 * k + 1))
-        np.subtract(s1[:, lo : hi + 1], s1[:, start : start + 1], out=sums[:, :k])
-        np.subtract(s2[:, lo : hi + 1], s2[:, start : start + 1], out=squares[:, :k])
-        sums[:, k] = s1[:, end] - s1[:, start]
-        squares[:, k] = s2[:, end] - s2[:, start]
-        np.subtract(s1[:, end : end + 1], s1[:, lo : hi + 1], out=sums[:, k + 1 :])
-        np.subtract(s2[:, end : end + 1], s2[:, lo : hi + 1], out=squares[:, k + 1 :])
+        prefix = self.prefix
+        moments = np.empty((len(prefix), 2 * k + 1))
+        np.subtract(prefix[:, lo : hi + 1], prefix[:, start : start + 1], out=moments[:, :k])
+        np.subtract(prefix[:, end : end + 1], prefix[:, start : start + 1], out=moments[:, k : k + 1])
+        np.subtract(prefix[:, end : end + 1], prefix[:, lo : hi + 1], out=moments[:, k + 1 :])
         left_n = self.counts[lo - start : hi - start + 1]
         count = np.concatenate([left_n, self.counts[end - start : end - start + 1], (end - start) - left_n])
-        costs = self._quirk_costs(start, k, count, sums, squares) if self.quirk else self.cost(count, sums, squares)
+        costs = self._quirk_costs(start, k, count, moments) if self.quirk else self.cost(count, moments)
         return costs[:k] + costs[k + 1 :], float(costs[k])
 
-    def _quirk_costs(self, start: int, k: int, count: np.ndarray, sums: np.ndarray, squares: np.ndarray) -> np.ndarray:
+    def best_cuts(self, starts: np.ndarray, ends: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """For each row, the cut ``t`` in ``[lo, hi]`` minimising the cost of ``[start, t)`` plus
+        ``[t, end)`` (first on ties); all rows in one batched evaluation."""
+        rows, width = len(starts), int((hi - lo).max()) + 1
+        cuts = np.minimum(lo[:, None] + np.arange(width), hi[:, None])  # (rows, width), padded with hi
+        prefix = self.prefix
+        left = prefix[:, cuts] - prefix[:, starts][:, :, None]
+        right = prefix[:, ends][:, :, None] - prefix[:, cuts]
+        moments = np.concatenate([left.reshape(len(prefix), -1), right.reshape(len(prefix), -1)], axis=1)
+        count = np.concatenate([(cuts - starts[:, None]).ravel(), (ends[:, None] - cuts).ravel()])
+        costs = self.cost(count.astype(np.float64), moments)
+        total = costs[: rows * width].reshape(rows, width) + costs[rows * width :].reshape(rows, width)
+        return cuts[np.arange(rows), np.argmin(total, axis=1)]
+
+    def _quirk_costs(self, start: int, k: int, count: np.ndarray, moments: np.ndarray) -> np.ndarray:
         """Costs as the reference scores split points: each left part's mean biased by
         ``-x_start (1 - 1/n) / count`` (its running mean starts from ``x_start / n``)."""
         inv = 1.0 / count
-        mean = sums * inv
+        moments *= inv
+        mean, cov = moments[: self.n], moments[self.n :]
         raw_mean = mean + self.center[:, None]
         bias = np.zeros_like(mean)
         bias[:, :k] = self.raw[start][:, None] * (1 - 1 / self.n) * inv[:k]
-        cov = squares * inv
         for p, (i, j) in enumerate(self.pairs):
             cov[p] += -mean[i] * mean[j] + raw_mean[i] * bias[j] + bias[i] * raw_mean[j] - bias[i] * bias[j]
         return self._cost_of_cov(count, inv, cov)
