@@ -75,13 +75,14 @@ def load_observations(
     objects_format: str | None = None,
     hands_format: str | None = None,
     labels: str | Path | None = None,
+    select: str | None = None,
     categories: CategoryTable | None = None,
     checks: InputChecks | None = None,
 ) -> Observations:
     """The checked observations of a video (see :func:`import_observations` for the warnings too)."""
     return import_observations(
         video, objects, hands, objects_format=objects_format, hands_format=hands_format, labels=labels,
-        categories=categories, checks=checks,
+        select=select, categories=categories, checks=checks,
     ).observations
 
 
@@ -93,11 +94,13 @@ def import_observations(
     objects_format: str | None = None,
     hands_format: str | None = None,
     labels: str | Path | None = None,
+    select: str | None = None,
     categories: CategoryTable | None = None,
     checks: InputChecks | None = None,
 ) -> Imported:
     """Import the video's facts, the object boxes and the hand tracks, name objects uniquely, categorise
-    them and check everything against the video. ``labels`` is the labels file of MOT boxes."""
+    them and check everything against the video. ``labels`` is the labels file of MOT boxes; ``select`` the
+    video (name or id) of a COCO-VID file that holds several."""
     checks = checks or InputChecks()
     warnings: list[str] = []
     info = probe_video(video)
@@ -105,7 +108,7 @@ def import_observations(
     if note:
         warnings.append(note)
     object_tracks, chosen_objects = read_objects(objects, objects_format, labels=labels, video=info,
-                                                 warn=warnings.append)
+                                                 select=select, warn=warnings.append)
     hand_tracks, chosen_hands = read_hands(hands, hands_format, warn=warnings.append)
     checked_objects = _check_objects(Path(objects), unique_names(object_tracks), info, checks, warnings)
     checked_hands = _check_hands(Path(hands), hand_tracks, info, checks, warnings)

@@ -83,6 +83,9 @@ class InputFile:
     mtime_ns: int
     """Latest modification time (ns); with ``size``, lets opening skip re-hashing an unchanged input."""
     format: str | None = None
+    select: str | None = None
+    """Which video of a COCO-VID file holding several (name or id); None: the only one, or the one named
+    like the video file."""
 
 
 def content_hash(path: str | Path) -> str:
@@ -114,10 +117,10 @@ def _stat(path: Path) -> tuple[int, int]:
     return stat.st_size, stat.st_mtime_ns
 
 
-def _input_file(role: str, path: str | Path, format: str | None = None) -> InputFile:
+def _input_file(role: str, path: str | Path, format: str | None = None, select: str | None = None) -> InputFile:
     path = Path(path).resolve()
     size, mtime = _stat(path)
-    return InputFile(role, str(path), content_hash(path), size, mtime, format)
+    return InputFile(role, str(path), content_hash(path), size, mtime, format, select)
 
 
 def _input_problem(item: InputFile) -> str | None:
@@ -228,7 +231,7 @@ class Session:
             labels = self.inputs.get("labels")
             self._imported = import_observations(
                 video.path, objects.path, hands.path, objects_format=objects.format, hands_format=hands.format,
-                labels=labels.path if labels else None,
+                labels=labels.path if labels else None, select=objects.select,
                 categories=self.category_table(),
             )
         return self._imported
@@ -329,14 +332,16 @@ def create_session(
     hands_format: str | None = None,
     labels: str | Path | None = None,
     categories: str | Path | None = None,
+    select: str | None = None,
     params: Params | None = None,
     imported: Imported | None = None,
 ) -> Path:
     """Make ``root/name`` from the inputs, after importing them all; return its path.
 
     Bad input raises :class:`InputError` and leaves nothing behind (the folder is built under a temporary
-    name and renamed into place). ``imported`` skips the import when the caller already did it with the same
-    arguments.
+    name and renamed into place). ``labels`` is MOT's labels file and ``categories`` a file of extra object
+    categories (both recorded as inputs); ``select`` the video of a COCO-VID file holding several.
+    ``imported`` skips the import when the caller already did it with the same arguments.
     """
     check_name(name)
     root = Path(root)
@@ -345,11 +350,11 @@ def create_session(
         raise InputError(target, "a session of that name already exists")
     if imported is None:
         imported = import_observations(video, objects, hands, objects_format=objects_format,
-                                       hands_format=hands_format, labels=labels,
+                                       hands_format=hands_format, labels=labels, select=select,
                                        categories=_category_table(Path(categories) if categories else None))
     inputs = {
         "video": _input_file("video", video),
-        "objects": _input_file("objects", objects, imported.objects_format),
+        "objects": _input_file("objects", objects, imported.objects_format, select),
         "hands": _input_file("hands", hands, imported.hands_format),
     }
     if labels is not None:

@@ -217,3 +217,21 @@ def test_sessions_root_and_listing(tmp_path: Path, inputs: dict[str, Path], monk
     assert [(r.name, r.corrections) for r in rows] == [("a", 0), ("b", 1), ("broken", 0)]
     assert rows[0].video == str(inputs["video"].resolve()) and rows[0].created.endswith("Z")
     assert rows[2].problem is not None and rows[0].problem is None
+
+
+def test_a_cocovid_video_choice_is_recorded_and_used(tmp_path: Path, inputs: dict[str, Path]) -> None:
+    data = {
+        "videos": [{"id": 1, "name": "other"}, {"id": 2, "name": "second"}],
+        "images": [{"id": 1, "video_id": 1, "frame_id": 0}, {"id": 2, "video_id": 2, "frame_id": 3}],
+        "annotations": [{"image_id": 1, "category_id": 1, "instance_id": 1, "bbox": [0, 0, 5, 5]},
+                        {"image_id": 2, "category_id": 2, "instance_id": 4, "bbox": [1, 1, 5, 5]}],
+        "categories": [{"id": 1, "name": "whisk"}, {"id": 2, "name": "pan"}],
+    }
+    inputs["objects"] = tmp_path / "coco.json"
+    inputs["objects"].write_text(json.dumps(data))
+    with pytest.raises(InputError, match="2 videos in the file"):
+        create(tmp_path / "s", inputs)
+    session = open_session(create(tmp_path / "s", inputs, select="second"))
+    assert session.inputs["objects"].select == "second" and session.inputs["objects"].format == "cocovid"
+    (track,) = session.load_observations().objects
+    assert (track.name, track.frames.tolist()) == ("pan", [3])

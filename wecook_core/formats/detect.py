@@ -91,17 +91,20 @@ def read_objects(
     *,
     labels: str | Path | None = None,
     video: VideoInfo | None = None,
+    select: str | None = None,
     warn: Warn = ignore_warning,
 ) -> tuple[tuple[ObjectTrack, ...], str]:
     """Object tracks of ``path`` and the format they were read as (``format`` forces one).
 
     ``labels`` is the MOT labels file; ``video`` lets CVAT check the annotated frame size and COCO-VID pick
-    the video by name.
+    the video by name; ``select`` names the video (name or id) of a COCO-VID file that holds several.
     """
     path = Path(path)
     chosen = check_format(format, OBJECT_FORMATS, "objects") if format else detect_objects_format(path)
     if labels is not None and chosen != "mot":
         warn(f"{labels}: a labels file only applies to MOT boxes; ignored for {chosen}")
+    if select is not None and chosen != "cocovid":
+        warn(f"choosing a video ({select!r}) only applies to COCO-VID boxes; ignored for {chosen}")
     if chosen == "cvat":
         from wecook_core.formats.cvat import read_cvat
 
@@ -114,7 +117,7 @@ def read_objects(
     if chosen == "cocovid":
         from wecook_core.formats.cocovid import read_cocovid
 
-        return read_cocovid(path, video_path=video.path if video else None, warn=warn), chosen
+        return read_cocovid(path, video=select, video_path=video.path if video else None, warn=warn), chosen
     from wecook_core.formats.native import read_objects_csv
 
     return read_objects_csv(path), chosen

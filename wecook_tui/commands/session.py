@@ -37,6 +37,9 @@ def register(sub: Any) -> None:
     new.add_argument("--labels", default=None,
                      help="MOT labels file: ID,LABEL lines, or one LABEL per class (default: labels.txt beside "
                           "the MOT file)")
+    new.add_argument("--select-video", default=None, metavar="NAME_OR_ID",
+                     help="COCO-VID file with several videos: the one to take (default: the one named like "
+                          "--video)")
     new.add_argument("--categories", default=None,
                      help="YAML file of extra object categories `objects: {label: tool|container|ingredient}`")
     new.add_argument("--root", default=None, help=ROOT_HELP)
@@ -63,10 +66,12 @@ def run_new(args: argparse.Namespace) -> int:
 
         table = load_categories(extra=[Path(args.categories)])
     imported = import_observations(args.video, args.objects, args.hands, objects_format=args.objects_format,
-                                   hands_format=args.hands_format, labels=args.labels, categories=table)
+                                   hands_format=args.hands_format, labels=args.labels, select=args.select_video,
+                                   categories=table)
     path = create_session(root, args.name, args.video, args.objects, args.hands,
                           objects_format=imported.objects_format, hands_format=imported.hands_format,
-                          labels=args.labels, categories=args.categories, imported=imported)
+                          labels=args.labels, categories=args.categories, select=args.select_video,
+                          imported=imported)
     print(describe(imported, args.objects, args.hands))
     print(f"session {args.name} made in {path}; open it with: wecook open {args.name}"
           + (f" --root {args.root}" if args.root else ""))
