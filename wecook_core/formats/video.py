@@ -9,6 +9,7 @@ frames beyond the declared end.
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 from typing import Any
 
@@ -24,8 +25,10 @@ def probe_video(path: str | Path, *, count_frames: bool = False) -> VideoInfo:
 
     ``count_frames=True`` decodes every frame to count them (slow; for damaged files).
     Raises :class:`InputError` when the file is missing, does not open as a video, has no decodable frame
-    or no frame rate.
+    or no frame rate. FFmpeg's own messages about damaged frames are silenced (they would print over the
+    workbench) unless ``$OPENCV_FFMPEG_LOGLEVEL`` says otherwise.
     """
+    os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
     import cv2
 
     path = Path(path)
