@@ -587,8 +587,8 @@ _CONTAINER_HEIGHTS = (("plate", 0.03), ("pan", 0.05), ("bowl", 0.07), ("pot", 0.
                       ("glass", 0.1), ("mug", 0.09))
 FIRST_FRAMES = 5
 """How many of an object's first sightings are combined (median box) to place it."""
-GAP = 0.02
-"""Metres left free between neighbouring objects."""
+GAP = 0.04
+"""Metres left free between neighbouring objects (room for the gripper's fingers)."""
 ARM_CLEARANCE = 0.15
 """Metres kept free at each end of the table, where the arms' bases stand."""
 
@@ -605,8 +605,8 @@ def _shape_for(name: str, category: Category, width_m: float, depth_m: float) ->
     """Shape, size (metres) and yaw of an object from its category, its name and its box size on the table."""
     long_side, short_side = max(width_m, depth_m), min(width_m, depth_m)
     yaw = 0.0 if width_m >= depth_m else math.pi / 2
-    if category is Category.TOOL:
-        return "box", (round(_clip(long_side, 0.14, 0.24), 3), 0.03, 0.025), yaw
+    if category is Category.TOOL:  # lying across the table (along y): graspable by either arm, even near its base
+        return "box", (round(_clip(long_side, 0.14, 0.24), 3), 0.03, 0.025), math.pi / 2
     if category is Category.CONTAINER:
         if any(word in name for word in _FLAT_CONTAINERS):
             return "box", (round(_clip(long_side, 0.2, 0.3), 3), round(_clip(short_side, 0.14, 0.22), 3), 0.02), yaw
