@@ -96,3 +96,23 @@ def test_pick_lists_sessions_when_not_in_a_terminal(tmp_path: Path, capsys: pyte
 
 def test_command_choices_match_the_importers() -> None:
     assert command.OBJECT_FORMATS == OBJECT_FORMATS and command.HAND_FORMATS == HAND_FORMATS
+
+
+def test_new_with_mot_boxes_a_labels_file_and_a_forced_format(tmp_path: Path, capsys: pytest.CaptureFixture[str]
+                                                              ) -> None:
+    inputs = make_inputs(tmp_path / "in")
+    inputs["objects"] = tmp_path / "in" / "boxes.dat"
+    inputs["objects"].write_text("1,7,10,10,10,10,1\n2,7,11,10,10,10,1\n")
+    labels = tmp_path / "in" / "names.txt"
+    labels.write_text("7,Whisk\n")
+    root = tmp_path / "sessions"
+    assert new(root, inputs, "mot", "--objects-format", "mot") == 2  # no labels.txt beside it
+    assert "--labels" in capsys.readouterr().err
+    assert new(root, inputs, "mot", "--objects-format", "mot", "--labels", str(labels)) == 0
+    out = capsys.readouterr().out
+    assert "(mot): 1 tracks" in out and "whisk  tool        frames 0-1, 2 boxes (label 'Whisk')" in out
+    from wecook_core.session import open_session
+
+    session = open_session(root / "mot")
+    assert session.inputs["labels"].path == str(labels.resolve())
+    assert session.load_observations().objects[0].label == "Whisk"
