@@ -269,7 +269,10 @@ def _category_table(extra: Path | None) -> CategoryTable | None:
 def _inputs(value: Any, warnings: list[str]) -> dict[str, InputFile]:
     inputs = {}
     names = {f.name for f in dataclasses.fields(InputFile)}
-    for role, item in (value or {}).items():
+    if not isinstance(value, dict):
+        warnings.append("session.yaml: inputs is not a mapping of role -> file; no inputs")
+        return inputs
+    for role, item in value.items():
         if not isinstance(item, dict) or not {"path", "sha256", "size", "mtime_ns"} <= set(item):
             warnings.append(f"session.yaml: input {role!r} is incomplete; ignored")
             continue
@@ -408,7 +411,8 @@ def open_session(path: str | Path) -> Session:
     if not isinstance(meta, dict) or "inputs" not in meta:
         raise InputError(meta_path, "not a wecook session file (no inputs)")
     warnings: list[str] = []
-    if meta.get("wecook_session", SESSION_FORMAT) > SESSION_FORMAT:
+    version = meta.get("wecook_session", SESSION_FORMAT)
+    if not isinstance(version, int) or version > SESSION_FORMAT:
         warnings.append(f"{meta_path}: made by a newer wecook (session format {meta.get('wecook_session')})")
     return Session(path, meta, warnings)
 
