@@ -267,7 +267,7 @@ def _category_table(extra: Path | None) -> CategoryTable | None:
 
 
 def _inputs(value: Any, warnings: list[str]) -> dict[str, InputFile]:
-    inputs = {}
+    inputs: dict[str, InputFile] = {}
     names = {f.name for f in dataclasses.fields(InputFile)}
     if not isinstance(value, dict):
         warnings.append("session.yaml: inputs is not a mapping of role -> file; no inputs")
