@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import random
 import time
 from pathlib import Path
 
@@ -99,6 +100,18 @@ def test_adjustment_leaves_no_breakpoint_with_a_better_place():
         for t in range(breaks[i - 1] + 2, breaks[i + 1] - 1):
             moved = (*breaks[1:i], t, *breaks[i + 1 : -1])
             assert direct_objective(x, moved, 0.1) <= here + 1e-9
+
+
+def test_adjustment_order_is_pythons_seeded_shuffle():
+    from wecook_core.segmentation.ggs import _shuffle
+
+    for size in (2, 3, 17, 64, 300):
+        ours, theirs = list(range(size)), list(range(size))
+        mine, reference = random.Random(0), random.Random(0)
+        for _ in range(3):  # successive passes draw from the same generator
+            _shuffle(ours, mine)
+            reference.shuffle(theirs)
+            assert ours == theirs
 
 
 def test_stops_when_no_split_helps_and_on_min_gain():

@@ -190,9 +190,22 @@ def _pass_order(count: int, z: int) -> tuple[list[int], list[int]]:
         rng, orders = _ORDERS.setdefault(count, (random.Random(0), []))
         while len(orders) <= z:
             order = list(range(1, count + 1))
-            rng.shuffle(order)
+            _shuffle(order, rng)
             position = [0] * (count + 2)
             for turn, i in enumerate(order):
                 position[i] = turn
             orders.append((order, position))
         return orders[z]
+
+
+def _shuffle(items: list[int], rng: random.Random) -> None:
+    """``rng.shuffle(items)``, the same permutation from the same state, without a method call per item
+    (CPython 3.11's ``shuffle`` and ``_randbelow_with_getrandbits``, inlined)."""
+    getrandbits = rng.getrandbits
+    for i in reversed(range(1, len(items))):
+        n = i + 1
+        bits = n.bit_length()
+        j = getrandbits(bits)
+        while j >= n:
+            j = getrandbits(bits)
+        items[i], items[j] = items[j], items[i]
