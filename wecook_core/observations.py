@@ -3,6 +3,7 @@
 Checks, each an :class:`InputError` naming the file and the frame and track, unless said otherwise:
 
 - every frame index lies in the video (``0 <= frame < frames that decode``);
+- coordinates are pixels: boxes or hands all within ``[0, 1]`` are normalised coordinates, refused;
 - an object box may stick out of the image by up to ``box_tolerance`` of the image size (detectors and
   annotators overshoot a little): it is clipped, and the count is a warning; farther out is an error;
 - a hand centre obeys the same rule; hand boxes are only clipped (they are derived from keypoints);
@@ -193,9 +194,20 @@ def _clip(boxes: np.ndarray, info: VideoInfo) -> np.ndarray:
     return np.clip(boxes, 0.0, limits)
 
 
+def _check_pixels(path: Path, what: str, values: Sequence[np.ndarray], info: VideoInfo) -> None:
+    """Refuse coordinates that are all within [0, 1] on a real image: normalised, not pixels."""
+    if min(info.width, info.height) < 16 or not values:
+        return
+    stacked = np.concatenate([v.reshape(-1) for v in values])
+    if len(stacked) and np.abs(stacked).max() <= 1.0:
+        raise InputError(path, f"every {what} coordinate lies within [0, 1]: normalised coordinates, but wecook "
+                         f"needs pixels of the {info.width}x{info.height} video (OpenPose: --keypoint_scale 0)")
+
+
 def _check_objects(
     path: Path, tracks: Sequence[ObjectTrack], info: VideoInfo, checks: InputChecks, warnings: list[str]
 ) -> list[ObjectTrack]:
+    _check_pixels(path, "box", [t.boxes for t in tracks], info)
     result = []
     clipped = 0
     for track in tracks:
@@ -219,6 +231,7 @@ def _check_objects(
 def _check_hands(
     path: Path, tracks: Sequence[HandTrack], info: VideoInfo, checks: InputChecks, warnings: list[str]
 ) -> list[HandTrack]:
+    _check_pixels(path, "hand", [t.xy for t in tracks], info)
     result = []
     for track in tracks:
         _check_frames(path, f"hand {track.hand}", track.frames, info)

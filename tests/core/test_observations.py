@@ -126,3 +126,12 @@ def test_a_video_that_does_not_open(tmp_path: Path) -> None:
     (tmp_path / "bad.mp4").write_text("nope")
     with pytest.raises(InputError, match=r"bad\.mp4"):
         load_observations(tmp_path / "bad.mp4", objects, hands, categories=TABLE)
+
+
+def test_normalised_coordinates_are_refused(tmp_path: Path) -> None:
+    objects = ["0,1,Knife,0.1,0.1,0.3,0.2", "0,2,bowl,0.5,0.5,0.9,0.9"]
+    with pytest.raises(InputError, match=r"objects\.csv: every box coordinate lies within \[0, 1\]"):
+        load_observations(*write_inputs(tmp_path, objects, HANDS), categories=TABLE)
+    hands = ["0,RH_P1,0.2,0.1,0.1,0.05,0.3,0.15"]
+    with pytest.raises(InputError, match=r"hands\.csv: every hand coordinate lies within \[0, 1\].*keypoint_scale"):
+        load_observations(*write_inputs(tmp_path, OBJECTS, hands), categories=TABLE)
