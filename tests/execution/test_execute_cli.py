@@ -190,3 +190,31 @@ def test_killed_execute_leaves_a_recoverable_recording(tmp_path: Path) -> None:
     check = check_recording(tmp_path / "recovered.mcap")
     assert check.ok, check.problems
     assert "a1" in check.actions
+
+
+@pytest.mark.sim
+def test_sigterm_stops_the_run_with_a_closed_recording(tmp_path: Path) -> None:
+    import json
+    import signal
+    import subprocess
+    import sys
+
+    from wecook_core.execution.runs import check_recording
+
+    plan = tmp_path / "plan.yaml"
+    plan.write_text(ONE_ARM)
+    record = tmp_path / "run.mcap"
+    child = subprocess.Popen([sys.executable, "-m", "wecook_tui.cli", "execute", str(plan), "--record", str(record),
+                              "--jsonl"], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    assert child.stdout is not None
+    lines = []
+    for line in child.stdout:
+        lines.append(json.loads(line))
+        if lines[-1]["kind"] == "primitive_start":  # well inside the first action
+            child.send_signal(signal.SIGTERM)
+            break
+    assert child.wait(timeout=60) == 130
+    assert lines[0]["kind"] == "run_start" and lines[0]["actions"] == 2
+    report = check_recording(record)  # finished properly: summary, footer, a story that ends
+    assert report.ok, report.problems
+    assert report.actions["a1"] == "failed: interrupted"

@@ -2,10 +2,12 @@
 
 - ``wecook export NAME [-o plan.yaml] [--root DIR]``: analyse session NAME (with its corrections) and write
   its plan, by default to ``sessions/NAME/plans/plan.yaml``.
-- ``wecook execute PLAN [--record FILE.mcap | --no-record] [--seed N] [--realtime]``: validate the plan (errors
-  before anything runs, exit 2), run it headless with progress per action, record it (default
+- ``wecook execute PLAN [--record FILE.mcap | --no-record] [--seed N] [--realtime] [--jsonl]``: validate the
+  plan (errors before anything runs, exit 2), run it headless with progress per action, record it (default
   ``runs/<plan>-<time>.mcap``: the session's ``runs/`` when the plan is in a session's ``plans/``, else beside
-  the plan), print a table of every action; exit 0 only if every action succeeded, else 1.
+  the plan), print a table of every action; exit 0 only if every action succeeded, else 1. ``--jsonl`` prints
+  one JSON object per line instead (``run_start``, every plan event, then ``summary``) for programs such as the
+  workbench. SIGTERM or Ctrl-C stop the run with the recording closed properly (exit 130).
 - ``wecook runs check FILE.mcap``: exit 0 when the recording is sound, else list the problems, exit 1.
 - ``wecook runs recover FILE.mcap [-o OUT.mcap]``: rewrite the file of a killed run as a complete one.
 """
@@ -46,6 +48,8 @@ def register(sub: Any) -> None:
     record.add_argument("--no-record", action="store_true", help="do not record the run")
     execute.add_argument("--seed", type=int, default=0, help="seed of the run (same seed, same run)")
     execute.add_argument("--realtime", action="store_true", help="pace the simulation at real time")
+    execute.add_argument("--jsonl", action="store_true",
+                         help="print one JSON object per line instead: every plan event, then the summary")
     execute.set_defaults(func=run_execute)
 
     runs = sub.add_parser("runs", help="check or recover run recordings (MCAP)",
@@ -104,10 +108,12 @@ class Progress:
     """A RunObserver showing the run on the terminal: a rich progress bar with each arm's current step on a
     terminal, one plain line per action event otherwise. Keeps the per-action table."""
 
-    def __init__(self, plan: Plan, console: Console, *, live: bool) -> None:
+    def __init__(self, plan: Plan, console: Console, *, live: bool, jsonl: bool = False) -> None:
         self.rows = {a.id: ActionRow(a.id, ",".join(a.pids), a.verb) for a in plan.actions}
         self.console = console
-        self.live = live
+        self.live = live and not jsonl
+        self.jsonl = jsonl
+        live = self.live
         self.sim_time = 0.0
         self._bar: Any = None
         self._overall: Any = None
@@ -123,6 +129,8 @@ class Progress:
                 self._agents[pid] = self._bar.add_task(f"{pid}: waiting", total=None)
 
     def _say(self, text: str) -> None:
+        if self.jsonl:
+            return
         if self.live:
             self.console.print(text)
         else:
@@ -132,6 +140,8 @@ class Progress:
                  metadata: Mapping[str, str]) -> None:
         if self._bar is not None:
             self._bar.start()
+        elif self.jsonl:
+            _json_line({"t": 0.0, "kind": "run_start", "actions": len(self.rows), "seed": seed})
         else:
             self._say(f"run started: {len(self.rows)} actions, seed {seed}")
 
@@ -141,6 +151,9 @@ class Progress:
 
     def on_event(self, t: float, event: RunEvent) -> None:
         self.sim_time = max(self.sim_time, t)
+        if self.jsonl:
+            _json_line({"t": round(t, 4), "kind": event.kind, "action_id": event.action_id,
+                        "primitive": event.primitive, "agent": event.agent, "detail": event.detail})
         row = self.rows.get(event.action_id or "")
         agent = event.agent or (row.agents.split(",")[0] if row else None)
         if event.kind == "action_start" and row is not None:
@@ -188,6 +201,12 @@ class Progress:
         if self._bar is not None:
             self._bar.stop()
             self._bar = None
+
+
+def _json_line(data: Mapping[str, Any]) -> None:
+    import json
+
+    print(json.dumps(data), flush=True)
 
 
 def merge_result(rows: dict[str, ActionRow], result: Any) -> None:
@@ -240,9 +259,9 @@ def run_execute(args: argparse.Namespace) -> int:
         from wecook_core.execution.executor import execute_plan
     except ImportError as error:
         raise InputError(None, f"the executor is not available ({error})") from None
-    console = Console()
+    console = Console(stderr=args.jsonl)  # --jsonl: stdout carries only JSON lines
     live = console.is_terminal
-    progress = Progress(plan, console, live=live)
+    progress = Progress(plan, console, live=live, jsonl=args.jsonl)
     observers: list[Any] = [progress]
     recorder = None
     record_path: Path | None = None
@@ -254,11 +273,18 @@ def run_execute(args: argparse.Namespace) -> int:
         observers.insert(0, recorder)
     clock = time.perf_counter()
     result = None
+    _interrupt_on_sigterm()
     try:
         result = execute_plan(plan, FanOut(*observers), seed=args.seed, realtime=args.realtime)
     except KeyboardInterrupt:
+        for row in progress.rows.values():  # close the story in the recording and on the terminal
+            if row.status == "running":
+                event = RunEvent("action_failed", row.id, agent=row.agents.split(",")[0], detail="interrupted")
+                if recorder is not None:
+                    recorder.on_event(progress.sim_time, event)
+                progress.on_event(progress.sim_time, event)
         if recorder is not None:
-            recorder.on_event(progress.sim_time, RunEvent("run_end", detail="interrupted by the user"))
+            recorder.on_event(progress.sim_time, RunEvent("run_end", detail="interrupted"))
         raise
     finally:
         progress.stop()
@@ -268,18 +294,36 @@ def run_execute(args: argparse.Namespace) -> int:
     wall = time.perf_counter() - clock
     rows = list(progress.rows.values())
     merge_result(progress.rows, result)
-    if live:
+    contacts = int(getattr(result, "arm_contacts", 0) or 0)
+    done = sum(r.status == "done" for r in rows)
+    code = 0 if done == len(rows) and not contacts else 1
+    if args.jsonl:
+        _json_line({"kind": "summary", "actions": [vars(r) for r in rows], "done": done, "total": len(rows),
+                    "sim_time": round(progress.sim_time, 4), "wall_time": round(wall, 3), "arm_contacts": contacts,
+                    "recording": str(record_path) if record_path else None, "exit_code": code})
+        return code
+    if progress.live:
         console.print(summary_table(rows))
     else:
         for row in rows:
             print(f"{row.id}\t{row.agents}\t{row.verb}\t{row.status}\t{row.reason}")
-    done = sum(r.status == "done" for r in rows)
     speed = f", {progress.sim_time / wall:.1f}x real time" if wall > 0 and progress.sim_time > 0 else ""
     print(f"{done}/{len(rows)} actions done in {progress.sim_time:.1f} s simulated, {wall:.1f} s wall{speed}")
-    contacts = int(getattr(result, "arm_contacts", 0) or 0)
     if contacts:
         print(f"the arms touched each other {contacts} times")
-    return 0 if done == len(rows) and not contacts else 1
+    return code
+
+
+def _interrupt_on_sigterm() -> None:
+    """SIGTERM (a workbench stopping the run) ends the run like Ctrl-C: the recording is closed properly."""
+    import signal
+    import threading
+
+    if threading.current_thread() is threading.main_thread():
+        def interrupt(signum: int, frame: object) -> None:
+            raise KeyboardInterrupt
+
+        signal.signal(signal.SIGTERM, interrupt)
 
 
 # ------------------------------------------------------------------------------------------------ runs
