@@ -10,7 +10,7 @@ from wecook_tui import cli
 from wecook_tui.commands import session as command
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "core"))
-from test_session import make_inputs
+from session_inputs import make_inputs
 
 
 def new(root: Path, inputs: dict[str, Path], name: str = "take1", *extra: str) -> int:
