@@ -10,6 +10,8 @@ the motion planner (every query time-limited). A goal that fails is retried with
 
 from __future__ import annotations
 
+import contextlib
+import itertools
 import math
 import time
 from collections.abc import Iterable, Sequence
@@ -22,14 +24,33 @@ from wecook_core.execution.executor import WAIT, WORK, ActionFailed, Meeting, Pr
 from wecook_core.execution.motion import MotionProblem, path_free, plan_motion
 from wecook_core.execution.observer import FrameInfo, RunEvent, RunObserver
 from wecook_core.execution.planning_scene import ARM_MARGIN, PlanningScene, Riding, boxes_overlap
-from wecook_core.execution.robot import EE_LINK, HOME, LOWER, MAX_SPEED, UPPER, Panda, attach, detach, set_arm_collisions
+from wecook_core.execution.robot import (
+    EE_LINK,
+    HOME,
+    LOWER,
+    MAX_SPEED,
+    UPPER,
+    Panda,
+    attach,
+    detach,
+    set_arm_collisions,
+)
 from wecook_core.execution.scene import SIM_HZ, SceneBodies, build_scene, link_frames, world_poses
-from wecook_core.execution.skills import Half, SkillLibrary, TSRSpec, actuation_path, evaluate, load_skills, \
-    object_kind, skill_name
-from wecook_core.execution.tsr import TSR, matrix_to_pose, pose_to_matrix, sample
+from wecook_core.execution.skills import (
+    Half,
+    SkillLibrary,
+    TSRSpec,
+    actuation_path,
+    evaluate,
+    load_skills,
+    object_kind,
+    skill_name,
+)
+from wecook_core.execution.tsr import TSR, pose_to_matrix, sample
 from wecook_core.model import Category
 from wecook_core.plan import Plan, PlanAction
 
+JOINT_NAMES = [f"panda_joint{k + 1}" for k in range(7)] + ["panda_finger_joint1", "panda_finger_joint2"]
 STATE_EVERY = SIM_HZ // 30
 """Steps between two ``on_state`` calls (30 Hz)."""
 CONTACT_EVERY = 2
@@ -144,7 +165,7 @@ class BulletWorld:
         for pid, arm in self.arms.items():
             names = self.bodies.arms[pid].links
             q = list(arm.q()) + [arm.fingers()] * 2
-            joints[pid] = ([f"panda_joint{k + 1}" for k in range(7)] + ["panda_finger_joint1", "panda_finger_joint2"], q)
+            joints[pid] = (JOINT_NAMES, q)
             del names
         self.observer.on_state(self.time, world_poses(self.bodies), joints)
 
@@ -198,7 +219,7 @@ class BulletWorld:
         base = self.bodies.arms[pid].base[:3, 3]
         yaw = math.atan2(base[1] - T[1, 3], base[0] - T[0, 3])
         out = np.eye(4)
-        out[:3, :3] = [[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]]
+        out[:3, :3] = np.array([[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]])
         out[:3, 3] = T[:3, 3]
         return out
 
@@ -206,7 +227,7 @@ class BulletWorld:
         a, b = self.bodies.arms[giver].base[:3, 3], self.bodies.arms[receiver].base[:3, 3]
         yaw = math.atan2(b[1] - a[1], b[0] - a[0])
         out = np.eye(4)
-        out[:3, :3] = [[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]]
+        out[:3, :3] = np.array([[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]])
         out[:3, 3] = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, self.bodies.table_height + self.skills.meet_height]
         return out
 
@@ -262,7 +283,7 @@ class BulletWorld:
 
     def _goal_samples(self, tsrs: Sequence[TSR], T_eff_ee: np.ndarray, n: int,
                       accept: object = None) -> list[np.ndarray]:
-        out = []
+        out: list[np.ndarray] = []
         for _ in range(n * 4):
             if len(out) >= n:
                 break
@@ -276,8 +297,15 @@ class BulletWorld:
         self._sync()
         start = self.arms[pid].q()
         problem = MotionProblem(start=start, goal=goal, lower=LOWER, upper=UPPER,
-                                collision_fn=self.planning.collision_fn(pid, ignore=ignore, arm_margin=self.arm_margin), resolution=0.03)
+                                collision_fn=self.planning.collision_fn(pid, ignore=ignore, arm_margin=self.arm_margin),
+                                resolution=0.03)
         result = plan_motion(problem, planner=self.planner, time_limit=self.planning_time, seed=self._planning_seed())
+        if result.status == "invalid_start":  # touching an object it just let go of: plan clear of arms and table
+            loose = MotionProblem(start=start, goal=goal, lower=LOWER, upper=UPPER, resolution=0.03,
+                                  collision_fn=self.planning.collision_fn(pid, ignore=list(self.bodies.objects),
+                                                                          arm_margin=self.arm_margin))
+            result = plan_motion(loose, planner=self.planner, time_limit=self.planning_time,
+                                 seed=self._planning_seed())
         if not result.ok:
             return result.status
         return list(result.path)
@@ -289,9 +317,9 @@ class BulletWorld:
 
     def _follow(self, pid: str, path: Sequence[np.ndarray], durations: Sequence[float] | None = None) -> Program:
         """Move along joint waypoints (linear interpolation), ``durations[k]`` seconds for segment k."""
-        for k, (a, b) in enumerate(zip(path[:-1], path[1:], strict=True)):
+        for k, (a, b) in enumerate(itertools.pairwise(path)):
             d = durations[k] if durations is not None else float(np.max(np.abs(b - a) / (MAX_SPEED * JOINT_SPEED)))
-            n = max(int(math.ceil(d * SIM_HZ)), 1)
+            n = max(math.ceil(d * SIM_HZ), 1)
             for i in range(1, n + 1):
                 self.commands[pid] = a + (b - a) * (i / n)
                 yield WORK
@@ -351,7 +379,7 @@ class BulletWorld:
             from scipy.spatial.transform import Rotation
 
             turn = float(Rotation.from_matrix(prev[:3, :3].T @ T[:3, :3]).magnitude())
-            n = max(int(math.ceil(max(dist / 0.01, turn / 0.1))), 1)
+            n = max(math.ceil(max(dist / 0.01, turn / 0.1)), 1)
             slerp_rots = Rotation.from_matrix(np.stack([prev[:3, :3], T[:3, :3]]))
             for i in range(1, n + 1):
                 s = i / n
@@ -360,7 +388,7 @@ class BulletWorld:
 
                 M[:3, :3] = Slerp([0, 1], slerp_rots)([s]).as_matrix()[0]
                 M[:3, 3] = prev[:3, 3] + (T[:3, 3] - prev[:3, 3]) * s
-                qn = arm.ik(M, self.rng, path[-1], restarts=0, iterations=30)
+                qn = arm.ik(M, self.rng, path[-1], restarts=0, iterations=40, tolerance=5e-4, angle_tolerance=5e-3)
                 if qn is None or np.max(np.abs(qn - path[-1])) > 0.6:
                     raise ActionFailed(f"{what}: no continuous IK along the straight path")
                 path.append(qn)
@@ -369,10 +397,10 @@ class BulletWorld:
             prev = T
         if not path_free(collides, path, 0.05):
             raise ActionFailed(f"{what}: the straight path collides")
-        try:
+        try:  # noqa: SIM105
             yield from self._reserve(pid, path)
-        except _Replan:
-            pass  # a straight move cannot change: it waited for the way to clear
+        except _Replan:  # a straight move cannot change: it waited for the way to clear
+            pass
         try:
             k = 0
             for j, end in enumerate(marks):
@@ -389,6 +417,9 @@ class BulletWorld:
     def _hold(self, seconds: float) -> Program:
         for _ in range(max(int(seconds * SIM_HZ), 1)):
             yield WORK
+
+    def _collide_with_arm(self, pid: str, name: str, *, enabled: bool) -> None:
+        set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body, enabled=enabled)
 
     def _set_grip(self, pid: str, width: float) -> None:
         self.hands[pid].grip = width
@@ -468,7 +499,12 @@ class BulletWorld:
             if lift:
                 up = self.arms[pid].ee()
                 up[2, 3] += self.skills.lift
-                yield from self.linear(pid, [up], ignore=[*ignore], what=f"lift {name}")
+                try:
+                    yield from self.linear(pid, [up], ignore=[*ignore], what=f"lift {name}")
+                except ActionFailed as error:  # let go, back off, try another grasp
+                    reason = str(error)
+                    yield from self.release(pid)
+                    continue
             self._event("primitive_end", action, pid, name, primitive)
             return
         self._event("primitive_failed", action, pid, reason, primitive)
@@ -486,12 +522,10 @@ class BulletWorld:
         if retreat:
             back = self.arms[pid].ee()
             back[:3, 3] -= back[:3, 2] * self.skills.approach_distance
-            try:
+            with contextlib.suppress(ActionFailed):
                 yield from self.linear(pid, [back], ignore=[name] if name else [], what="retreat")
-            except ActionFailed:
-                pass
         if name is not None:
-            set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body, enabled=True)
+            self._collide_with_arm(pid, name, enabled=True)
 
     def engage(self, action: PlanAction, pid: str, spec: TSRSpec, roles: dict[str, str | None],
                meet: tuple[str, str] | None = None, accept: object = None) -> Program:
@@ -579,7 +613,8 @@ class BulletWorld:
         if step.contact is not None:
             sizes["f"] = self.half(roles.get(step.contact[1]))
         params = {k: (v if k == "axis" else evaluate(v, sizes)) for k, v in step.params.items()}
-        Rw = self._facing(roles[step.contact[1]], pid)[:3, :3] if step.contact and roles.get(step.contact[1]) \
+        contact_target = roles.get(step.contact[1]) if step.contact else None
+        Rw = self._facing(contact_target, pid)[:3, :3] if contact_target is not None \
             else np.eye(3)
         if not step.contact:
             target = roles.get("location") or roles.get("ingredient")
@@ -611,7 +646,7 @@ class BulletWorld:
                 T_tool_ing = np.eye(4)
                 T_tool_ing[:3, 3] = [0.6 * tool.hx, 0.0, tool.hz + ing.hz + 0.002]
                 hand.riding.append(Riding(name, carrier.T_ee_obj @ T_tool_ing))
-                set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body, enabled=False)
+                self._collide_with_arm(pid, name, enabled=False)
                 p.setCollisionFilterPair(self.bodies.objects[carrier.name].body, self.bodies.objects[name].body,
                                          -1, -1, 0, physicsClientId=self.client)
         for role in step.release:
@@ -623,7 +658,7 @@ class BulletWorld:
             else:
                 hand.riding = [r for r in hand.riding if r.name != name]
                 yield from self._hold(0.6)  # let it fall
-                set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body, enabled=True)
+                self._collide_with_arm(pid, name, enabled=True)
                 if hand.riding:
                     p.setCollisionFilterPair(self.bodies.objects[hand.riding[0].name].body,
                                              self.bodies.objects[name].body, -1, -1, 1, physicsClientId=self.client)
@@ -633,7 +668,7 @@ class BulletWorld:
 
     def program(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
         if action.verb == "handover":
-            giver, receiver = action.pids
+            giver, _receiver = action.pids
             yield from (self._giver(action, pid, meeting) if pid == giver else self._receiver(action, pid, meeting))
         elif action.verb == "holding":
             holder = action.pids[0]

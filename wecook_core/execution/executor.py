@@ -30,9 +30,9 @@ from typing import Literal, Protocol
 from wecook_core.execution.observer import RunEvent, RunObserver
 from wecook_core.plan import Plan, PlanAction
 
-WORK = "work"
-WAIT = "wait"
 Tick = Literal["work", "wait"]
+WORK: Tick = "work"
+WAIT: Tick = "wait"
 Program = Generator[Tick, None, None]
 DEADLOCK_SECONDS = 20.0
 """Simulated seconds of every program waiting before the waiting actions fail as deadlocked."""
@@ -232,10 +232,10 @@ def execute_plan(plan: Plan, observer: RunObserver, *, seed: int = 0, realtime: 
     ``planning_time`` bounds every motion-planning query (seconds). ``images``: camera images at action
     boundaries (``observer.on_image``). The observer sees ``on_start`` first and ``on_end`` last.
     """
+    import yaml
+
     from wecook_core.execution.bullet_world import BulletWorld
     from wecook_core.plan import plan_to_dict
-
-    import yaml
 
     began = time.perf_counter()
     world = BulletWorld(plan, observer, seed=seed, realtime=realtime, planner=planner,

@@ -14,6 +14,7 @@ global RNG is re-seeded before each query; a query that hits its time limit may 
 
 from __future__ import annotations
 
+import itertools
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -76,7 +77,7 @@ def segment_free(collides: CollisionFn, a: np.ndarray, b: np.ndarray, resolution
 
 
 def path_free(collides: CollisionFn, path: Sequence[np.ndarray], resolution: float) -> bool:
-    return all(segment_free(collides, a, b, resolution) for a, b in zip(path[:-1], path[1:], strict=True))
+    return all(segment_free(collides, a, b, resolution) for a, b in itertools.pairwise(path))
 
 
 # --------------------------------------------------------------------------------------------- OMPL

@@ -10,6 +10,7 @@ configuration, and the fingers, are allowed).
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -130,7 +131,7 @@ class PlanningScene:
         bodies = [self.bodies.objects[r.name].body for r in self.riding[pid]]
         boxes: list[tuple] = []
         states: list[np.ndarray] = [path[0]]
-        for a, b in zip(path[:-1], path[1:], strict=True):
+        for a, b in itertools.pairwise(path):
             n = max(int(np.ceil(np.linalg.norm(b - a) / step)), 1)
             states += [a + (b - a) * (k / n) for k in range(1, n + 1)]
         for q in states:

@@ -87,7 +87,7 @@ class Panda:
         pos = target[:3, 3].tolist()
         orn = Rotation.from_matrix(target[:3, :3]).as_quat().tolist()
         seeds = [HOME if seed_q is None else seed_q] + [rng.uniform(LOWER, UPPER) for _ in range(restarts)]
-        lower, upper = list(LOWER) + [0.0, 0.0], list(UPPER) + [0.04, 0.04]
+        lower, upper = [*list(LOWER), 0.0, 0.0], [*list(UPPER), 0.04, 0.04]
         ranges = [u - lo for u, lo in zip(upper, lower, strict=True)]
         fingers = self.fingers()
         for start in seeds:

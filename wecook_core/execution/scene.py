@@ -20,13 +20,14 @@ import math
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pybullet as p
 import pybullet_data
 
-from wecook_core.execution.observer import FrameInfo, Shape
 from wecook_core.errors import InputError
+from wecook_core.execution.observer import FrameInfo, Shape
 from wecook_core.model import Category
 from wecook_core.plan import Agent, Plan, SceneObject
 
@@ -98,7 +99,7 @@ def robot_path(urdf: str) -> str:
 def _yaw_matrix(x: float, y: float, z: float, yaw: float) -> np.ndarray:
     T = np.eye(4)
     c, s = math.cos(yaw), math.sin(yaw)
-    T[:3, :3] = [[c, -s, 0], [s, c, 0], [0, 0, 1]]
+    T[:3, :3] = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
     T[:3, 3] = (x, y, z)
     return T
 
@@ -115,7 +116,8 @@ def object_shapes(obj: SceneObject) -> tuple[tuple[Shape, ...], bool, float]:
         wz = -sz / 2 + WALL + wall_h / 2
         if obj.shape == "box":
             for sign in (-1, 1):
-                shapes.append(Shape("box", (WALL, sy, wall_h), ((sign * (sx - WALL) / 2, 0.0, wz), (0, 0, 0, 1)), color))
+                pose = ((sign * (sx - WALL) / 2, 0.0, wz), (0.0, 0.0, 0.0, 1.0))
+                shapes.append(Shape("box", (WALL, sy, wall_h), pose, color))
                 shapes.append(Shape("box", (sx - 2 * WALL, WALL, wall_h),
                                     ((0.0, sign * (sy - WALL) / 2, wz), (0, 0, 0, 1)), color))
         else:  # ring of wall boxes approximating a cylinder of diameter sx
@@ -124,7 +126,8 @@ def object_shapes(obj: SceneObject) -> tuple[tuple[Shape, ...], bool, float]:
             for k in range(RING_SEGMENTS):
                 a = 2 * math.pi * k / RING_SEGMENTS
                 quat = (0.0, 0.0, math.sin(a / 2), math.cos(a / 2))
-                shapes.append(Shape("box", (WALL, chord, wall_h), ((r * math.cos(a), r * math.sin(a), wz), quat), color))
+                pose = ((r * math.cos(a), r * math.sin(a), wz), quat)
+                shapes.append(Shape("box", (WALL, chord, wall_h), pose, color))
         return tuple(shapes), True, -sz / 2 + WALL
     kind = obj.shape if obj.shape in ("box", "cylinder", "sphere") else "box"
     return (Shape(kind, (sx, sy, sz), color=color),), False, sz / 2  # type: ignore[arg-type]
@@ -143,14 +146,14 @@ def _collision_and_visual(client: int, shapes: tuple[Shape, ...]) -> tuple[int, 
         colors.append(list(s.color))
     if len(shapes) == 1:
         s = shapes[0]
-        kw = {"radius": radii[0]} if s.kind != "box" else {"halfExtents": halves[0]}
+        kw: dict[str, Any] = {"radius": radii[0]} if s.kind != "box" else {"halfExtents": halves[0]}
         if s.kind == "cylinder":
             kw["height"] = lengths[0]
-        col = p.createCollisionShape(types[0], physicsClientId=client, **kw)  # type: ignore[arg-type]
+        col = p.createCollisionShape(types[0], physicsClientId=client, **kw)
         vkw = dict(kw)
         if s.kind == "cylinder":
             vkw = {"radius": radii[0], "length": lengths[0]}
-        vis = p.createVisualShape(types[0], rgbaColor=colors[0], physicsClientId=client, **vkw)  # type: ignore[arg-type]
+        vis = p.createVisualShape(types[0], rgbaColor=colors[0], physicsClientId=client, **vkw)
         return col, vis
     col = p.createCollisionShapeArray(types, radii=radii, halfExtents=halves, lengths=lengths,
                                       collisionFramePositions=positions, collisionFrameOrientations=orns,
@@ -199,7 +202,8 @@ def build_scene(client: int, plan: Plan, *, self_collision: bool = False) -> Sce
 def _load_arm(client: int, agent: Agent, self_collision: bool) -> Arm:
     urdf = robot_path(agent.robot)
     if not Path(urdf).is_file():
-        raise InputError(None, f"robot URDF {agent.robot!r} not found (looked at {urdf})", place=f"agents ({agent.pid})")
+        raise InputError(None, f"robot URDF {agent.robot!r} not found (looked at {urdf})",
+                         place=f"agents ({agent.pid})")
     quat = p.getQuaternionFromEuler([0, 0, agent.base_yaw])
     flags = p.URDF_USE_SELF_COLLISION if self_collision else 0
     body = p.loadURDF(urdf, list(agent.base_position), quat, useFixedBase=True, flags=flags, physicsClientId=client)

@@ -48,7 +48,7 @@ def evaluate(expr: Expr, sizes: Mapping[str, Half]) -> float:
         return float(expr)
     names: dict[str, Any] = {k: sizes.get(k, Half()) for k in ("f", "t", "i", "l")}
     names.update(min=min, max=max)
-    return float(eval(expr, {"__builtins__": {}}, names))  # noqa: S307 - validated by EXPR_RE at load
+    return float(eval(expr, {"__builtins__": {}}, names))
 
 
 @dataclass(frozen=True)
@@ -226,7 +226,7 @@ def load_skills(path: str | Path = SKILLS_PATH) -> SkillLibrary:
     if not isinstance(data, dict):
         raise _bad(path, "top", "expected a mapping")
     grasps = {}
-    for kind in KINDS + ("handover_side",):
+    for kind in (*KINDS, "handover_side"):
         specs = (data.get("grasps") or {}).get(kind)
         if not specs:
             raise _bad(path, f"grasps.{kind}", "missing")
@@ -288,7 +288,7 @@ class Waypoint:
     """Seconds to stay at this waypoint."""
 
 
-def _moved(E: np.ndarray, Rw: np.ndarray, dp: Sequence[float] = (0, 0, 0), axis: str | None = None,
+def _moved(E: np.ndarray, Rw: np.ndarray, dp: Sequence[float] | np.ndarray = (0, 0, 0), axis: str | None = None,
            angle: float = 0.0) -> np.ndarray:
     """``E`` translated by ``dp`` (engage-frame axes) and rotated by ``angle`` about an engage-frame axis through
     the effector origin."""
@@ -328,16 +328,16 @@ def actuation_path(motion: str, params: Mapping[str, float], E: np.ndarray, Rw: 
         out.append(Waypoint(_moved(E, Rw, (0, 0, -down))))
         steps = int(16 * turns)
         for k in range(steps + 1):
-            a = 2 * math.pi * k / 16
-            out.append(Waypoint(_moved(E, Rw, (r * math.sin(a), r * (1 - math.cos(a)) - 0 * r, -down))))
+            phase = 2 * math.pi * k / 16
+            out.append(Waypoint(_moved(E, Rw, (r * math.sin(phase), r * (1 - math.cos(phase)), -down))))
     elif motion == "tilt":
         angle = math.radians(g("angle", 90))
         axis = str(params.get("axis", "y"))
-        sign = -1.0 if axis == "y" else 1.0  # positive angles tip the top away from the arm (-x) or sideways
-        tilted = _moved(E, Rw, axis=axis, angle=sign * angle)
+        direction = -1.0 if axis == "y" else 1.0  # positive angles tip the top away from the arm (-x) or sideways
+        tilted = _moved(E, Rw, axis=axis, angle=direction * angle)
         out.append(Waypoint(tilted, hold=g("hold", 0.5)))
         for _ in range(int(g("shakes", 0))):
-            out.append(Waypoint(_moved(E, Rw, axis=axis, angle=sign * (angle + 0.25))))
+            out.append(Waypoint(_moved(E, Rw, axis=axis, angle=direction * (angle + 0.25))))
             out.append(Waypoint(tilted))
     elif motion == "strokes":
         down, amp, n = g("down", 0.03), g("amplitude", 0.03), int(g("count", 3))

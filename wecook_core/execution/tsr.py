@@ -44,7 +44,7 @@ class TSR:
             raise ValueError(f"TSR bounds must have low <= high, got {self.Bw.tolist()}")
 
 
-def xyzrpy_to_matrix(d: Sequence[float]) -> np.ndarray:
+def xyzrpy_to_matrix(d: Sequence[float] | np.ndarray) -> np.ndarray:
     """``(x, y, z, roll, pitch, yaw)`` -> 4x4 (rotations extrinsic x, y, z)."""
     T = np.eye(4)
     T[:3, :3] = Rotation.from_euler("xyz", d[3:6]).as_matrix()
