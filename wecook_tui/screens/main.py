@@ -133,7 +133,7 @@ class MainScreen(Screen[None]):
             f"  segment {index + 1}/{len(self.segments())}",
             f"  hand {self.selected_hand or '-'}",
             ("  ▶ playing" if self.playing else ""),
-            ("  recomputing…" if wb.pending else "", "yellow"),
+            ("  recomputing…" if wb.pending else ("  opening…" if wb.opened is None else ""), "yellow"),
         )
         self.query_one("#status", Static).update(line)
 

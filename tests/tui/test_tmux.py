@@ -1,0 +1,135 @@
+"""The real `wecook open` in a real terminal (tmux gives it one, also in CI): open, step, correct, export; and a
+SIGKILL in the middle of a session loses nothing that was shown."""
+
+from __future__ import annotations
+
+import os
+import shlex
+import signal
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import pytest
+from tui_driving import journal, pilot_test, settle
+
+from wecook_core.model import SegmentStatus
+from wecook_tui.app import WecookApp
+
+REPO = Path(__file__).resolve().parents[2]
+WECOOK = Path(sys.executable).with_name("wecook")
+
+
+class Terminal:
+    """A detached tmux session on a private server socket, 160x50, running one command."""
+
+    def __init__(self, socket: str, name: str) -> None:
+        self.socket = socket
+        self.name = name
+
+    def tmux(self, *args: str) -> str:
+        done = subprocess.run(["tmux", "-L", self.socket, *args], capture_output=True, text=True, timeout=20)
+        return done.stdout
+
+    def start(self, command: str) -> None:
+        self.tmux("new-session", "-d", "-s", self.name, "-x", "160", "-y", "50", command)
+        self.tmux("set-option", "-s", "escape-time", "0")  # Escape then q must not arrive as Alt+q
+
+    def keys(self, *keys: str) -> None:
+        for key in keys:
+            self.tmux("send-keys", "-t", self.name, key)
+            time.sleep(0.05)
+
+    def screen(self) -> str:
+        return self.tmux("capture-pane", "-p", "-t", self.name)
+
+    def pid(self) -> int:
+        return int(self.tmux("display-message", "-p", "-t", self.name, "#{pane_pid}").strip())
+
+    def alive(self) -> bool:
+        return self.name in self.tmux("list-sessions", "-F", "#{session_name}")
+
+    def wait(self, what: Callable[[], bool], message: str, timeout: float = 30.0) -> None:
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if what():
+                return
+            time.sleep(0.1)
+        raise AssertionError(f"{message}; screen:\n{self.screen()}")
+
+    def wait_ready(self) -> None:
+        """Until the session is open and its analysis shown (the status bar says neither opening nor
+        recomputing)."""
+        self.wait(lambda: "segment 1/" in (screen := self.screen()) and "opening" not in screen
+                  and "recomputing" not in screen, "the workbench never became ready")
+
+    def wait_text(self, text: str, timeout: float = 30.0) -> None:
+        self.wait(lambda: text in self.screen(), f"never showed {text!r}", timeout)
+
+
+@pytest.fixture
+def terminal(tmp_path: Path) -> Iterator[Terminal]:
+    term = Terminal(f"wecook-test-{os.getpid()}-{tmp_path.name}", "wb")
+    yield term
+    term.tmux("kill-server")
+
+
+def open_command(session: Path, tmp_path: Path) -> str:
+    env = f"WECOOK_KEYS={shlex.quote(str(tmp_path / 'none.toml'))} TERM=xterm-256color COLORTERM=truecolor"
+    return (f"cd {shlex.quote(str(REPO))} && exec env -u COLUMNS -u LINES {env} {shlex.quote(str(WECOOK))} "
+            f"open {session.name} --root {shlex.quote(str(session.parent))}")
+
+
+@pytest.mark.tmux
+def test_open_step_correct_export_in_a_real_terminal(session_path: Path, tmp_path: Path,
+                                                     terminal: Terminal) -> None:
+    terminal.start(open_command(session_path, tmp_path))
+    terminal.wait_ready()
+    terminal.keys("l", "l", "l")
+    terminal.wait_text("frame 3/")
+    terminal.keys("a")
+    terminal.wait(lambda: len(journal(session_path)) == 1, "accept was not journaled")
+    terminal.wait_text("✓ accepted")
+    terminal.keys("c")
+    terminal.wait_text("Action of")
+    terminal.keys("Down", "Enter")
+    terminal.wait(lambda: len(journal(session_path)) == 2, "the action change was not journaled")
+    entry = journal(session_path)[-1]
+    assert entry["op"] == "set_verb"
+    terminal.wait_text(f"{entry['hand']}: {entry['verb']}")  # the inspector shows the recomputed action
+    terminal.keys("e")
+    terminal.wait_text("Press w to write")
+    terminal.keys("w")
+    terminal.wait_text("Plan written to")
+    assert (session_path / "plans" / "plan.yaml").is_file()
+    terminal.keys("Escape")
+    terminal.wait_text("Next segment")  # back on the main screen
+    terminal.keys("q")
+    terminal.wait(lambda: not terminal.alive(), "wecook did not quit on q")
+
+
+@pytest.mark.tmux
+@pilot_test
+async def test_sigkill_mid_session_loses_nothing(session_path: Path, tmp_path: Path, terminal: Terminal) -> None:
+    terminal.start(open_command(session_path, tmp_path))
+    terminal.wait_ready()
+    terminal.keys("a", "Down", "x", "Down", "c")
+    terminal.wait_text("Action of")
+    terminal.keys("Enter")
+    terminal.wait(lambda: len(journal(session_path)) == 3, "the verb change was not journaled")
+    terminal.keys("z")  # undo it: the kill comes right after, while the analysis recomputes
+    terminal.wait(lambda: len(journal(session_path)) == 4, "the undo was not journaled")
+    os.kill(terminal.pid(), signal.SIGKILL)
+    terminal.wait(lambda: not terminal.alive(), "the app survived SIGKILL")
+    entries = journal(session_path)
+    assert [e["op"] for e in entries] == ["set_status", "set_status", "set_verb", "undo"]
+    app = WecookApp(session_path)
+    async with app.run_test(size=(150, 45)) as pilot:
+        await settle(pilot, app)
+        segs = app.analysis.segmentation.segments
+        assert app.corrections.status == {0: SegmentStatus.ACCEPTED, segs[1].start: SegmentStatus.REJECTED}
+        assert app.corrections.verbs == {}
+        await pilot.press("y")  # the undone verb change can still be redone after the crash
+        assert len(app.corrections.verbs) == 1
