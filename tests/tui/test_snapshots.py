@@ -1,0 +1,60 @@
+"""Snapshots of the workbench on the small kitchen session (update with `pytest --snapshot-update`)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from tui_driving import settle
+
+from wecook_tui.app import WecookApp
+
+SIZE = (140, 42)
+
+
+@pytest.fixture
+def fixed_key_path(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("WECOOK_KEYS", "/nonexistent/wecook/keys.toml")  # shown on the help screen
+
+
+def ready(app: WecookApp):  # type: ignore[no-untyped-def]
+    async def run_before(pilot) -> None:  # type: ignore[no-untyped-def]
+        await settle(pilot, app)
+
+    return run_before
+
+
+def test_main_screen(snap_compare, session_path: Path) -> None:  # type: ignore[no-untyped-def]
+    app = WecookApp(session_path)
+    assert snap_compare(app, terminal_size=SIZE, run_before=ready(app))
+
+
+def test_main_screen_after_review(snap_compare, session_path: Path) -> None:  # type: ignore[no-untyped-def]
+    app = WecookApp(session_path)
+
+    async def run_before(pilot) -> None:  # type: ignore[no-untyped-def]
+        await settle(pilot, app)
+        await pilot.press("a", "down", "x", "down", "L", "L")
+        await settle(pilot, app)
+
+    assert snap_compare(app, terminal_size=SIZE, run_before=run_before)
+
+
+def test_help_screen(snap_compare, session_path: Path, fixed_key_path: None) -> None:  # type: ignore[no-untyped-def]
+    app = WecookApp(session_path)
+
+    async def run_before(pilot) -> None:  # type: ignore[no-untyped-def]
+        await settle(pilot, app)
+        await pilot.press("question_mark")
+
+    assert snap_compare(app, terminal_size=SIZE, run_before=run_before)
+
+
+def test_action_picker(snap_compare, session_path: Path) -> None:  # type: ignore[no-untyped-def]
+    app = WecookApp(session_path)
+
+    async def run_before(pilot) -> None:  # type: ignore[no-untyped-def]
+        await settle(pilot, app)
+        await pilot.press("c")
+
+    assert snap_compare(app, terminal_size=SIZE, run_before=run_before)
