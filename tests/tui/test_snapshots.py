@@ -1,4 +1,7 @@
-"""Snapshots of the workbench on the small kitchen session (update with `pytest --snapshot-update`)."""
+"""Snapshots of the workbench (update with `pytest --snapshot-update`).
+
+They run on the fake workspace of ``tui_fake`` (a video, boxes and an analysis made in the test) so that they
+show the widgets, and do not change whenever the pipeline's numbers improve."""
 
 from __future__ import annotations
 
@@ -6,6 +9,7 @@ from pathlib import Path
 
 import pytest
 from tui_driving import settle
+from tui_fake import fake_workspace
 
 from wecook_tui.app import WecookApp
 
@@ -17,6 +21,11 @@ def fixed_key_path(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("WECOOK_KEYS", "/nonexistent/wecook/keys.toml")  # shown on the help screen
 
 
+def fake_app(folder: Path) -> WecookApp:
+    opener, analyzer = fake_workspace(folder)
+    return WecookApp(folder / "kitchen", opener=opener, analyzer=analyzer)
+
+
 def ready(app: WecookApp):  # type: ignore[no-untyped-def]
     async def run_before(pilot) -> None:  # type: ignore[no-untyped-def]
         await settle(pilot, app)
@@ -24,13 +33,13 @@ def ready(app: WecookApp):  # type: ignore[no-untyped-def]
     return run_before
 
 
-def test_main_screen(snap_compare, session_path: Path) -> None:  # type: ignore[no-untyped-def]
-    app = WecookApp(session_path)
+def test_main_screen(snap_compare, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    app = fake_app(tmp_path)
     assert snap_compare(app, terminal_size=SIZE, run_before=ready(app))
 
 
-def test_main_screen_after_review(snap_compare, session_path: Path) -> None:  # type: ignore[no-untyped-def]
-    app = WecookApp(session_path)
+def test_main_screen_after_review(snap_compare, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    app = fake_app(tmp_path)
 
     async def run_before(pilot) -> None:  # type: ignore[no-untyped-def]
         await settle(pilot, app)
@@ -40,8 +49,8 @@ def test_main_screen_after_review(snap_compare, session_path: Path) -> None:  # 
     assert snap_compare(app, terminal_size=SIZE, run_before=run_before)
 
 
-def test_help_screen(snap_compare, session_path: Path, fixed_key_path: None) -> None:  # type: ignore[no-untyped-def]
-    app = WecookApp(session_path)
+def test_help_screen(snap_compare, tmp_path: Path, fixed_key_path: None) -> None:  # type: ignore[no-untyped-def]
+    app = fake_app(tmp_path)
 
     async def run_before(pilot) -> None:  # type: ignore[no-untyped-def]
         await settle(pilot, app)
@@ -50,8 +59,8 @@ def test_help_screen(snap_compare, session_path: Path, fixed_key_path: None) -> 
     assert snap_compare(app, terminal_size=SIZE, run_before=run_before)
 
 
-def test_action_picker(snap_compare, session_path: Path) -> None:  # type: ignore[no-untyped-def]
-    app = WecookApp(session_path)
+def test_action_picker(snap_compare, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    app = fake_app(tmp_path)
 
     async def run_before(pilot) -> None:  # type: ignore[no-untyped-def]
         await settle(pilot, app)

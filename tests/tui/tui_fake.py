@@ -167,6 +167,7 @@ def fake_workspace(folder: Path) -> tuple[callable, callable]:  # type: ignore[v
     obs = make_obs(video)
 
     def opener(path: Path) -> Opened:
+        path.mkdir(parents=True, exist_ok=True)
         return Opened(FakeSession(path), obs, None, FrameSource(obs.video.path), [])
 
     def analyzer(opened: Opened, corrections: Corrections) -> Analysis:
