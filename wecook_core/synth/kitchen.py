@@ -31,7 +31,7 @@ class Kind:
 
 
 KINDS: dict[str, Kind] = {k.label: k for k in (
-    Kind("knife", "knife", (90, 12), (200, 200, 205), grip=-38),
+    Kind("knife", "knife", (86, 12), (200, 200, 205), grip=-36),
     Kind("spoon", "spoon", (60, 12), (170, 175, 180), grip=-22),
     Kind("peeler", "peeler", (50, 12), (60, 140, 60), grip=-24),
     Kind("rolling pin", "rolling_pin", (88, 16), (120, 180, 215), grip=-34),
@@ -64,7 +64,7 @@ TIPPED = ("cheese", "onion", "carrot")
 HANDED_OVER = ("lemon", "salt", "oil")
 """Objects one person passes to the other (chosen per handover)."""
 
-MAX_DOUGH = (84.0, 52.0)
+MAX_DOUGH = (76.0, 50.0)
 """The dough grows while it is rolled, up to this size."""
 
 FALLBACK_CATEGORIES: dict[str, Category] = {

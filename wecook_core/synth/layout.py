@@ -116,6 +116,8 @@ class Layout:
     """Where handovers happen (two persons), pixels."""
     groups: dict[str, tuple[str, ...]]
     """Task group -> the names of its objects (ownership moves with the group)."""
+    handed: str | None = None
+    """The object the persons pass to each other (it has a place on both sides); None for one person."""
 
     def body(self, person: str) -> Body:
         return next(b for b in self.bodies if b.person == person)
@@ -236,6 +238,13 @@ def _try_layout(
     tomato = add("tomato", board.home + 16 * to_cutter, 0.0, None)
     tomato.inside = "chopping_board"
     middle_boxes = list(boxes.values())
+    keep: list[np.ndarray] = []
+    for body in bodies:  # where hands work around the pot and the board: no object at home there
+        side = float(np.sign(body.forward[0]))
+        for name in ("pot", "chopping_board"):
+            b = boxes[name]
+            edge = b[0] if side > 0 else b[2]
+            keep.append(np.array([min(edge, edge - side * 60), b[1] - 10, max(edge, edge - side * 60), b[3] + 10]))
 
     # everything else: each group in its owner's area, the biggest first
     order_labels: list[tuple[str, str]] = []
@@ -250,10 +259,11 @@ def _try_layout(
     order_labels.sort(key=lambda item: -float(np.prod(KINDS[item[0]].size)))
     for label, owner in order_labels:
         body = next(b for b in bodies if b.person == owner)
-        placed = _place(label, body, persons, boxes, middle_boxes, bodies, rng)
+        placed = _place(label, body, persons, boxes, middle_boxes, keep, bodies, rng)
         if placed is None:
             return None
-        centre, angle = placed
+        centre, angle, kept = placed
+        keep.extend(kept)
         if KINDS[label].style in ("bowl", "jar"):  # the rim a hand takes faces the person
             hand = body.hand_towards(centre)
             d = centre - body.shoulder(hand)
@@ -269,51 +279,103 @@ def _try_layout(
         inner = add(content, centre, float(rng.uniform(-0.4, 0.4)), holder.owner)
         inner.inside = holder.name
         inner.offset = offset
-    # where handed-over objects go on the other person's side
-    if persons == 2:
-        for label in ("lemon", "salt", "oil"):
+    # where the object passed between the persons goes on the other person's side
+    handed = str(rng.choice(["lemon", "salt", "oil"])) if persons == 2 else None
+    if handed is not None:
+        for label in (handed,):
             thing = things[label]
             thing.homes[thing.owner or "P1"] = thing.home
             other = next(b for b in bodies if b.person != thing.owner)
-            placed = _place(label, other, persons, boxes, middle_boxes, bodies, rng)
+            placed = _place(label, other, persons, boxes, middle_boxes, keep, bodies, rng)
             if placed is None:
                 return None
             thing.homes[other.person] = placed[0]
+            keep.extend(placed[2])
             boxes[f"{label}@{other.person}"] = box_of(placed[0], thing.kind.size, placed[1], thing.kind.round)
     ordered = dict(sorted(things.items(), key=lambda item: item[1].track_id))
     groups = {g: tuple(labels.get(m, m).replace(" ", "_") for m in members)
               for g, members in GROUPS.items() if g in owners}
-    return Layout(bodies, ordered, meeting, groups)
+    return Layout(bodies, ordered, meeting, groups, handed)
+
+
+def _keep_out(label: str, centres: np.ndarray, angle: float, body: Body) -> np.ndarray:
+    """``(k, j, 4)``: for objects at ``centres`` ``(k, 2)``, the boxes where a hand will work on them at
+    home, which no other object may touch: behind a jar or a potato (the spoon's, the peeler's hand), beside
+    the dough (the rolling pin's ends), at a tool's handle and at a bowl's near rim."""
+    kind = KINDS[label]
+    shoulder = (body.shoulder(body.hand("L")) + body.shoulder(body.hand("R"))) / 2
+    back = shoulder - centres
+    back /= np.maximum(np.linalg.norm(back, axis=1), 1e-9)[:, None]
+
+    def square(points: np.ndarray, half: float) -> np.ndarray:
+        return np.concatenate([points - half, points + half], axis=1)[:, None, :]
+
+    if kind.style in ("jar", "potato"):
+        return square(centres + 38 * back, 24)
+    if kind.style == "bowl":
+        return square(centres + 28 * back, 19)
+    if kind.style == "dough":
+        half = extent(MAX_DOUGH, angle, True)
+        lateral = np.abs(np.asarray(body.left)) * 44
+        return np.concatenate([centres - half - lateral, centres + half + lateral], axis=1)[:, None, :]
+    if kind.grip:
+        axis = rotation(angle) @ np.array([kind.grip, 0.0])
+        ends = [square(centres + axis, 18)]
+        if kind.style == "rolling_pin":
+            ends.append(square(centres - axis, 18))
+        return np.concatenate(ends, axis=1)
+    return np.zeros((len(centres), 0, 4))
+
+
+def _gaps(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Gaps between boxes ``a[..., 4]`` and ``b[..., 4]`` (broadcast), 0 where they overlap."""
+    dx = np.maximum(np.maximum(a[..., 0] - b[..., 2], b[..., 0] - a[..., 2]), 0.0)
+    dy = np.maximum(np.maximum(a[..., 1] - b[..., 3], b[..., 1] - a[..., 3]), 0.0)
+    return np.hypot(dx, dy)
+
+
+def _clear(candidates: np.ndarray, others: list[np.ndarray], least: float) -> np.ndarray:
+    if not others:
+        return np.ones(candidates.shape[0], dtype=bool)
+    gaps = _gaps(candidates[:, None, :], np.asarray(others)[None, :, :])
+    return np.all(gaps >= least, axis=1)
 
 
 def _place(
     label: str, body: Body, persons: int, boxes: dict[str, np.ndarray], middle: list[np.ndarray],
-    bodies: tuple[Body, ...], rng: np.random.Generator, tries: int = 300,
-) -> tuple[np.ndarray, float] | None:
+    keep: list[np.ndarray], bodies: tuple[Body, ...], rng: np.random.Generator, step: float = 3.0,
+) -> tuple[np.ndarray, float, list[np.ndarray]] | None:
+    """A random free spot for ``label`` in ``body``'s strip (every spot on a 3-pixel grid is checked), its
+    angle and its keep-out boxes; None when the strip is full."""
     kind = KINDS[label]
     size = MAX_DOUGH if label == "dough" else kind.size
     forward = np.asarray(body.forward)
-    base_angle = float(np.arctan2(forward[1], forward[0]))
+    angle = float(np.arctan2(forward[1], forward[0])) + rng.uniform(-0.12, 0.12)
     if kind.style == "rolling_pin":
-        base_angle += np.pi / 2
+        angle += np.pi / 2
+    if kind.round and kind.style in ("bowl", "jar"):
+        angle = 0.0  # turned towards the hand that takes it once placed
     x_lo, x_hi = (116.0, 234.0) if body.person == "P1" else (406.0, 524.0)
     y_lo, y_hi = 10.0, 350.0
+    half = extent(size, angle, kind.round)
+    xs = np.arange(x_lo + half[0], x_hi - half[0] + 1e-9, step)
+    ys = np.arange(y_lo + half[1], y_hi - half[1] + 1e-9, step)
+    if not len(xs) or not len(ys):
+        return None
+    centres = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2) + rng.uniform(0, step, 2)
+    candidates = np.concatenate([centres - half, centres + half], axis=1)
+    shoulders = np.array([body.shoulder(body.hand("L")), body.shoulder(body.hand("R"))])
+    reach = np.min(np.linalg.norm(centres[:, None, :] - shoulders[None], axis=2), axis=1)
     hands = [np.array([*np.asarray(r) - 18, *np.asarray(r) + 18]) for b in bodies for r in b.rests.values()]
-    for _ in range(tries):
-        angle = base_angle + rng.uniform(-0.12, 0.12)
-        if kind.round and kind.style in ("bowl", "jar"):
-            angle = 0.0  # turned towards the hand that takes it when the script runs
-        half = extent(size, angle, kind.round)
-        centre = np.array([rng.uniform(x_lo + half[0], x_hi - half[0]), rng.uniform(y_lo + half[1], y_hi - half[1])])
-        box = np.concatenate([centre - half, centre + half])
-        shoulders = [body.shoulder(body.hand("L")), body.shoulder(body.hand("R"))]
-        if min(float(np.hypot(*(centre - s))) for s in shoulders) > REACH - 10:
-            continue
-        if any(gap(box, other) < CLEARANCE for other in boxes.values()):
-            continue
-        if any(gap(box, other) < MIDDLE_CLEARANCE for other in middle):
-            continue
-        if any(gap(box, h) < CLEARANCE for h in hands):
-            continue
-        return centre, angle
-    return None
+    ok = ((reach <= REACH - 10) & _clear(candidates, list(boxes.values()), CLEARANCE)
+          & _clear(candidates, middle, MIDDLE_CLEARANCE) & _clear(candidates, hands, CLEARANCE)
+          & _clear(candidates, keep, 2.0))
+    kept = _keep_out(label, centres, angle, body)
+    if kept.shape[1] and boxes:
+        gaps = _gaps(kept[:, :, None, :], np.asarray(list(boxes.values()))[None, None, :, :])
+        ok &= np.all(gaps >= 2.0, axis=(1, 2))
+    choices = np.flatnonzero(ok)
+    if not len(choices):
+        return None
+    pick = int(rng.choice(choices))
+    return centres[pick], angle, list(kept[pick])

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wecook_core.model import Action, ActionKind
+from wecook_core.synth.kitchen import MAX_DOUGH
 from wecook_core.synth.layout import Body, Layout, Thing, extent, make_layout
 from wecook_core.synth.motion import Hold, Move, Phase, Work, rotation
 
@@ -343,7 +344,7 @@ class _Writer:
         # the pin's middle rides a little off the dough's centre, away from the hand holding its end
         target = dough.home + 12 * body.outward(hand)
         old = self.dough_scale
-        new = (min(old[0] * 1.12, 84 / 58), min(old[1] * 1.08, 52 / 42))
+        new = (min(old[0] * 1.1, MAX_DOUGH[0] / 58), min(old[1] * 1.08, MAX_DOUGH[1] / 42))
 
         def grow(t0: int, t1: int) -> None:
             draft.sizes["dough"].append(Resize(t0, t1, new))
@@ -666,7 +667,7 @@ def write_script(seed_rng: np.random.Generator, persons: int, fps: float, limit:
             if kind == "holding":
                 extra = "pot" if seed_rng.random() < 0.6 else "chopping_board"
             elif kind == "handover":
-                extra = str(seed_rng.choice(["lemon", "salt", "oil"]))
+                extra = layout.handed
             placed += writer.schedule(kind, extra)
             last = kind
         if limit is None or placed == 0:
