@@ -27,8 +27,10 @@ from wecook_core.associate import (
     Timeline,
     _gap,
     associate_segments,
+    dwelling_points,
     frame_boxes,
     kept_runs,
+    longest_runs,
     video_diagonal,
 )
 from wecook_core.model import (
@@ -130,11 +132,12 @@ def individual_action(
     *,
     still: bool = True,
     verb: str | None = None,
+    hand_share: float = 0.3,
 ) -> tuple[Action | None, Ranking]:
     """The action of one hand in one segment from its associations (no transfer, no collaboration).
 
     ``still``: the hand hardly moves during the segment (a held ingredient is worked, not carried).
-    ``verb``: the user's choice, replacing the recognised verb."""
+    ``verb``: the user's choice, replacing the recognised verb. ``hand_share``: see ``Params.hand_share``."""
     segment = assoc.segment
     held = assoc.hand_object.get(hand)
     if held is None:
@@ -153,11 +156,11 @@ def individual_action(
         elif containers:
             targets = (containers[0],)
     elif category is Category.INGREDIENT:
-        if containers:
+        if containers:  # poured, sprinkled, dipped into a container
             targets = (containers[0],)
         elif ingredients:
-            targets = _with_container(ingredients[0], assoc)
-        elif still:
+            pass  # an ingredient held beside another is not acting on it
+        elif still and _hand_share(knowledge, held) >= hand_share:
             kind, targets, allowed = ActionKind.HAND, (held,), HAND_VERBS
     if not targets:
         if verb is None:
@@ -175,18 +178,25 @@ def individual_action(
                   scores=ranking), ranking
 
 
-def hand_speed(obs: Observations, hand: str, segment: Segment) -> float:
-    """Median speed of a hand during a segment, pixels per frame (0 when it is seen on fewer than 2 frames)."""
+def _hand_share(knowledge: Knowledge, ingredient: str) -> float:
+    """How much of P(A | ingredient) the verbs of a bare hand take (lemon: squeeze; oil: hardly any)."""
+    return sum(p for verb, p in _rank(knowledge, [ingredient]) if verb in HAND_VERBS)
+
+
+def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, diagonal: float) -> bool:
+    """The hand stays put (:func:`~wecook_core.associate.dwelling` within ``still_fraction`` of the image
+    diagonal) for ``min_frames`` consecutive frames of the segment: it works what it holds, it does not just
+    grasp it on the way somewhere."""
     track = obs.hand(hand)
     if track is None:
-        return 0.0
-    lo, hi = np.searchsorted(track.frames, [segment.start, segment.end])
-    if hi - lo < 2:
-        return 0.0
-    xy = track.xy[lo:hi]
-    steps = np.diff(track.frames[lo:hi]).astype(float)
-    speed = np.linalg.norm(np.diff(xy, axis=0), axis=1) / np.maximum(steps, 1.0)
-    return float(np.median(speed))
+        return False
+    window = params.dwell_frames
+    lo, hi = segment.start - window, segment.end + window
+    a, b = np.searchsorted(track.frames, [lo, hi])
+    xy = np.full((hi - lo, 2), np.nan)
+    xy[track.frames[a:b] - lo] = track.xy[a:b]
+    still = dwelling_points(xy, window, params.still_fraction * diagonal)[window : window + len(segment)]
+    return bool(longest_runs(still[:, None])[0] >= min(params.min_frames, len(segment)))
 
 
 # ---------------------------------------------------------------------------------- timeline events
@@ -229,7 +239,8 @@ def transfer_events(obs: Observations, timeline: Timeline, params: Params) -> tu
             if event is None:
                 continue
             hand, carrier, span_start, span_end = event
-            end = _arrival_end(obs, column, carrier, start2, span_end, near) if carrier != NONE else hi
+            end = _arrival_end(obs, column, carrier, start2, span_end, near, params.fill_gap) \
+                if carrier != NONE else hi
             events.append(TransferEvent(
                 timeline.names[column], timeline.names[source], timeline.names[destination], HANDS[hand],
                 timeline.names[carrier] if carrier != NONE else None, span_start, max(hi, end),
@@ -237,11 +248,13 @@ def transfer_events(obs: Observations, timeline: Timeline, params: Params) -> tu
     return tuple(events)
 
 
-def _arrival_end(obs: Observations, ingredient: int, carrier: int, arrival: int, hold_end: int, near: float) -> int:
+def _arrival_end(
+    obs: Observations, ingredient: int, carrier: int, arrival: int, hold_end: int, near: float, fill: int
+) -> int:
     """First frame after ``arrival`` where the carrier has left the ingredient it delivered (within its hold)."""
     if hold_end <= arrival:
         return arrival
-    boxes = frame_boxes(obs, arrival, hold_end)
+    boxes = frame_boxes(obs, arrival, hold_end, fill)
     with np.errstate(invalid="ignore"):
         close = _gap(boxes.objects[:, carrier, :], boxes.objects[:, ingredient, :]) <= near
     away = np.flatnonzero(~close)
@@ -255,7 +268,7 @@ def _mover(
     ingredient during ``[lo, hi)``, or None when no hand did."""
     if hi <= lo:
         return None
-    boxes = frame_boxes(obs, lo, hi)
+    boxes = frame_boxes(obs, lo, hi, params.fill_gap)
     ingredient_boxes = boxes.objects[:, ingredient, :]
     rows = np.arange(hi - lo)
     best: tuple[float, int, int] | None = None
@@ -389,7 +402,7 @@ def recognize_actions(
         _, timeline = associate_segments(obs, segmentation.segments, params, corrections)
     corrections = corrections or Corrections()
     categories = obs.categories
-    still_speed = params.still_fraction * video_diagonal(obs)
+    diagonal = video_diagonal(obs)
     transfers = transfer_events(obs, timeline, params)
     handovers = handover_events(timeline, params)
     result = []
@@ -400,8 +413,9 @@ def recognize_actions(
         partners: set[str] = set()
         for hand in HANDS:
             verb = corrections.verbs.get((segment.start, hand))
-            still = hand_speed(obs, hand, segment) <= still_speed
-            action, ranking = individual_action(hand, assoc, categories, knowledge, still=still, verb=verb)
+            still = hand_still(obs, hand, segment, params, diagonal)
+            action, ranking = individual_action(hand, assoc, categories, knowledge, still=still, verb=verb,
+                                                hand_share=params.hand_share)
             if action is not None:
                 acts[hand] = action
             if ranking:

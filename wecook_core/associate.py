@@ -52,25 +52,48 @@ class FrameBoxes:
     """float64 ``(frames, hands, 4)``: pixels, NaN where the hand is not detected."""
 
 
-def frame_boxes(obs: Observations, start: int, end: int) -> FrameBoxes:
-    """Dense boxes of every object and hand on ``[start, end)`` (cost: the tracks' entries in the range)."""
+def frame_boxes(obs: Observations, start: int, end: int, fill: int = 0) -> FrameBoxes:
+    """Dense boxes of every object and hand on ``[start, end)`` (cost: the tracks' entries in the range),
+    gaps of at most ``fill`` frames interpolated."""
     length = max(0, end - start)
     names = tuple(track.name for track in obs.objects)
     categories = tuple(Category(obs.categories.get(name, Category.INGREDIENT)) for name in names)
     objects = np.full((length, len(names), 4), np.nan)
     for column, track in enumerate(obs.objects):
-        _scatter(objects[:, column], track.frames, track.boxes, start, end)
+        _scatter(objects[:, column], track.frames, track.boxes, start, end, fill)
     hand_boxes = np.full((length, len(HANDS), 4), np.nan)
     for hand_track in obs.hands:
         if hand_track.hand in HANDS:
-            _scatter(hand_boxes[:, HANDS.index(hand_track.hand)], hand_track.frames, hand_track.boxes, start, end)
+            _scatter(hand_boxes[:, HANDS.index(hand_track.hand)], hand_track.frames, hand_track.boxes, start, end,
+                     fill)
     return FrameBoxes(start, end, names, categories, objects, HANDS, hand_boxes)
 
 
-def _scatter(out: np.ndarray, frames: np.ndarray, values: np.ndarray, start: int, end: int) -> None:
+def _scatter(out: np.ndarray, frames: np.ndarray, values: np.ndarray, start: int, end: int, fill: int) -> None:
+    """Write a track's entries on ``[start, end)`` into ``out`` (row = frame - start), interpolating linearly
+    across gaps of at most ``fill`` frames (a detector missing a few frames)."""
     lo, hi = np.searchsorted(frames, [start, end])
     if hi > lo:
         out[frames[lo:hi] - start] = values[lo:hi]
+    if fill <= 0 or len(frames) < 2:
+        return
+    a, b = max(lo - 1, 0), min(hi + 1, len(frames))  # the entries just outside the range bound its gaps
+    near_frames, near_values = frames[a:b], values[a:b]
+    if len(near_frames) < 2:
+        return
+    gaps = np.diff(near_frames)
+    if not ((gaps > 1) & (gaps <= fill + 1)).any():
+        return
+    missing = np.arange(start, end)
+    position = np.searchsorted(near_frames, missing)
+    inside = (position > 0) & (position < len(near_frames))
+    before = near_frames[np.clip(position - 1, 0, len(near_frames) - 1)]
+    after = near_frames[np.clip(position, 0, len(near_frames) - 1)]
+    todo = inside & (after != missing) & (after - before <= fill + 1)
+    if todo.any():
+        t = missing[todo]
+        for k in range(values.shape[1]):
+            out[todo, k] = np.interp(t, near_frames, near_values[:, k])
 
 
 def _area(boxes: np.ndarray) -> np.ndarray:
@@ -108,6 +131,9 @@ class FrameLinks:
     ingredient already replaced by its container)."""
     touched: np.ndarray
     """int ``(frames, hands)``: like ``held`` but before replacing a contained ingredient by its container."""
+    since: np.ndarray
+    """int64 ``(hands, objects)``: on the last frame, the frame where each hand's current overlap with each
+    object began (:data:`NONE`: no overlap); pass it to the next range's :func:`frame_links`."""
 
     @property
     def start(self) -> int:
@@ -118,13 +144,16 @@ class FrameLinks:
         return self.boxes.end
 
 
-def frame_links(obs: Observations, start: int, end: int, params: Params) -> FrameLinks:
-    """Ingredient-container and hand-object links of every frame of ``[start, end)``."""
-    boxes = frame_boxes(obs, start, end)
-    return links_of(boxes, params)
+def frame_links(
+    obs: Observations, start: int, end: int, params: Params, since: np.ndarray | None = None
+) -> FrameLinks:
+    """Ingredient-container and hand-object links of every frame of ``[start, end)``; ``since`` carries the
+    hand-object overlaps on from the frame before ``start`` (:attr:`FrameLinks.since` of the previous range)."""
+    boxes = frame_boxes(obs, start, end, params.fill_gap)
+    return links_of(boxes, params, since)
 
 
-def links_of(boxes: FrameBoxes, params: Params) -> FrameLinks:
+def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None) -> FrameLinks:
     cats = np.array([str(c) for c in boxes.categories])
     length, n_objects = boxes.objects.shape[:2]
     objects = boxes.objects
@@ -147,22 +176,35 @@ def links_of(boxes: FrameBoxes, params: Params) -> FrameLinks:
         found = np.take_along_axis(score, best[..., None], axis=2)[..., 0] > 0
         container[:, ingredients] = np.where(found, containers[best], NONE)
 
-    # hand-object: overlapping boxes, the closest centre on ties.
+    # hand-object: overlapping boxes; a grasp persists: among several, the one overlapped longest without a
+    # break (the hand carrying a spoon over a rolling pin still holds the spoon), then the closest centre.
     hands = boxes.hand_boxes
     held = np.full((length, len(boxes.hands)), NONE, dtype=np.int32)
     touched = held.copy()
+    last = np.full((len(boxes.hands), n_objects), NONE, dtype=np.int64)
     if n_objects and length:
         inter = _intersection(hands[:, :, None, :], objects[:, None, :, :])
         overlap = inter > 0
+        before = np.empty_like(overlap)
+        before[0] = since >= 0 if since is not None else False
+        before[1:] = overlap[:-1]
+        frames = np.arange(boxes.start, boxes.end, dtype=np.int64)[:, None, None]
+        began = np.where(overlap & ~before, frames, NONE)
+        if since is not None:
+            began[0] = np.where(overlap[0] & before[0], since, began[0])
+        run_start = np.maximum.accumulate(began, axis=0)
         distance = np.linalg.norm(_centre(hands)[:, :, None, :] - _centre(objects)[:, None, :, :], axis=-1)
-        distance = np.where(overlap, distance, np.inf)
+        finite = distance[np.isfinite(distance)]
+        scale = float(finite.max()) + 1.0 if finite.size else 1.0
+        distance = np.where(overlap, run_start + np.nan_to_num(distance, nan=0.0) / scale, np.inf)
         best = np.argmin(distance, axis=2)
         any_overlap = overlap.any(axis=2)
+        last = np.where(overlap[-1], run_start[-1], NONE)
         touched = np.where(any_overlap, best, NONE).astype(np.int32)
         rows = np.arange(length)[:, None]
         redirect = np.where(touched >= 0, container[rows, np.maximum(touched, 0)], NONE)
         held = np.where(redirect >= 0, redirect, touched).astype(np.int32)
-    return FrameLinks(boxes, container, held, touched)
+    return FrameLinks(boxes, container, held, touched, last)
 
 
 # ----------------------------------------------------------------------------------------------- runs
@@ -236,10 +278,14 @@ def associations_of(
     params: Params,
     video_diagonal: float,
     corrections: Corrections | None = None,
+    window: Segment | None = None,
 ) -> Associations:
     """The links of one segment that last ``min_frames`` consecutive frames, from its per-frame links, with
-    the user's hand-object and object-object corrections for this segment applied."""
-    lo, hi = segment.start - links.start, segment.end - links.start
+    the user's hand-object and object-object corrections for this segment applied. ``window``: the frames
+    to summarise when not the segment's own (a segment shorter than ``min_frames`` is judged on the
+    ``min_frames`` around it)."""
+    window = window or segment
+    lo, hi = window.start - links.start, window.end - links.start
     names = links.boxes.names
     min_frames = min(params.min_frames, hi - lo)  # a link that lasts a whole short segment counts
     containment: dict[str, str] = {}
@@ -276,11 +322,13 @@ def near_objects(
     least ``min_share`` of the frames) among ``rows`` (a boolean mask over the rows of ``links``), closest
     first (mean box gap).
 
-    Near means a box gap of at most ``params.near_fraction * video_diagonal`` pixels. Tools and the held
-    object itself are never linked."""
+    Near means a box gap of at most ``params.near_fraction * video_diagonal`` pixels while the held object
+    dwells there (:func:`dwelling`): passing by on the way somewhere is not acting. Tools and the held object
+    itself are never linked."""
     boxes = links.boxes
     gap = _gap(boxes.objects[:, held : held + 1, :], boxes.objects)
-    near = (gap <= params.near_fraction * video_diagonal) & rows[:, None]
+    near = (gap <= params.near_fraction * video_diagonal) & rows[:, None] & dwelling(
+        boxes.objects[:, held, :], params.dwell_frames, params.dwell_fraction * video_diagonal)[:, None]
     for column, category in enumerate(boxes.categories):
         if category is Category.TOOL or column == held:
             near[:, column] = False
@@ -295,6 +343,25 @@ def near_objects(
     mean_gap = sums / np.maximum(near[:, keep].sum(axis=0), 1)
     order = np.lexsort((keep, mean_gap))
     return tuple(int(keep[i]) for i in order)
+
+
+def dwelling(boxes: np.ndarray, window: int, distance: float) -> np.ndarray:
+    """Frames where a box stays put: its centre moves less than ``distance`` pixels between ``window`` frames
+    before and ``window`` frames after (clipped to the rows given). Working strokes (sawing, stirring) stay
+    put; carrying an object past others does not. False where the box is absent."""
+    return dwelling_points(_centre(boxes), window, distance)
+
+
+def dwelling_points(centre: np.ndarray, window: int, distance: float) -> np.ndarray:
+    """:func:`dwelling` of points ``(frames, 2)``."""
+    length = len(centre)
+    if length == 0:
+        return np.zeros(0, dtype=bool)
+    index = np.arange(length)
+    before = centre[np.maximum(index - window, 0)]
+    after = centre[np.minimum(index + window, length - 1)]
+    with np.errstate(invalid="ignore"):
+        return np.asarray(np.linalg.norm(after - before, axis=1) < distance)
 
 
 def video_diagonal(obs: Observations) -> float:
@@ -335,21 +402,38 @@ def associate_segments(
     container = np.full((total, len(names)), NONE, dtype=np.int16)
     held = np.full((total, len(HANDS)), NONE, dtype=np.int16)
     touched = held.copy()
-    associations = []
+    associations: list[Associations | None] = []
+    since = None
+    previous_end = None
     for segment in segments:
-        links = frame_links(obs, segment.start, segment.end, params)
-        association = associations_of(links, segment, params, diagonal, corrections)
-        associations.append(association)
+        links = frame_links(obs, segment.start, segment.end, params, since if previous_end == segment.start else None)
+        since, previous_end = links.since, segment.end
         rows = slice(segment.start, segment.end)
         container[rows] = links.container
         held[rows] = links.held
         touched[rows] = links.touched
-        if corrections is not None:
+        # a segment too short to hold a link of min_frames is judged on the min_frames around it, once the
+        # frames after it are known
+        short = len(segment) < params.min_frames
+        associations.append(None if short else associations_of(links, segment, params, diagonal, corrections))
+    for i, segment in enumerate(segments):
+        if associations[i] is None:
+            pad = (params.min_frames - len(segment) + 1) // 2
+            window = Segment(max(0, segment.start - pad), min(total, segment.end + pad))
+            rows = slice(window.start, window.end)
+            boxes = frame_boxes(obs, window.start, window.end, params.fill_gap)
+            around = FrameLinks(boxes, container[rows].astype(np.int32), held[rows].astype(np.int32),
+                                touched[rows].astype(np.int32),
+                                np.full((len(HANDS), len(names)), NONE, dtype=np.int64))
+            associations[i] = associations_of(around, segment, params, diagonal, corrections, window)
+    done = tuple(a for a in associations if a is not None)
+    if corrections is not None:
+        for segment, association in zip(segments, done, strict=True):
             for column, hand in enumerate(HANDS):
                 if (segment.start, hand) in corrections.hand_object:
                     chosen = association.hand_object.get(hand)
-                    held[rows, column] = names.index(chosen) if chosen is not None else NONE
-    return tuple(associations), Timeline(names, categories, container, held, touched)
+                    held[segment.start : segment.end, column] = names.index(chosen) if chosen is not None else NONE
+    return done, Timeline(names, categories, container, held, touched)
 
 
 def associate(

@@ -44,6 +44,8 @@ class Params:
     """An association is kept only when it holds for at least this many consecutive frames."""
     seed: int = 0
     """Seed for anything random in the pipeline."""
+    fill_gap: int = 10
+    """Frames: a box or hand missing for at most this long is interpolated (the detector missed it)."""
     contain_fraction: float = 0.5
     """An ingredient lies in a container when at least this fraction of its box is inside the container's box
     (among several such containers, the highest Jaccard index wins)."""
@@ -52,9 +54,18 @@ class Params:
     over a board on its way does not act on it."""
     near_fraction: float = 0.02
     """Object-object: a held object acts on objects whose boxes come within this fraction of the image diagonal."""
-    still_fraction: float = 0.004
-    """A hand holding an ingredient acts on it by itself (squeeze) only while its median speed is below this
-    fraction of the image diagonal per frame; faster, it carries it (a grasp)."""
+    dwell_frames: int = 15
+    """Object-object: a held object acts on another only while it dwells near it, moving less than
+    ``dwell_fraction`` of the image diagonal between this many frames before and after."""
+    dwell_fraction: float = 0.05
+    """See ``dwell_frames``."""
+    hand_share: float = 0.3
+    """A held ingredient with nothing near is worked by the hand itself (squeeze) only when the hand verbs
+    (squeeze, peel, roll, wrap) together get at least this share of P(A | ingredient)."""
+    still_fraction: float = 0.02
+    """A hand holding an ingredient with nothing near works it by itself (squeeze) only when it stays put:
+    moving less than this fraction of the image diagonal between ``dwell_frames`` before and after, for
+    ``min_frames`` consecutive frames; otherwise it only grasps it on the way somewhere."""
     handover_gap: int = 30
     """Frames: a handover's receiver grasps the object at most this long after the giver releases it."""
     handover_overlap: int = 60
