@@ -71,7 +71,7 @@ class Table:
     """Metres: extent along x (between the arms) and along y."""
     height: float = 0.0
     """Metres: z of the table top (the arms' bases stand on it)."""
-    reach: tuple[float, float] = (0.18, 0.25)
+    reach: tuple[float, float] = (0.1, 0.3)
     """Metres: half extents of the region, centred on the origin, that both arms reach comfortably; objects
     laid out from a video are placed inside it (see :func:`plan_from_graph`)."""
 
@@ -587,7 +587,7 @@ _CONTAINER_HEIGHTS = (("plate", 0.03), ("pan", 0.05), ("bowl", 0.07), ("pot", 0.
                       ("glass", 0.1), ("mug", 0.09))
 FIRST_FRAMES = 5
 """How many of an object's first sightings are combined (median box) to place it."""
-GAP = 0.04
+GAP = 0.06
 """Metres left free between neighbouring objects (room for the gripper's fingers)."""
 ARM_CLEARANCE = 0.15
 """Metres kept free at each end of the table, where the arms' bases stand."""
@@ -622,34 +622,70 @@ def _shape_for(name: str, category: Category, width_m: float, depth_m: float) ->
 
 
 def _push_apart(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, float],
-                iterations: int = 400) -> tuple[np.ndarray, bool]:
+                iterations: int = 150) -> tuple[np.ndarray, bool]:
     """Move axis-aligned footprints apart until none overlap (with :data:`GAP`), keeping each inside
-    ``|x| <= bound[0], |y| <= bound[1]``. Each overlapping pair is pushed apart, half each, along the line
-    between their centres by their smaller penetration, then everything is clamped into the bound. Centres
+    ``|x| <= bound[0], |y| <= bound[1]`` (an object too big for that keeps its centre within half the bound and
+    sticks out). Each overlapping pair is pushed apart, half each, along the axis where they overlap least
+    (so left stays left of right, top above bottom), then everything is clamped into the bound. Centres
     first get a deterministic sub-millimetre spiral offset so coincident or aligned objects spread in 2-D.
     Returns the centres and whether every overlap was resolved."""
     n = len(centres)
     k = np.arange(n)
     angle = k * 2.399963  # golden angle
     c = centres.astype(float) + 1e-4 * np.stack([np.cos(angle), np.sin(angle)], axis=1) * (k[:, None] + 1)
-    limit = np.maximum(np.array(bound)[None, :] - halves, 0.0)
+    limit = np.maximum(np.array(bound)[None, :] - halves, np.array(bound)[None, :] / 2)  # big ones stick out
     for _ in range(iterations):
         moved = False
-        for i in range(n):
-            for j in range(i + 1, n):
-                d = c[j] - c[i]
-                pen = halves[i] + halves[j] + GAP - np.abs(d)
-                if pen[0] <= 1e-9 or pen[1] <= 1e-9:
+        for i in range(n - 1):  # pairs in turn (Gauss-Seidel): keeps the layout's order better than all at once
+            d = c[i + 1:] - c[i]
+            pen = halves[i] + halves[i + 1:] + GAP - np.abs(d)
+            for m in np.nonzero((pen > 1e-9).all(axis=1))[0]:
+                j = i + 1 + int(m)
+                dj = c[j] - c[i]
+                pj = halves[i] + halves[j] + GAP - np.abs(dj)
+                if (pj <= 1e-9).any():
                     continue
-                u = d / max(float(np.hypot(*d)), 1e-12)
-                step = (float(pen.min()) / 2 + 1e-4) * u
-                c[i] -= step
-                c[j] += step
+                axis = int(np.argmin(pj))
+                step = (float(pj[axis]) / 2 + 1e-4) * (1.0 if dj[axis] >= 0 else -1.0)
+                c[i, axis] -= step
+                c[j, axis] += step
                 moved = True
         c = np.clip(c, -limit, limit)
         if not moved:
             return c, True
     return c, False
+
+
+def _settle(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, float], step: float = 0.01) -> np.ndarray:
+    """Place objects one by one, biggest first: each stays at its centre if it keeps :data:`GAP` from those
+    already placed, else goes to the nearest point of a ``step`` grid inside the bound that does (on a crowded
+    table, the nearest that keeps half the gap, then 5 mm). Always terminates; positions stay near the input."""
+    order = np.argsort(-(halves[:, 0] * halves[:, 1]), kind="stable")
+    out = centres.copy()
+    settled: list[int] = []
+    for i in order:
+        limit = np.maximum(np.array(bound) - halves[i], 0.0)
+
+        def free(points: np.ndarray, gap: float, i: int = i) -> np.ndarray:
+            if not settled:
+                return np.ones(len(points), bool)
+            others = out[settled]
+            reach = halves[settled] + halves[i] + gap - 1e-9
+            gaps = np.abs(points[:, None, :] - others[None, :, :]) >= reach[None, :, :]
+            return np.all(gaps.any(axis=2), axis=1)
+
+        if not free(out[i][None, :], GAP)[0] or np.any(np.abs(out[i]) > limit + 1e-9):
+            xs = np.arange(-limit[0], limit[0] + 1e-9, step)
+            ys = np.arange(-limit[1], limit[1] + 1e-9, step)
+            grid = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)
+            grid = grid[np.argsort(np.hypot(*(grid - out[i]).T), kind="stable")]
+            for gap in (GAP, GAP / 2, 0.005):  # a crowded table: closer, but never touching
+                ok = free(grid, gap)
+                if ok.any():
+                    out[i] = grid[int(np.argmax(ok))]
+                    break
+        settled.append(int(i))
+    return out
 
 
 def _containing(graph: ActionGraph, obs: Observations, first: Mapping[str, np.ndarray]) -> dict[str, str]:
@@ -697,8 +733,9 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     ``[-reach_x, reach_x] x [-reach_y, reach_y]``: image left -> ``-x`` (P1's side), image top -> ``+y``.
     Sizes come from the category (containers wide, tools long and thin, ingredients small), scaled from the
     box by the mean of the two axis scales and clipped to sane limits. Objects on the table are then pushed
-    apart until no footprints overlap (inside the reach region, widened step by step up to the table less
-    :data:`ARM_CLEARANCE` at the arms' ends when it is too small); ingredients that start in a container sit inside it.
+    apart until no footprints overlap, :data:`GAP` apart, inside the reach region; when they do not fit there,
+    each object, biggest first, goes to the free spot nearest its mapped place on the table (less
+    :data:`ARM_CLEARANCE` at the arms' ends); ingredients that start in a container sit inside it.
     """
     first = {t.name: _first_box(t.frames, t.boxes) for t in obs.objects if len(t.frames)}
     if not first:
@@ -729,13 +766,10 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     free = [n for n in names if n not in containing]
     centres = np.array([[objects[n].x, objects[n].y] for n in free])
     halves = np.array([objects[n].half_extents() for n in free])
-    inner = np.array([table.size[0] / 2 - ARM_CLEARANCE, table.size[1] / 2 - GAP])
-    placed, ok = centres, False
-    for grow in (1.0, 1.15, 1.3, 1.5, 1.75, 2.0, 100.0):  # widen the region step by step, up to the table
-        bound = np.minimum(np.array(table.reach) * grow, inner)
-        placed, ok = _push_apart(placed, halves, (float(bound[0]), float(bound[1])))
-        if ok:
-            break
+    inner = (table.size[0] / 2 - ARM_CLEARANCE, table.size[1] / 2 - GAP)
+    placed, ok = _push_apart(centres, halves, table.reach)
+    if not ok:  # too crowded for the reach region: each object, biggest first, to the free spot nearest its place
+        placed = _settle(centres, halves, inner)
     for n, (x, y) in zip(free, placed, strict=True):
         o = objects[n]
         objects[n] = SceneObject(o.name, o.category, o.shape, o.size, round(float(x), 4), round(float(y), 4), o.yaw)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import replace
 from pathlib import Path
@@ -249,3 +250,34 @@ def test_generated_plan_round_trips(tmp_path: Path) -> None:
     graph, obs = scenario()
     plan = plan_from_graph(graph, obs)
     assert read_plan(write_plan(plan, tmp_path / "p.yaml")) == plan
+
+
+@pytest.mark.parametrize(("seed", "persons"), [(0, 2), (1, 2), (2, 2), (3, 1)])
+def test_plans_of_synthetic_videos_are_valid_and_uncluttered(seed: int, persons: int) -> None:
+    from wecook_core.graph import build_graph
+    from wecook_core.model import ActionKind
+    from wecook_core.synth.scenario import synthesize
+
+    scenario = synthesize(seed, persons)
+    graph = build_graph(scenario.actions)
+    plan = plan_from_graph(graph, scenario.observations)
+    assert plan_problems(plan) == []
+    assert [a.pid for a in plan.agents] == ["P1", "P2"][:persons]
+    kept = [n for n in graph.nodes if n.action.kind is not ActionKind.GRASP]
+    assert [a.id for a in plan.actions] == [n.id for n in sorted(kept, key=lambda n: (n.span.start, n.id))]
+    inside = dict(plan.scene.containing)
+    free = [o for o in plan.scene.objects if o.name not in inside]
+    for i, a in enumerate(free):
+        ax, ay = a.half_extents()
+        for b in free[i + 1:]:
+            bx, by = b.half_extents()
+            assert abs(a.x - b.x) >= ax + bx + 0.005 or abs(a.y - b.y) >= ay + by + 0.005, (a.name, b.name)
+    for ingredient, container in inside.items():
+        o, c = plan.scene.object(ingredient), plan.scene.object(container)
+        cx, cy = c.half_extents()
+        assert abs(o.x - c.x) < cx and abs(o.y - c.y) < cy
+    # every arm's actions form a chain: each one waits for the previous action of the same arm
+    for agent in plan.agents:
+        mine = [a for a in plan.actions if agent.pid in a.pids]
+        for before, after in itertools.pairwise(mine):
+            assert before.id in after.after
