@@ -13,6 +13,7 @@ from mcap.reader import NonSeekingReader, make_reader
 from wecook_core.execution import foxglove
 from wecook_core.execution.observer import FrameInfo, RunEvent, Shape
 from wecook_core.execution.recorder import McapRecorder
+from wecook_core.execution.runs import schema_problems
 from wecook_core.execution.synthetic_run import synthetic_run
 
 
@@ -143,3 +144,22 @@ def test_states_are_kept_at_most_state_hz(tmp_path: Path) -> None:
         rec.on_event(1.0, RunEvent("run_end"))
     times = [m["transforms"][0]["timestamp"]["nsec"] for t, _, m in read_all(path) if t == "/tf"]
     assert len(times) == 5  # t = 0, 0.1, 0.2, 0.3, 0.4 (to the nearest step)
+
+
+def test_every_message_conforms_to_its_channel_schema(tmp_path: Path) -> None:
+    path = tmp_path / "run.mcap"
+    synthetic_run(McapRecorder(path), actions=2, seconds_per_action=0.5, fail=("a2",))
+    with open(path, "rb") as f:
+        reader = make_reader(f)
+        seen = set()
+        for schema, channel, message in reader.iter_messages():
+            assert schema is not None and schema.encoding == "jsonschema" and channel.message_encoding == "json"
+            problems = schema_problems(json.loads(message.data), json.loads(schema.data), channel.topic)
+            assert problems == [], problems[:5]
+            seen.add(channel.topic)
+    assert seen == set(foxglove.TOPIC_SCHEMAS)
+    tf = foxglove.SCHEMAS["foxglove.FrameTransforms"]
+    assert schema_problems({"transforms": [{"timestamp": {"sec": -1, "nsec": 0}}]}, tf, "/tf") == \
+        ["/tf.transforms[0].timestamp.sec: -1 < 0"]
+    assert schema_problems({"transforms": [{"translation": {"x": "1"}, "frame": "a"}]}, tf, "/tf") == \
+        ["/tf.transforms[0].translation.x: '1' is not number", "/tf.transforms[0].frame: not in the schema"]

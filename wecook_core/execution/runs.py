@@ -1,7 +1,8 @@
 """Checking a run's MCAP recording, and recovering the recording of a run that was killed.
 
 A recording is checked by one sequential pass (chunk and data-section CRCs verified, every message decoded as
-JSON) plus the seeking reader's summary: expected topics with their schema names, the plan attachment and the
+JSON, the first :data:`SCHEMA_CHECKED` of each topic checked against their channel's JSON Schema) plus the
+seeking reader's summary: expected topics with their schema names, the plan attachment and the
 metadata, per-topic log times that never go back, and an event sequence where every started action ends or
 fails and the run ends.
 """
@@ -109,6 +110,42 @@ def _sequential(path: Path) -> tuple[list[Any], str, int, bool]:
     return records, stopped, good, footer
 
 
+SCHEMA_CHECKED = 200
+"""Messages per topic checked against their channel's JSON Schema (the first ones)."""
+
+_KINDS: dict[str, type | tuple[type, ...]] = {"string": str, "number": (int, float), "integer": int,
+                                              "boolean": bool, "object": dict, "array": list, "null": type(None)}
+
+
+def schema_problems(value: Any, schema: dict[str, Any], where: str) -> list[str]:
+    """Where ``value`` breaks ``schema``, for the part of JSON Schema the recordings use: ``type`` (one or a
+    list), ``properties`` (no other keys allowed), ``items``, ``enum``, ``minimum`` / ``maximum``."""
+    expected = schema.get("type")
+    if expected is not None:
+        names = expected if isinstance(expected, list) else [expected]
+        if not any(isinstance(value, _KINDS[n]) and not (n in ("number", "integer") and isinstance(value, bool))
+                   for n in names):
+            return [f"{where}: {value!r} is not {expected}"]
+    problems = []
+    if "enum" in schema and value not in schema["enum"]:
+        problems.append(f"{where}: {value!r} not in {schema['enum']}")
+    if isinstance(value, dict) and "properties" in schema:
+        for key, item in value.items():
+            if key not in schema["properties"]:
+                problems.append(f"{where}.{key}: not in the schema")
+            else:
+                problems += schema_problems(item, schema["properties"][key], f"{where}.{key}")
+    if isinstance(value, list) and "items" in schema:
+        for k, item in enumerate(value):
+            problems += schema_problems(item, schema["items"], f"{where}[{k}]")
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        if "minimum" in schema and value < schema["minimum"]:
+            problems.append(f"{where}: {value} < {schema['minimum']}")
+        if "maximum" in schema and value > schema["maximum"]:
+            problems.append(f"{where}: {value} > {schema['maximum']}")
+    return problems
+
+
 def _event_problems(events: list[dict[str, Any]]) -> tuple[list[str], dict[str, str]]:
     problems: list[str] = []
     state: dict[str, str] = {}
@@ -134,6 +171,14 @@ def _event_problems(events: list[dict[str, Any]]) -> tuple[list[str], dict[str, 
     if not any(e.get("kind") == "run_end" for e in events):
         problems.append("/plan/events: no run_end event (the run did not finish)")
     return problems, state
+
+
+def _schema_json(schema: Schema) -> dict[str, Any]:
+    try:
+        data = json.loads(schema.data)
+    except ValueError:
+        return {}
+    return data if isinstance(data, dict) else {}
 
 
 def check_recording(path: str | Path) -> CheckReport:
@@ -192,6 +237,11 @@ def check_recording(path: str | Path) -> CheckReport:
                 continue
             if topic == "/plan/events":
                 events.append(decoded)
+            if counts[topic] <= SCHEMA_CHECKED and channel.schema_id in schemas:
+                wrong = schema_problems(decoded, _schema_json(schemas[channel.schema_id]),
+                                        f"{topic}[{counts[topic] - 1}]")
+                if wrong:
+                    problems.append(f"{wrong[0]} (schema {schemas[channel.schema_id].name})")
     for topic in foxglove.REQUIRED_TOPICS:
         if counts[topic] == 0:
             problems.append(f"{topic}: no messages")
