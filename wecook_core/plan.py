@@ -29,7 +29,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import yaml
 
 from wecook_core.errors import InputError
@@ -580,216 +579,6 @@ def read_plan(path: str | Path, *, check: bool = True) -> Plan:
 
 # ------------------------------------------------------------------------------- building from video
 
-_FLAT_CONTAINERS = ("board", "tray", "mat", "sheet")
-_ROUND_INGREDIENTS = ("tomato", "lemon", "lime", "orange", "apple", "onion", "potato", "egg", "peach", "ball")
-_BOTTLES = ("oil", "bottle", "salt", "pepper", "sauce", "vinegar", "milk", "jar", "shaker", "syrup")
-_CONTAINER_HEIGHTS = (("plate", 0.03), ("pan", 0.05), ("bowl", 0.07), ("pot", 0.12), ("cup", 0.09),
-                      ("glass", 0.1), ("mug", 0.09))
-FIRST_FRAMES = 5
-"""How many of an object's first sightings are combined (median box) to place it."""
-GAP = 0.06
-"""Metres left free between neighbouring objects (room for the gripper's fingers)."""
-ARM_CLEARANCE = 0.15
-"""Metres kept free at each end of the table, where the arms' bases stand."""
-
-
-def _first_box(frames: np.ndarray, boxes: np.ndarray) -> np.ndarray:
-    return np.median(boxes[: min(FIRST_FRAMES, len(frames))], axis=0)
-
-
-def _clip(value: float, low: float, high: float) -> float:
-    return float(min(max(value, low), high))
-
-
-def _shape_for(name: str, category: Category, width_m: float, depth_m: float) -> tuple[str, Vec3, float]:
-    """Shape, size (metres) and yaw of an object from its category, its name and its box size on the table."""
-    long_side, short_side = max(width_m, depth_m), min(width_m, depth_m)
-    yaw = 0.0 if width_m >= depth_m else math.pi / 2
-    if category is Category.TOOL:  # lying across the table (along y): graspable by either arm, even near its base
-        return "box", (round(_clip(long_side, 0.14, 0.24), 3), 0.03, 0.025), math.pi / 2
-    if category is Category.CONTAINER:
-        if any(word in name for word in _FLAT_CONTAINERS):
-            return "box", (round(_clip(long_side, 0.2, 0.3), 3), round(_clip(short_side, 0.14, 0.22), 3), 0.02), yaw
-        height = next((h for word, h in _CONTAINER_HEIGHTS if word in name), 0.08)
-        d = round(_clip(long_side, 0.1, 0.22), 3)
-        return "cylinder", (d, d, height), 0.0
-    if any(word in name for word in _BOTTLES):
-        return "cylinder", (0.05, 0.05, 0.14), 0.0
-    d = round(_clip(short_side, 0.04, 0.07), 3)
-    if any(word in name for word in _ROUND_INGREDIENTS):
-        return "sphere", (d, d, d), 0.0
-    return "box", (round(_clip(long_side, 0.04, 0.08), 3), d, 0.03), yaw
-
-
-def _push_apart(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, float],
-                iterations: int = 150) -> tuple[np.ndarray, bool]:
-    """Move axis-aligned footprints apart until none overlap (with :data:`GAP`), keeping each inside
-    ``|x| <= bound[0], |y| <= bound[1]`` (an object too big for that keeps its centre within half the bound and
-    sticks out). Each overlapping pair is pushed apart, half each, along the axis where they overlap least
-    (so left stays left of right, top above bottom), then everything is clamped into the bound. Centres
-    first get a deterministic sub-millimetre spiral offset so coincident or aligned objects spread in 2-D.
-    Returns the centres and whether every overlap was resolved."""
-    n = len(centres)
-    k = np.arange(n)
-    angle = k * 2.399963  # golden angle
-    c = centres.astype(float) + 1e-4 * np.stack([np.cos(angle), np.sin(angle)], axis=1) * (k[:, None] + 1)
-    limit = np.maximum(np.array(bound)[None, :] - halves, np.array(bound)[None, :] / 2)  # big ones stick out
-    for _ in range(iterations):
-        moved = False
-        for i in range(n - 1):  # pairs in turn (Gauss-Seidel): keeps the layout's order better than all at once
-            d = c[i + 1:] - c[i]
-            pen = halves[i] + halves[i + 1:] + GAP - np.abs(d)
-            for m in np.nonzero((pen > 1e-9).all(axis=1))[0]:
-                j = i + 1 + int(m)
-                dj = c[j] - c[i]
-                pj = halves[i] + halves[j] + GAP - np.abs(dj)
-                if (pj <= 1e-9).any():
-                    continue
-                axis = int(np.argmin(pj))
-                step = (float(pj[axis]) / 2 + 1e-4) * (1.0 if dj[axis] >= 0 else -1.0)
-                c[i, axis] -= step
-                c[j, axis] += step
-                moved = True
-        c = np.clip(c, -limit, limit)
-        if not moved:
-            return c, True
-    return c, False
-
-
-def _settle(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, float], step: float = 0.01) -> np.ndarray:
-    """Place objects one by one, biggest first: each stays at its centre if it keeps :data:`GAP` from those
-    already placed, else goes to the nearest point of a ``step`` grid inside the bound that does (on a crowded
-    table, the nearest that keeps half the gap, then 5 mm). Always terminates; positions stay near the input."""
-    order = np.argsort(-(halves[:, 0] * halves[:, 1]), kind="stable")
-    out = centres.copy()
-    settled: list[int] = []
-    for i in order:
-        limit = np.maximum(np.array(bound) - halves[i], 0.0)
-
-        def free(points: np.ndarray, gap: float, i: int = i) -> np.ndarray:
-            if not settled:
-                return np.ones(len(points), bool)
-            others = out[settled]
-            reach = halves[settled] + halves[i] + gap - 1e-9
-            gaps = np.abs(points[:, None, :] - others[None, :, :]) >= reach[None, :, :]
-            return np.all(gaps.any(axis=2), axis=1)
-
-        if not free(out[i][None, :], GAP)[0] or np.any(np.abs(out[i]) > limit + 1e-9):
-            xs = np.arange(-limit[0], limit[0] + 1e-9, step)
-            ys = np.arange(-limit[1], limit[1] + 1e-9, step)
-            grid = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)
-            grid = grid[np.argsort(np.hypot(*(grid - out[i]).T), kind="stable")]
-            for gap in (GAP, GAP / 2, 0.005):  # a crowded table: closer, but never touching
-                ok = free(grid, gap)
-                if ok.any():
-                    out[i] = grid[int(np.argmax(ok))]
-                    break
-        settled.append(int(i))
-    return out
-
-
-def _containing(graph: ActionGraph, obs: Observations, first: Mapping[str, np.ndarray]) -> dict[str, str]:
-    """Ingredient -> the container it starts in: from the first action that names it with a container (a
-    transfer's source, or the container it is acted on in), else from its first box lying mostly inside a
-    container's first box."""
-    cat = obs.categories
-    out: dict[str, str] = {}
-    for node in sorted(graph.nodes, key=lambda n: (n.span.start, n.id)):
-        actions = [action_of(node.span.tree, node.span.start, node.span.end)]
-        if actions[0].partner is not None:
-            actions.append(actions[0].partner)
-        for action in actions:
-            targets = action.targets
-            if action.kind is ActionKind.TRANSFER and len(targets) == 3:
-                out.setdefault(targets[0], targets[1])
-            elif len(targets) >= 2 and cat.get(targets[0]) is Category.INGREDIENT:
-                container = next((t for t in targets[1:] if cat.get(t) is Category.CONTAINER), None)
-                if container is not None:
-                    out.setdefault(targets[0], container)
-    for name, box in first.items():
-        if cat.get(name) is not Category.INGREDIENT or name in out:
-            continue
-        area = max((box[2] - box[0]) * (box[3] - box[1]), 1e-9)
-        best, best_share = None, 0.5
-        for other, obox in first.items():
-            if cat.get(other) is not Category.CONTAINER:
-                continue
-            w = min(box[2], obox[2]) - max(box[0], obox[0])
-            h = min(box[3], obox[3]) - max(box[1], obox[1])
-            share = max(w, 0) * max(h, 0) / area
-            if share > best_share:
-                best, best_share = other, share
-        if best is not None:
-            out[name] = best
-    return {k: v for k, v in out.items() if k in first and v in first and cat.get(v) is Category.CONTAINER}
-
-
-def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_TABLE) -> Scene:
-    """Objects of the video laid out on the table.
-
-    Mapping image -> table: each object's position is the centre of its median box over its first
-    :data:`FIRST_FRAMES` sightings. The image's table area is the bounding rectangle of those boxes (at least a
-    fifth of the image on each axis); it is scaled, each axis on its own, onto the reach region
-    ``[-reach_x, reach_x] x [-reach_y, reach_y]``: image left -> ``-x`` (P1's side), image top -> ``+y``.
-    Sizes come from the category (containers wide, tools long and thin, ingredients small), scaled from the
-    box by the mean of the two axis scales and clipped to sane limits. Objects on the table are then pushed
-    apart until no footprints overlap, :data:`GAP` apart, inside the reach region; when they do not fit there,
-    each object, biggest first, goes to the free spot nearest its mapped place on the table (less
-    :data:`ARM_CLEARANCE` at the arms' ends); ingredients that start in a container sit inside it.
-    """
-    first = {t.name: _first_box(t.frames, t.boxes) for t in obs.objects if len(t.frames)}
-    if not first:
-        return Scene(table=table)
-    names = sorted(first, key=lambda n: (float(first[n][0]), n))
-    boxes = np.array([first[n] for n in names])
-    width, height = float(obs.video.width or 1), float(obs.video.height or 1)
-    lo = boxes[:, :2].min(axis=0)
-    hi = boxes[:, 2:].max(axis=0)
-    minimum = np.array([width, height]) / 5
-    mid = (lo + hi) / 2
-    span = np.maximum(hi - lo, minimum)
-    lo = mid - span / 2
-    reach = np.array(table.reach)
-    scale = 2 * reach / span  # metres per pixel, per axis
-    centres_px = (boxes[:, :2] + boxes[:, 2:]) / 2
-    xy = (centres_px - lo) * scale - reach
-    xy[:, 1] = -xy[:, 1]  # image y grows downwards; world +y is the image's top
-    m_per_px = float(scale.mean())
-    containing = _containing(graph, obs, first)
-    objects: dict[str, SceneObject] = {}
-    for k, name in enumerate(names):
-        category = obs.categories.get(name, Category.INGREDIENT)
-        w = float(boxes[k, 2] - boxes[k, 0]) * m_per_px
-        d = float(boxes[k, 3] - boxes[k, 1]) * m_per_px
-        shape, size, yaw = _shape_for(name, category, w, d)
-        objects[name] = SceneObject(name, category, shape, size, float(xy[k, 0]), float(xy[k, 1]), yaw)
-    free = [n for n in names if n not in containing]
-    centres = np.array([[objects[n].x, objects[n].y] for n in free])
-    halves = np.array([objects[n].half_extents() for n in free])
-    inner = (table.size[0] / 2 - ARM_CLEARANCE, table.size[1] / 2 - GAP)
-    placed, ok = _push_apart(centres, halves, table.reach)
-    if not ok:  # too crowded for the reach region: each object, biggest first, to the free spot nearest its place
-        placed = _settle(centres, halves, inner)
-    for n, (x, y) in zip(free, placed, strict=True):
-        o = objects[n]
-        objects[n] = SceneObject(o.name, o.category, o.shape, o.size, round(float(x), 4), round(float(y), 4), o.yaw)
-    by_container: dict[str, list[str]] = {}
-    for ingredient, container in sorted(containing.items()):
-        by_container.setdefault(container, []).append(ingredient)
-    for container, ingredients in by_container.items():
-        c = objects[container]
-        hx, hy = c.half_extents()
-        for k, name in enumerate(ingredients):  # spread along the container's longer axis
-            o = objects[name]
-            s = (k + 1) / (len(ingredients) + 1) - 0.5
-            dx, dy = (s * hx, 0.0) if hx >= hy else (0.0, s * hy)
-            limit = 0.8 * min(hx, hy) * 2
-            size = (round(min(o.size[0], limit), 3), round(min(o.size[1], limit), 3), o.size[2])
-            objects[name] = SceneObject(o.name, o.category, o.shape, size,
-                                        round(c.x + dx, 4), round(c.y + dy, 4), o.yaw)
-    return Scene(table=table, objects=tuple(objects[n] for n in names),
-                 containing=tuple(sorted(containing.items())))
-
 
 def agents_for(persons: Sequence[str], table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT) -> tuple[Agent, ...]:
     """One arm per person: P1 at the ``-x`` end of the table facing ``+x``, P2 at the ``+x`` end facing ``-x``."""
@@ -859,10 +648,12 @@ def plan_actions(graph: ActionGraph, categories: Mapping[str, Category]) -> tupl
 
 def plan_from_graph(graph: ActionGraph, obs: Observations, *, table: Table = DEFAULT_TABLE,
                     robot: str = DEFAULT_ROBOT) -> Plan:
-    """The plan of an action graph: scene from the video (:func:`layout_scene`), one arm per person
+    """The plan of an action graph: scene from the video (:func:`wecook_core.layout.layout_scene`), one arm per person
     (:func:`agents_for`), actions and their order (:func:`plan_actions`)."""
     actions = plan_actions(graph, obs.categories)
     persons = {pid for a in actions for pid in a.pids} | set(graph.sequences) | {n.person for n in graph.nodes}
     persons = {p for p in persons if p in PERSONS} or {"P1"}
+    from wecook_core.layout import layout_scene
+
     return Plan(agents=agents_for(sorted(persons), table, robot), scene=layout_scene(graph, obs, table),
                 actions=actions)
