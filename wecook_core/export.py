@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from wecook_core.plan import DEFAULT_TABLE, Plan, Table, plan_from_graph, validate, write_plan
+from wecook_core.plan import DEFAULT_ROBOT, DEFAULT_TABLE, Plan, Table, plan_from_graph, validate, write_plan
 
 
 @dataclass(frozen=True)
@@ -18,9 +18,10 @@ class Exported:
 
 
 def export_session_plan(session_path: str | Path, out: str | Path | None = None, *,
-                        table: Table = DEFAULT_TABLE) -> Exported:
+                        table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT) -> Exported:
     """Analyse the session at ``session_path`` and write its plan to ``out`` (default
-    ``<session>/plans/plan.yaml``). Unreadable inputs or an invalid plan raise :class:`InputError`."""
+    ``<session>/plans/plan.yaml``); ``robot`` is the arms' URDF (relative to ``pybullet_data`` unless absolute).
+    Unreadable inputs or an invalid plan raise :class:`InputError`."""
     from wecook_core.pipeline import analyze
     from wecook_core.recognize import load_knowledge
     from wecook_core.session import open_session
@@ -28,7 +29,7 @@ def export_session_plan(session_path: str | Path, out: str | Path | None = None,
     session = open_session(session_path)
     obs = session.load_observations()
     analysis = analyze(obs, load_knowledge(), session.params, session.corrections)
-    plan = plan_from_graph(analysis.graph, obs, table=table)
+    plan = plan_from_graph(analysis.graph, obs, table=table, robot=robot)
     path = Path(out) if out is not None else session.plans_dir / "plan.yaml"
     validate(plan, path)
     write_plan(plan, path)

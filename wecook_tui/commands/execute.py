@@ -1,6 +1,6 @@
 """`wecook export`, `wecook execute`, `wecook runs check` and `wecook runs recover`: plans and their runs.
 
-- ``wecook export NAME [-o plan.yaml] [--root DIR]``: analyse session NAME (with its corrections) and write
+- ``wecook export NAME [-o plan.yaml] [--root DIR] [--robot URDF]``: analyse session NAME (with its corrections) and write
   its plan, by default to ``sessions/NAME/plans/plan.yaml``.
 - ``wecook execute PLAN [--record FILE.mcap | --no-record] [--seed N] [--realtime] [--jsonl]``: validate the
   plan (errors before anything runs, exit 2), run it headless with progress per action, record it (default
@@ -37,6 +37,8 @@ def register(sub: Any) -> None:
     export.add_argument("name", help="session name")
     export.add_argument("-o", "--out", type=Path, help="plan file (default: sessions/NAME/plans/plan.yaml)")
     export.add_argument("--root", type=Path, help="where sessions live (default: $WECOOK_SESSIONS or ./sessions)")
+    export.add_argument("--robot", default="franka_panda/panda.urdf", metavar="URDF",
+                        help="the arms' URDF, relative to pybullet_data unless absolute (default: %(default)s)")
     export.set_defaults(func=run_export)
 
     execute = sub.add_parser("execute", help="run a plan with two simulated arms, recorded as MCAP",
@@ -72,7 +74,7 @@ def run_export(args: argparse.Namespace) -> int:
     from wecook_core.session import check_name, sessions_root
 
     session = sessions_root(args.root) / check_name(args.name)
-    exported = export_session_plan(session, args.out)
+    exported = export_session_plan(session, args.out, robot=args.robot)
     for warning in exported.warnings:
         print(f"wecook: warning: {warning}", file=sys.stderr)
     plan = exported.plan
