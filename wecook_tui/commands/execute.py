@@ -1,7 +1,7 @@
 """`wecook export`, `wecook execute`, `wecook runs check` and `wecook runs recover`: plans and their runs.
 
-- ``wecook export NAME [-o plan.yaml] [--root DIR] [--robot URDF]``: analyse session NAME (with its corrections) and write
-  its plan, by default to ``sessions/NAME/plans/plan.yaml``.
+- ``wecook export NAME [-o plan.yaml] [--root DIR] [--robot URDF]``: analyse session NAME (with its
+  corrections) and write its plan, by default to ``sessions/NAME/plans/plan.yaml``.
 - ``wecook execute PLAN [--record FILE.mcap | --no-record] [--seed N] [--realtime] [--jsonl]``: validate the
   plan (errors before anything runs, exit 2), run it headless with progress per action, record it (default
   ``runs/<plan>-<time>.mcap``: the session's ``runs/`` when the plan is in a session's ``plans/``, else beside
