@@ -16,8 +16,9 @@ grasp starts and its release ends.
 from __future__ import annotations
 
 import itertools
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -130,13 +131,14 @@ def individual_action(
     categories: Mapping[str, Category],
     knowledge: Knowledge,
     *,
-    still: bool = True,
+    still: bool | Callable[[], bool] = True,
     verb: str | None = None,
     hand_share: float = 0.3,
 ) -> tuple[Action | None, Ranking]:
     """The action of one hand in one segment from its associations (no transfer, no collaboration).
 
-    ``still``: the hand hardly moves during the segment (a held ingredient is worked, not carried).
+    ``still``: the hand hardly moves during the segment (a held ingredient is worked, not carried); a
+    callable is asked only when it matters.
     ``verb``: the user's choice, replacing the recognised verb. ``hand_share``: see ``Params.hand_share``."""
     segment = assoc.segment
     held = assoc.hand_object.get(hand)
@@ -160,7 +162,7 @@ def individual_action(
             targets = (containers[0],)
         elif ingredients:
             pass  # an ingredient held beside another is not acting on it
-        elif still and _hand_share(knowledge, held) >= hand_share:
+        elif _hand_share(knowledge, held) >= hand_share and (still() if callable(still) else still):
             kind, targets, allowed = ActionKind.HAND, (held,), HAND_VERBS
     if not targets:
         if verb is None:
@@ -413,7 +415,7 @@ def recognize_actions(
         partners: set[str] = set()
         for hand in HANDS:
             verb = corrections.verbs.get((segment.start, hand))
-            still = hand_still(obs, hand, segment, params, diagonal)
+            still = partial(hand_still, obs, hand, segment, params, diagonal)
             action, ranking = individual_action(hand, assoc, categories, knowledge, still=still, verb=verb,
                                                 hand_share=params.hand_share)
             if action is not None:

@@ -145,12 +145,28 @@ class FrameLinks:
 
 
 def frame_links(
-    obs: Observations, start: int, end: int, params: Params, since: np.ndarray | None = None
+    obs: Observations, start: int, end: int, params: Params, since: np.ndarray | None = None,
+    block: FrameBoxes | None = None,
 ) -> FrameLinks:
     """Ingredient-container and hand-object links of every frame of ``[start, end)``; ``since`` carries the
-    hand-object overlaps on from the frame before ``start`` (:attr:`FrameLinks.since` of the previous range)."""
-    boxes = frame_boxes(obs, start, end, params.fill_gap)
+    hand-object overlaps on from the frame before ``start`` (:attr:`FrameLinks.since` of the previous range).
+    ``block``: boxes already gathered for frames that include ``[start, end)``."""
+    if block is not None and block.start <= start and end <= block.end:
+        boxes = crop(block, start, end)
+    else:
+        boxes = frame_boxes(obs, start, end, params.fill_gap)
     return links_of(boxes, params, since)
+
+
+BLOCK_FRAMES = 2048
+"""Frames of boxes gathered at once while associating: bounds memory whatever the video's length."""
+
+
+def crop(boxes: FrameBoxes, start: int, end: int) -> FrameBoxes:
+    """The rows of ``[start, end)`` (within ``boxes``' range), as views."""
+    a, b = start - boxes.start, end - boxes.start
+    return FrameBoxes(start, end, boxes.names, boxes.categories, boxes.objects[a:b], boxes.hands,
+                      boxes.hand_boxes[a:b])
 
 
 def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None) -> FrameLinks:
@@ -243,6 +259,8 @@ def kept_runs(labels: np.ndarray, min_frames: int) -> list[tuple[int, int, int]]
 
 def dominant(labels: np.ndarray, min_frames: int) -> int:
     """The label with the most rows in kept runs (ties: the earliest), :data:`NONE` if no run is kept."""
+    if len(labels) and labels[0] == labels[-1] and (labels == labels[0]).all():  # the common case, fast
+        return int(labels[0]) if len(labels) >= min_frames else NONE
     totals: dict[int, int] = {}
     for start, end, value in kept_runs(labels, min_frames):
         totals[value] = totals.get(value, 0) + end - start
@@ -405,8 +423,13 @@ def associate_segments(
     associations: list[Associations | None] = []
     since = None
     previous_end = None
+    block: FrameBoxes | None = None
     for segment in segments:
-        links = frame_links(obs, segment.start, segment.end, params, since if previous_end == segment.start else None)
+        if block is None or not (block.start <= segment.start and segment.end <= block.end):
+            block = frame_boxes(obs, segment.start, max(segment.end, min(total, segment.start + BLOCK_FRAMES)),
+                                params.fill_gap)
+        links = frame_links(obs, segment.start, segment.end, params, since if previous_end == segment.start else None,
+                            block)
         since, previous_end = links.since, segment.end
         rows = slice(segment.start, segment.end)
         container[rows] = links.container

@@ -10,7 +10,7 @@ from __future__ import annotations
 import itertools
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 from wecook_core.model import (
@@ -38,6 +38,9 @@ class Params:
     """GGS covariance regularisation (on hand positions scaled to the unit square)."""
     k_max: int = 40
     """Most breakpoints GGS considers per hand."""
+    k_per_minute: float = 30.0
+    """Breakpoints GGS may consider per hand and minute of video: the pipeline raises ``k_max`` to this rate
+    so a long video is cut as finely as a short one (BIC still chooses how many are used)."""
     k: dict[str, int] = field(default_factory=dict)
     """Hand -> number of breakpoints forced by the user (otherwise chosen automatically)."""
     min_frames: int = 8
@@ -118,6 +121,16 @@ def apply_cuts(segmentation: Segmentation, corrections: Corrections) -> Segmenta
     return Segmentation(segmentation.per_hand, segments, segmentation.interpolated)
 
 
+def segmentation_params(obs: Observations, params: Params) -> Params:
+    """``params`` with ``k_max`` raised to ``k_per_minute`` times the video's length in minutes."""
+    import math
+
+    fps = obs.video.fps if obs.video.fps > 0 else 30.0
+    minutes = obs.video.frame_count / fps / 60.0
+    k_max = max(params.k_max, math.ceil(params.k_per_minute * minutes))
+    return params if k_max == params.k_max else replace(params, k_max=k_max)
+
+
 def analyze(
     obs: Observations,
     knowledge: Knowledge,
@@ -141,7 +154,7 @@ def analyze(
     seconds: dict[str, float] = {}
     clock = time.perf_counter()
     if segmentation is None:
-        segmentation = segment_hands(obs, params)
+        segmentation = segment_hands(obs, segmentation_params(obs, params))
     segmentation = apply_cuts(segmentation, corrections)
     seconds["segment"] = time.perf_counter() - clock
 
