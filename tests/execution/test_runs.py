@@ -81,6 +81,10 @@ def test_missing_topics_and_corruption_are_found(tmp_path: Path) -> None:
     assert not report.ok and any("unreadable after byte" in p for p in report.problems), report.problems
     with pytest.raises(InputError, match="no such recording"):
         check_recording(tmp_path / "missing.mcap")
+    junk = tmp_path / "junk.mcap"
+    junk.write_text("hello, world\n")
+    assert check_recording(junk).problems[0].startswith("not an MCAP file")
+    assert len(check_recording(junk).problems) == 1
 
 
 def test_recovering_a_finished_file_keeps_everything(tmp_path: Path) -> None:

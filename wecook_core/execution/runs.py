@@ -168,7 +168,7 @@ def _event_problems(events: list[dict[str, Any]]) -> tuple[list[str], dict[str, 
     for aid in unfinished:
         problems.append(f"/plan/events: action {aid} started but never ended or failed")
         state[aid] = "unfinished"
-    if not any(e.get("kind") == "run_end" for e in events):
+    if events and not any(e.get("kind") == "run_end" for e in events):
         problems.append("/plan/events: no run_end event (the run did not finish)")
     return problems, state
 
@@ -188,6 +188,8 @@ def check_recording(path: str | Path) -> CheckReport:
         raise InputError(path, "no such recording")
     problems: list[str] = []
     records, stopped, good, footer = _sequential(path)
+    if not records:
+        return CheckReport(str(path), (f"not an MCAP file ({stopped})",), {}, 0.0)
     if stopped != "end of file":
         problems.append(f"unreadable after byte {good} of {path.stat().st_size}: {stopped}")
     if not footer:
@@ -242,10 +244,10 @@ def check_recording(path: str | Path) -> CheckReport:
                                         f"{topic}[{counts[topic] - 1}]")
                 if wrong:
                     problems.append(f"{wrong[0]} (schema {schemas[channel.schema_id].name})")
-    for topic in foxglove.REQUIRED_TOPICS:
-        if counts[topic] == 0:
-            problems.append(f"{topic}: no messages")
     by_topic = {c.topic: c for c in channels.values()}
+    for topic in foxglove.REQUIRED_TOPICS:
+        if topic in by_topic and counts[topic] == 0:
+            problems.append(f"{topic}: no messages")
     for topic, schema_name in foxglove.TOPIC_SCHEMAS.items():
         channel = by_topic.get(topic)
         if channel is None:
@@ -319,6 +321,7 @@ def recover_recording(path: str | Path, out: str | Path) -> RecoverReport:
                 schemas[record.id] = record
             elif isinstance(record, Channel):
                 channels[record.id] = record
+                channel_id(record.id)  # every channel, even one without messages yet
             elif isinstance(record, Attachment):
                 writer.add_attachment(record.create_time, record.log_time, record.name, record.media_type,
                                       record.data)
