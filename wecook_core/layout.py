@@ -27,8 +27,9 @@ FIRST_FRAMES = 5
 """How many of an object's first sightings are combined (median box) to place it."""
 GAP = 0.06
 """Metres left free between neighbouring objects (room for the gripper's fingers)."""
-ARM_CLEARANCE = 0.15
-"""Metres kept free at each end of the table, where the arms' bases stand."""
+ARM_CLEARANCE = 0.28
+"""Metres kept free at each end of the table: the arm's base stands there, and a Panda reaches down to the
+table badly closer than about 0.3 m from its base."""
 
 
 def _first_box(frames: np.ndarray, boxes: np.ndarray) -> np.ndarray:
