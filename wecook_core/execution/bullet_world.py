@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pybullet as p
+from scipy.spatial.transform import Rotation, Slerp
 
 from wecook_core.execution.executor import WAIT, WORK, ActionFailed, Meeting, Program
 from wecook_core.execution.motion import MotionProblem, path_free, plan_motion
@@ -39,7 +40,9 @@ from wecook_core.execution.scene import SIM_HZ, SceneBodies, build_scene, link_f
 from wecook_core.execution.skills import (
     Half,
     SkillLibrary,
+    Step,
     TSRSpec,
+    Waypoint,
     actuation_path,
     evaluate,
     load_skills,
@@ -359,44 +362,49 @@ class BulletWorld:
             return
         raise ActionFailed(f"{what}: the other arm kept the way blocked")
 
-    def linear(self, pid: str, poses: Sequence[np.ndarray], ignore: Sequence[str] | None = None,
-               holds: Sequence[float] | None = None, fingers: Sequence[float | None] | None = None,
-               what: str = "straight move") -> Program:
-        """Straight effector moves through ee poses (IK on each, densified to 1 cm / 0.1 rad), checked against
-        the other arm and the table (objects in ``ignore``, or all objects when None, are skipped)."""
-        self._sync()
+    def cartesian_path(self, pid: str, q: np.ndarray, poses: Sequence[np.ndarray], ignore: Sequence[str] | None,
+                       what: str) -> tuple[list[np.ndarray], list[float], list[int]]:
+        """Joint path of straight effector moves from ``q`` through ee ``poses`` (IK on each step, densified to
+        1 cm / 0.1 rad), checked against the other arm and the table (objects in ``ignore``, or every object
+        when None, are skipped). Returns the path, each segment's duration and the index ending each move;
+        raises :class:`ActionFailed`. Moves the planning client's joints only."""
         arm = self.planning.arms[pid]
-        q = self.arms[pid].q()
-        start = self.arms[pid].ee()
         names = list(self.bodies.objects) if ignore is None else list(ignore)
         collides = self.planning.collision_fn(pid, ignore=names, margin=-0.01, arm_margin=min(self.arm_margin, 0.005))
         path = [q]
         durations: list[float] = []
         marks: list[int] = []
-        prev = start
+        prev = arm.fk(q)
         for T in poses:
             dist = float(np.linalg.norm(T[:3, 3] - prev[:3, 3]))
-            from scipy.spatial.transform import Rotation
-
             turn = float(Rotation.from_matrix(prev[:3, :3].T @ T[:3, :3]).magnitude())
             n = max(math.ceil(max(dist / 0.01, turn / 0.1)), 1)
-            slerp_rots = Rotation.from_matrix(np.stack([prev[:3, :3], T[:3, :3]]))
+            slerp = Slerp([0, 1], Rotation.from_matrix(np.stack([prev[:3, :3], T[:3, :3]])))
+            rotations = slerp(np.arange(1, n + 1) / n).as_matrix()
             for i in range(1, n + 1):
-                s = i / n
                 M = np.eye(4)
-                from scipy.spatial.transform import Slerp
-
-                M[:3, :3] = Slerp([0, 1], slerp_rots)([s]).as_matrix()[0]
-                M[:3, 3] = prev[:3, 3] + (T[:3, 3] - prev[:3, 3]) * s
+                M[:3, :3] = rotations[i - 1]
+                M[:3, 3] = prev[:3, 3] + (T[:3, 3] - prev[:3, 3]) * (i / n)
                 qn = arm.ik(M, self.rng, path[-1], restarts=0, iterations=40, tolerance=5e-4, angle_tolerance=5e-3)
-                if qn is None or np.max(np.abs(qn - path[-1])) > 0.6:
-                    raise ActionFailed(f"{what}: no continuous IK along the straight path")
+                if qn is None:
+                    raise ActionFailed(f"{what}: a pose on the straight path is out of reach "
+                                       f"({np.round(M[:3, 3], 3).tolist()})")
+                if np.max(np.abs(qn - path[-1])) > 0.6:
+                    raise ActionFailed(f"{what}: the arm would have to jump to follow the straight path")
                 path.append(qn)
                 durations.append(max(dist / n / LINEAR_SPEED, turn / n / TURN_SPEED, 1 / SIM_HZ))
             marks.append(len(path) - 1)
             prev = T
         if not path_free(collides, path, 0.05):
             raise ActionFailed(f"{what}: the straight path collides")
+        return path, durations, marks
+
+    def linear(self, pid: str, poses: Sequence[np.ndarray], ignore: Sequence[str] | None = None,
+               holds: Sequence[float] | None = None, fingers: Sequence[float | None] | None = None,
+               what: str = "straight move") -> Program:
+        """Follow :meth:`cartesian_path` from where the arm is, holding and setting the fingers at each pose."""
+        self._sync()
+        path, durations, marks = self.cartesian_path(pid, self.arms[pid].q(), poses, ignore, what)
         try:  # noqa: SIM105
             yield from self._reserve(pid, path)
         except _Replan:  # a straight move cannot change: it waited for the way to clear
@@ -417,6 +425,21 @@ class BulletWorld:
     def _hold(self, seconds: float) -> Program:
         for _ in range(max(int(seconds * SIM_HZ), 1)):
             yield WORK
+
+    def _ride(self, pid: str, name: str, T_ee_obj: np.ndarray | None = None) -> None:
+        """``name`` moves with ``pid``'s hand from now on (and with no other hand)."""
+        for other, hand in self.hands.items():
+            if other != pid:
+                hand.riding = [r for r in hand.riding if r.name != name]
+        T = np.linalg.inv(self.arms[pid].ee()) @ self.pose(name) if T_ee_obj is None else T_ee_obj
+        self.hands[pid].riding.append(Riding(name, T))
+        self._collide_with_arm(pid, name, enabled=False)
+
+    def _contents(self, name: str) -> list[str]:
+        if self.bodies.objects[name].category is not Category.CONTAINER:
+            return []
+        return [n for n, b in self.bodies.objects.items()
+                if b.category is Category.INGREDIENT and n != name and self._container_of(n) == name]
 
     def _collide_with_arm(self, pid: str, name: str, *, enabled: bool) -> None:
         set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body, enabled=enabled)
@@ -496,6 +519,8 @@ class BulletWorld:
             hand = self.hands[pid]
             hand.carried, hand.constraint = name, constraint
             hand.riding = [Riding(name, T_ee_obj)]
+            for content in self._contents(name):  # what lies in a container moves with it
+                self._ride(pid, content)
             if lift:
                 up = self.arms[pid].ee()
                 up[2, 3] += self.skills.lift
@@ -517,6 +542,8 @@ class BulletWorld:
         self._set_grip(pid, 0.04)
         if hand.constraint is not None:
             detach(self.client, hand.constraint)
+        for r in hand.riding[1:]:
+            self._collide_with_arm(pid, r.name, enabled=True)
         hand.carried, hand.constraint, hand.riding = None, None, []
         yield from self._hold(0.15)
         if retreat:
@@ -528,8 +555,9 @@ class BulletWorld:
             self._collide_with_arm(pid, name, enabled=True)
 
     def engage(self, action: PlanAction, pid: str, spec: TSRSpec, roles: dict[str, str | None],
-               meet: tuple[str, str] | None = None, accept: object = None) -> Program:
-        """Carry the effector (the carried object, else the gripper) into a TSR, by a planned move."""
+               meet: tuple[str, str] | None = None, accept: object = None, then: Step | None = None) -> Program:
+        """Carry the effector (the carried object, else the gripper) into a TSR, by a planned move. With
+        ``then`` (the actuation that follows), only poses from which that actuation is feasible are chosen."""
         self._event("primitive_start", action, pid, spec.frame, "engage")
         hand = self.hands[pid]
         T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
@@ -541,9 +569,23 @@ class BulletWorld:
             T0_w, sizes = self.frame(spec, roles, pid, meet)
             region = spec.tsr(T0_w, sizes)
             candidates = self._goal_samples([region], T_eff_ee, self.samples, accept)
-            found = self._ik_goal(pid, candidates, [])
+            found = None
+            for G in candidates:
+                found = self._ik_goal(pid, [G], [])
+                if found is None or then is None:
+                    if found is not None:
+                        break
+                    continue
+                try:
+                    waypoints = self._actuation_waypoints(pid, then, roles, G)
+                    self.cartesian_path(pid, found[0], [w.pose @ T_eff_ee for w in waypoints], None, "actuate")
+                    break
+                except ActionFailed as error:
+                    reason = f"the {then.motion} from there: {error}"
+                    found = None
             if found is None:
-                reason = f"no reachable collision-free pose in {len(candidates)} TSR samples ({spec.frame})"
+                reason = f"no reachable collision-free pose in {len(candidates)} TSR samples ({spec.frame})" \
+                    if then is None or not candidates else reason
                 continue
             try:
                 yield from self.transit(pid, found[0], what="engage")
@@ -598,15 +640,12 @@ class BulletWorld:
         self._event("primitive_failed", action, pid, reason, "place")
         raise ActionFailed(f"place {name}: {reason}")
 
-    def actuate(self, action: PlanAction, pid: str, step: object, roles: dict[str, str | None]) -> Program:
-        from wecook_core.execution.skills import Step
-
-        assert isinstance(step, Step) and step.motion is not None
-        self._event("primitive_start", action, pid, step.motion, "actuate")
+    def _actuation_waypoints(self, pid: str, step: Step, roles: dict[str, str | None], ee: np.ndarray
+                             ) -> list[Waypoint]:
+        """The effector waypoints of ``step`` starting with the hand at ``ee``."""
+        assert step.motion is not None
         hand = self.hands[pid]
-        T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
-        T_ee_eff = np.linalg.inv(T_eff_ee)
-        ee = self.arms[pid].ee()
+        T_ee_eff = hand.riding[0].T_ee_obj if hand.riding else np.eye(4)
         E = ee @ T_ee_eff
         sizes = {"t": self.half(roles.get("tool")), "i": self.half(roles.get("ingredient")),
                  "l": self.half(roles.get("location"))}
@@ -620,7 +659,14 @@ class BulletWorld:
             target = roles.get("location") or roles.get("ingredient")
             if target is not None:
                 Rw = self._facing(target, pid)[:3, :3]
-        waypoints = actuation_path(step.motion, params, E, Rw, grip=hand.grip)  # type: ignore[arg-type]
+        return actuation_path(step.motion, params, E, Rw, grip=hand.grip, hand=ee[:3, 3])  # type: ignore[arg-type]
+
+    def actuate(self, action: PlanAction, pid: str, step: Step, roles: dict[str, str | None]) -> Program:
+        assert step.motion is not None
+        self._event("primitive_start", action, pid, step.motion, "actuate")
+        hand = self.hands[pid]
+        T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
+        waypoints = self._actuation_waypoints(pid, step, roles, self.arms[pid].ee())
         pair = None
         if step.contact is not None:
             a, b = roles.get(step.contact[0]), roles.get(step.contact[1])
@@ -645,8 +691,7 @@ class BulletWorld:
                 ing = self.half(name)
                 T_tool_ing = np.eye(4)
                 T_tool_ing[:3, 3] = [0.6 * tool.hx, 0.0, tool.hz + ing.hz + 0.002]
-                hand.riding.append(Riding(name, carrier.T_ee_obj @ T_tool_ing))
-                self._collide_with_arm(pid, name, enabled=False)
+                self._ride(pid, name, carrier.T_ee_obj @ T_tool_ing)
                 p.setCollisionFilterPair(self.bodies.objects[carrier.name].body, self.bodies.objects[name].body,
                                          -1, -1, 0, physicsClientId=self.client)
         for role in step.release:
@@ -707,18 +752,12 @@ class BulletWorld:
                                         "source": source or (self._container_of(ingredient) if ingredient else None)}
         home = self.pose(carried)
         yield from self.grasp(action, pid, carried)
-        if skill.name == "transfer_tipping":
-            hand = self.hands[pid]
-            for name in ingredients:
-                if self._container_of(name) == carried:
-                    T = np.linalg.inv(self.arms[pid].ee()) @ self.pose(name)
-                    hand.riding.append(Riding(name, T))
-                    set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body,
-                                       enabled=False)
-        for step in skill.steps:
+        for k, step in enumerate(skill.steps):
             if step.primitive == "engage":
                 assert step.tsr is not None
-                yield from self.engage(action, pid, step.tsr, roles)
+                after = skill.steps[k + 1] if k + 1 < len(skill.steps) else None
+                yield from self.engage(action, pid, step.tsr, roles,
+                                       then=after if after is not None and after.primitive == "actuate" else None)
             else:
                 yield from self.actuate(action, pid, step, roles)
         if self.hands[pid].carried is not None:
@@ -745,9 +784,12 @@ class BulletWorld:
             meeting.signal("released")  # out of the way
             return
 
+        reach = float(np.linalg.norm(self.hands[pid].riding[0].T_ee_obj[:2, 3]))  # hand to object centre
+
         def on_giver_side(T_ee: np.ndarray) -> bool:
+            """The tool along the giver-receiver line, the giver's hand on its own end."""
             local = np.linalg.inv(meet) @ T_ee
-            return bool(local[0, 3] < 0.01)
+            return bool(local[0, 3] < -0.8 * reach)
 
         yield from self.engage(action, pid, self.skills.meet, {"tool": name}, meet=(giver, receiver),
                                accept=on_giver_side)

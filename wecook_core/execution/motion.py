@@ -17,13 +17,15 @@ from __future__ import annotations
 import itertools
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal, Protocol
 
 import numpy as np
 
 CollisionFn = Callable[[np.ndarray], bool]
 Status = Literal["exact", "timeout", "invalid_start", "invalid_goal"]
+BOUND_SLACK = 1e-3
+"""Radians a start or goal may lie outside the joint bounds (it is clipped inside); further out it is invalid."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -223,4 +225,11 @@ def plan_motion(problem: MotionProblem, *, planner: str = "rrtconnect", time_lim
         backend = PLANNERS[planner]
     except KeyError:
         raise ValueError(f"unknown planner {planner!r}; expected one of {sorted(PLANNERS)}") from None
+    for name, status in (("start", "invalid_start"), ("goal", "invalid_goal")):
+        q = getattr(problem, name)
+        if np.any(q < problem.lower - BOUND_SLACK) or np.any(q > problem.upper + BOUND_SLACK):
+            return MotionResult(status)  # type: ignore[arg-type]
+    # a simulated joint may sit a hair outside its limit: bring it inside
+    problem = replace(problem, start=np.clip(problem.start, problem.lower, problem.upper),
+                      goal=np.clip(problem.goal, problem.lower, problem.upper))
     return backend(problem, time_limit=time_limit, seed=seed)

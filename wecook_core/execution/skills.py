@@ -289,23 +289,27 @@ class Waypoint:
 
 
 def _moved(E: np.ndarray, Rw: np.ndarray, dp: Sequence[float] | np.ndarray = (0, 0, 0), axis: str | None = None,
-           angle: float = 0.0) -> np.ndarray:
+           angle: float = 0.0, pivot: np.ndarray | None = None) -> np.ndarray:
     """``E`` translated by ``dp`` (engage-frame axes) and rotated by ``angle`` about an engage-frame axis through
-    the effector origin."""
+    ``pivot`` (world point; default the effector origin)."""
     T = E.copy()
     T[:3, 3] = E[:3, 3] + Rw @ np.asarray(dp, dtype=float)
     if axis is not None and angle:
         v = np.zeros(3)
         v[AXIS_NAMES[axis]] = angle
-        T[:3, :3] = (Rw @ Rotation.from_rotvec(v).as_matrix() @ Rw.T) @ E[:3, :3]
+        R = Rw @ Rotation.from_rotvec(v).as_matrix() @ Rw.T
+        T[:3, :3] = R @ E[:3, :3]
+        if pivot is not None:
+            T[:3, 3] = pivot + R @ (T[:3, 3] - pivot)
     return T
 
 
 def actuation_path(motion: str, params: Mapping[str, float], E: np.ndarray, Rw: np.ndarray,
-                   grip: float = 0.0) -> list[Waypoint]:
+                   grip: float = 0.0, hand: np.ndarray | None = None) -> list[Waypoint]:
     """Effector waypoints of an actuation starting at the engage pose ``E`` (4x4, world); ``Rw`` is the engage
-    frame's rotation (its x, y, z give the motion's axes; z is up for every shipped skill). Ends where it
-    starts unless the motion says otherwise."""
+    frame's rotation (its x, y, z give the motion's axes; z is up for every shipped skill). Tilts turn about
+    ``hand`` (the gripper's world position; default the effector origin), as a wrist does. Ends where it
+    starts."""
     g = params.get
     out: list[Waypoint] = []
     if motion == "saw":
@@ -334,10 +338,10 @@ def actuation_path(motion: str, params: Mapping[str, float], E: np.ndarray, Rw: 
         angle = math.radians(g("angle", 90))
         axis = str(params.get("axis", "y"))
         direction = -1.0 if axis == "y" else 1.0  # positive angles tip the top away from the arm (-x) or sideways
-        tilted = _moved(E, Rw, axis=axis, angle=direction * angle)
+        tilted = _moved(E, Rw, axis=axis, angle=direction * angle, pivot=hand)
         out.append(Waypoint(tilted, hold=g("hold", 0.5)))
         for _ in range(int(g("shakes", 0))):
-            out.append(Waypoint(_moved(E, Rw, axis=axis, angle=direction * (angle + 0.25))))
+            out.append(Waypoint(_moved(E, Rw, axis=axis, angle=direction * (angle + g("shake", 0.15)), pivot=hand)))
             out.append(Waypoint(tilted))
     elif motion == "strokes":
         down, amp, n = g("down", 0.03), g("amplitude", 0.03), int(g("count", 3))
