@@ -10,7 +10,7 @@ region, else each object to the nearest free spot.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
@@ -95,16 +95,18 @@ def _push_apart(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, flo
     return c, False
 
 
-def _settle(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, float], step: float = 0.01) -> np.ndarray:
+def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[float, float]],
+            step: float = 0.01) -> np.ndarray:
     """Place objects one by one, biggest first: each stays at its centre if it keeps :data:`GAP` from those
-    already placed, else goes to the nearest point of a ``step`` grid inside the bound that does (on a crowded
-    table, the nearest that keeps half the gap, then 5 mm). Always terminates; positions stay near the input."""
+    already placed inside ``bounds[0]``, else goes to the nearest point of a ``step`` grid that does. On a
+    crowded table the rules loosen in this order: half the gap in ``bounds[0]``, the gap then half of it in
+    ``bounds[1]`` (say, the whole table), 5 mm in each. Always terminates; positions stay near the input."""
     order = np.argsort(-(halves[:, 0] * halves[:, 1]), kind="stable")
     out = centres.copy()
     settled: list[int] = []
+    rules = [(0, GAP), (0, GAP / 2), *((k, g) for k in range(1, len(bounds)) for g in (GAP, GAP / 2)),
+             *((k, 0.005) for k in range(len(bounds)))]
     for i in order:
-        limit = np.maximum(np.array(bound) - halves[i], 0.0)
-
         def free(points: np.ndarray, gap: float, i: int = i) -> np.ndarray:
             if not settled:
                 return np.ones(len(points), bool)
@@ -113,16 +115,20 @@ def _settle(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, float],
             gaps = np.abs(points[:, None, :] - others[None, :, :]) >= reach[None, :, :]
             return np.all(gaps.any(axis=2), axis=1)
 
-        if not free(out[i][None, :], GAP)[0] or np.any(np.abs(out[i]) > limit + 1e-9):
+        first = np.maximum(np.array(bounds[0]) - halves[i], 0.0)
+        if free(out[i][None, :], GAP)[0] and np.all(np.abs(out[i]) <= first + 1e-9):
+            settled.append(int(i))
+            continue
+        for k, gap in rules:
+            limit = np.maximum(np.array(bounds[k]) - halves[i], 0.0)
             xs = np.arange(-limit[0], limit[0] + 1e-9, step)
             ys = np.arange(-limit[1], limit[1] + 1e-9, step)
             grid = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)
             grid = grid[np.argsort(np.hypot(*(grid - out[i]).T), kind="stable")]
-            for gap in (GAP, GAP / 2, 0.005):  # a crowded table: closer, but never touching
-                ok = free(grid, gap)
-                if ok.any():
-                    out[i] = grid[int(np.argmax(ok))]
-                    break
+            ok = free(grid, gap)
+            if ok.any():
+                out[i] = grid[int(np.argmax(ok))]
+                break
         settled.append(int(i))
     return out
 
@@ -206,9 +212,10 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     centres = np.array([[objects[n].x, objects[n].y] for n in free])
     halves = np.array([objects[n].half_extents() for n in free])
     inner = (table.size[0] / 2 - ARM_CLEARANCE, table.size[1] / 2 - GAP)
+    whole = (table.size[0] / 2 - 0.12, table.size[1] / 2 - 0.01)  # all but the arms' bases
     placed, ok = _push_apart(centres, halves, table.reach)
     if not ok:  # too crowded for the reach region: each object, biggest first, to the free spot nearest its place
-        placed = _settle(centres, halves, inner)
+        placed = _settle(centres, halves, (inner, whole))
     for n, (x, y) in zip(free, placed, strict=True):
         o = objects[n]
         objects[n] = SceneObject(o.name, o.category, o.shape, o.size, round(float(x), 4), round(float(y), 4), o.yaw)
