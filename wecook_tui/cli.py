@@ -16,6 +16,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "knowledge",
     "segment",
     "session",
+    "synth",
     "workbench",
 )
 """Modules of `wecook_tui.commands`, in the order their commands are listed by `wecook --help`."""

@@ -74,7 +74,7 @@ def detect_objects(scene: Scene, size: tuple[int, int], rng: np.random.Generator
         boxes[:, 3] = np.maximum(boxes[:, 3], boxes[:, 1])
         seen = path.visible & dropouts(scene.frames, OBJECT_DROPOUTS, 2, 5, scene.fps, rng)
         frames = np.flatnonzero(seen).astype(np.int64)
-        tracks.append(ObjectTrack(path.track_id, path.label, path.name, frames, np.round(boxes[seen], 2)))
+        tracks.append(ObjectTrack(path.track_id, path.label, path.name, frames, np.round(boxes[seen], 1)))
     return tuple(tracks)
 
 
@@ -87,7 +87,7 @@ def _hand(arm_hand: str, centre: np.ndarray, elbow: np.ndarray, wrist: np.ndarra
     detected = dropouts(frames, HAND_DROPOUTS, 2, 6, fps, rng)
     confidence = rng.uniform(0.55, 0.95, (frames, 21)) * detected[:, None]
     keypoints = np.concatenate([points, confidence[..., None]], axis=2)
-    return HandDetections(arm_hand, detected, keypoints, np.round(points.mean(axis=1), 2), np.round(boxes, 2))
+    return HandDetections(arm_hand, detected, keypoints, np.round(points.mean(axis=1), 1), np.round(boxes, 1))
 
 
 def _body(person: PersonPath, size: tuple[int, int], fps: float, rng: np.random.Generator) -> BodyDetections:

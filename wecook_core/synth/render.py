@@ -200,7 +200,7 @@ def _draw(canvas: _Canvas, scene: Scene, index: dict[str, ObjectPath], frame: in
 
 def _camera(image: np.ndarray) -> np.ndarray:
     """A slight lens blur: softer edges look like a camera and halve the mp4v file."""
-    return cv2.GaussianBlur(image, (3, 3), 0)
+    return cv2.GaussianBlur(image, (5, 5), 0)
 
 
 def frames(scenario: Scenario) -> Iterator[np.ndarray]:

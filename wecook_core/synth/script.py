@@ -223,10 +223,25 @@ class _Writer:
         return self.layout.body(person)
 
     def pause(self) -> int:
-        return round(self.rng.uniform(0.4, 1.6) * self.fps)
+        return round(self.rng.uniform(0.3, 1.3) * self.fps)
 
     def start_after(self, persons: tuple[str, ...], objects: tuple[str, ...]) -> int:
-        return max([self.free[p] for p in persons] + [self.object_free[o] for o in objects]) + self.pause()
+        return self.ready(persons, objects) + self.pause()
+
+    def ready(self, persons: tuple[str, ...], objects: tuple[str, ...]) -> int:
+        return max([self.free[p] for p in persons] + [self.object_free[o] for o in objects])
+
+    def ready_for(self, kind: str, extra: str | None) -> int:
+        """The first frame a task could start (before the pause)."""
+        middle = ("pot", "chopping_board", "tomato")
+        if kind == "holding":
+            return self.ready(("P1", "P2"), (str(extra), "spoon" if extra == "pot" else "knife", *middle))
+        if kind == "handover":
+            giver = self.thing(str(extra)).owner or "P1"
+            receiver = "P2" if giver == "P1" else "P1"
+            return max(self.ready((giver,), (str(extra), *middle)), self.free[receiver] - round(self.fps))
+        group, objects = _TASK_OBJECTS[kind]
+        return self.ready((self.owner(group),), tuple(self._resolve(o) for o in objects))
 
     def grip_point(self, thing: Thing, grip: np.ndarray, angle: float | None = None) -> np.ndarray:
         return thing.home + rotation(thing.angle if angle is None else angle) @ grip
@@ -656,18 +671,22 @@ def write_script(seed_rng: np.random.Generator, persons: int, fps: float, limit:
              if k in ("holding", "handover") or _TASK_OBJECTS[k][0] in layout.groups]
     last: str | None = None
     while True:
-        order = list(kinds)
-        for _ in range(20):
-            seed_rng.shuffle(order)
-            if order[0] != last:
-                break
-        placed = 0
-        for kind in order:
+        # each step takes, among the tasks left in this cycle, one that could start soonest (ties broken at
+        # random, up to a second and a half apart): the persons rarely wait for each other
+        left: list[tuple[str, str | None]] = []
+        for kind in kinds:
             extra = None
             if kind == "holding":
                 extra = "pot" if seed_rng.random() < 0.6 else "chopping_board"
             elif kind == "handover":
                 extra = layout.handed
+            left.append((kind, extra))
+        placed = 0
+        while left:
+            ready = np.array([writer.ready_for(kind, extra) for kind, extra in left], dtype=float)
+            ready += seed_rng.uniform(0, 1.5 * fps, len(left))
+            ready[[kind == last for kind, _ in left]] += 3 * fps
+            kind, extra = left.pop(int(np.argmin(ready)))
             placed += writer.schedule(kind, extra)
             last = kind
         if limit is None or placed == 0:
