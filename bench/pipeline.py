@@ -3,9 +3,11 @@
 
 - Speed: a 10-minute video (18,000 frames), best of 3, against two baselines measured in the same run: the
   video's own duration (real-time factor) and 10 x a 1-minute video (1.0 = linear scaling).
-- Memory: for 1, 5, 10 and 20 minutes, each in a fresh subprocess: tracemalloc's peak of Python allocations
-  (numpy included) *during* `analyze`, above what was allocated before it (the observations themselves),
-  and the process's ru_maxrss. The per-minute growth is the least-squares slope over the four lengths.
+- Memory: for 1, 5, 10 and 20 minutes, each in a fresh subprocess (scenario built, then tracemalloc started):
+  tracemalloc's peak of Python allocations (numpy included) during the segmentation and during the other
+  stages (associate, actions, trees, graph), above what was allocated before each (the observations
+  themselves are not counted), and the process's ru_maxrss. The per-minute growth is the least-squares slope
+  over the four lengths, compared with the growth of the input track arrays.
 
 Run: `.venv/bin/python -m bench.pipeline`.
 """
@@ -49,28 +51,38 @@ def _time_analyze(duration_s: float, repeats: int = 3) -> tuple[float, dict[str,
 
 
 def _memory_child(duration_s: float) -> dict[str, float]:
-    """Runs in a subprocess: peak memory of one analysis of a ``duration_s`` video."""
+    """Runs in a subprocess: peak memory of one analysis of a ``duration_s`` video, whole and per part."""
+    import gc
     import resource
     import tracemalloc
 
-    from wecook_core.pipeline import Params, analyze
+    from wecook_core.pipeline import Params, analyze, segmentation_params
     from wecook_core.recognize import load_knowledge
+    from wecook_core.segment import segment_hands
 
     knowledge = load_knowledge()
-    tracemalloc.start()
     scenario = _scenario(duration_s)
     obs = scenario.observations
     del scenario
+    gc.collect()
+    tracemalloc.start()
     before, _ = tracemalloc.get_traced_memory()
+    segmentation = segment_hands(obs, segmentation_params(obs, Params()))
+    gc.collect()
+    after_segment, segment_peak = tracemalloc.get_traced_memory()
     tracemalloc.reset_peak()
-    analysis = analyze(obs, knowledge, Params())
-    _, peak = tracemalloc.get_traced_memory()
+    analysis = analyze(obs, knowledge, Params(), segmentation=segmentation)
+    _, rest_peak = tracemalloc.get_traced_memory()
     tracemalloc.stop()
     return {
         "minutes": duration_s / 60,
         "frames": obs.video.frame_count,
-        "inputs_mb": before / 1e6,
-        "analysis_peak_mb": (peak - before) / 1e6,
+        "inputs_mb": sum(t.frames.nbytes + t.boxes.nbytes for t in obs.objects) / 1e6
+        + sum(t.frames.nbytes + t.boxes.nbytes + t.xy.nbytes for t in obs.hands) / 1e6,
+        "segment_peak_mb": (segment_peak - before) / 1e6,
+        "segment_kept_mb": (after_segment - before) / 1e6,
+        "stages_peak_mb": (rest_peak - after_segment) / 1e6,
+        "analysis_peak_mb": (max(segment_peak, rest_peak) - before) / 1e6,
         "maxrss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e3,
         "trees": len(analysis.trees),
     }
@@ -96,21 +108,24 @@ def run() -> list[dict[str, object]]:
                  "note": f"1 min takes {t1:.3f} s; ratio 1.0 = linear in video length"})
     measured = [_memory(m) for m in (1, 5, 10, 20)]
     minutes = np.array([m["minutes"] for m in measured])
-    peaks = np.array([m["analysis_peak_mb"] for m in measured])
-    rss = np.array([m["maxrss_mb"] for m in measured])
-    inputs = np.array([m["inputs_mb"] for m in measured])
-    slope_peak = float(np.polyfit(minutes, peaks, 1)[0])
-    slope_rss = float(np.polyfit(minutes, rss, 1)[0])
-    slope_inputs = float(np.polyfit(minutes, inputs, 1)[0])
+
+    def slope(key: str) -> float:
+        return float(np.polyfit(minutes, np.array([m[key] for m in measured]), 1)[0])
+
+    inputs = slope("inputs_mb")
     for m in measured:
         rows.append({"benchmark": f"analysis peak memory, {m['minutes']:.0f} min", "value": m["analysis_peak_mb"],
                      "unit": "MB", "ratio_vs_baseline": m["analysis_peak_mb"] / measured[0]["analysis_peak_mb"],
-                     "note": f"tracemalloc peak above the inputs ({m['inputs_mb']:.1f} MB); "
-                             f"process maxrss {m['maxrss_mb']:.0f} MB; baseline 1 min"})
-    rows.append({"benchmark": "analysis memory growth", "value": slope_peak, "unit": "MB per minute of video",
-                 "ratio_vs_baseline": slope_peak / slope_inputs if slope_inputs else None,
-                 "note": f"slope over 1/5/10/20 min; inputs grow {slope_inputs:.2f} MB/min (the baseline), "
-                         f"process maxrss {slope_rss:.2f} MB/min"})
+                     "note": f"tracemalloc peak above the inputs ({m['inputs_mb']:.1f} MB of track arrays); "
+                             f"segmentation {m['segment_peak_mb']:.1f} MB (keeps {m['segment_kept_mb']:.1f}), "
+                             f"associate..graph {m['stages_peak_mb']:.1f} MB; process maxrss "
+                             f"{m['maxrss_mb']:.0f} MB; baseline 1 min"})
+    for key, what in (("analysis_peak_mb", "whole analysis"), ("segment_peak_mb", "segmentation"),
+                      ("stages_peak_mb", "associate..graph")):
+        rows.append({"benchmark": f"memory growth, {what}", "value": slope(key), "unit": "MB per minute of video",
+                     "ratio_vs_baseline": slope(key) / inputs if inputs else None,
+                     "note": f"least-squares slope over 1/5/10/20 min; baseline: the input track arrays grow "
+                             f"{inputs:.2f} MB/min; process maxrss grows {slope('maxrss_mb'):.2f} MB/min"})
     return rows
 
 
