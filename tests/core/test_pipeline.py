@@ -83,3 +83,16 @@ def test_analysis_finds_the_segment_of_a_frame(knowledge):
     assert analysis.segment_index(0) == 0 and analysis.segment_index(59) == 1 and analysis.segment_index(60) == 2
     assert analysis.segment_index(150) is None
     assert set(analysis.seconds) == {"segment", "associate", "actions", "graph"}
+
+
+@pytest.mark.slow
+def test_synthetic_scenarios_reach_the_quality_target():
+    """Seeds 21..26 (the benchmark uses 1..20): precision and recall of every tree with an action, pooled."""
+    from bench.quality import TARGET, score
+
+    tally = score(range(21, 27))
+    assert sum(tally.truth.values()) >= 60
+    assert tally.precision() >= TARGET, tally.failures
+    assert tally.recall() >= TARGET, tally.failures
+    for case in ("tool", "container", "hand", "transfer", "holding", "handover"):
+        assert tally.recall(case) >= TARGET, (case, tally.failures)
