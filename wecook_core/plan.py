@@ -601,8 +601,8 @@ def _fields(action: Action, categories: Mapping[str, Category]) -> tuple[str | N
 
 
 def plan_actions(graph: ActionGraph, categories: Mapping[str, Category]) -> tuple[PlanAction, ...]:
-    """Plan actions of the graph's nodes that contain an action or a collaboration (grasp-only nodes are left
-    out), in order of start frame.
+    """Plan actions of the graph's nodes that contain an action or a collaboration (grasp-only nodes, and holdings
+    where the partner only holds too, are left out), in order of start frame.
 
     ``after``: each action comes after the previous action of every agent it involves (so a handover waits
     for the receiver to be free and the receiver's next action waits for the handover; a holding waits for
@@ -622,8 +622,10 @@ def plan_actions(graph: ActionGraph, categories: Mapping[str, Category]) -> tupl
             pids = (person_of(action.hand), person_of(action.partner.hand))
             partner = None
             if action.kind is ActionKind.HOLDING:
+                if action.partner.verb is None:  # both only hold the object: nothing for the arms to do
+                    continue
                 tool, ingredients, location, source = _fields(action.partner, categories)
-                partner = Act(action.partner.verb or "stir", tool, ingredients, location, source)
+                partner = Act(action.partner.verb, tool, ingredients, location, source)
             kept.append(PlanAction(node.id, pids, str(action.kind), tool=action.held, partner=partner,
                                    frames=frames, tree=tree))
             continue

@@ -204,6 +204,14 @@ def test_plan_from_graph_actions_and_order() -> None:
     assert [a.pid for a in plan.agents] == ["P1", "P2"]
 
 
+def test_a_holding_without_an_action_is_left_out() -> None:
+    graph, obs = scenario()
+    idle = node("a8", "P1", 180, 190, "(HP (HP (H LH_P1) (O pot)) (CP (C holding) (HP (H RH_P2) (O pot))))")
+    plan = plan_from_graph(replace(graph, nodes=(*graph.nodes, idle)), obs)
+    validate(plan)
+    assert "a8" not in [a.id for a in plan.actions]
+
+
 def test_layout_maps_the_video_onto_the_table_without_overlaps() -> None:
     graph, obs = scenario()
     plan = plan_from_graph(graph, obs)
