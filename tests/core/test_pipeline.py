@@ -96,3 +96,53 @@ def test_synthetic_scenarios_reach_the_quality_target():
     assert tally.recall() >= TARGET, tally.failures
     for case in ("tool", "container", "hand", "transfer", "holding", "handover"):
         assert tally.recall(case) >= TARGET, (case, tally.failures)
+
+
+@pytest.mark.slow
+def test_wecook_analyze_writes_the_trees_and_graph_of_a_session_with_its_corrections(tmp_path, capsys):
+    import cv2
+    import numpy as np
+
+    from wecook_core.evaluate import evaluate
+    from wecook_core.formats.treefile import read_tree_file
+    from wecook_core.graph import read_graph_file
+    from wecook_core.session import create_session, open_session
+    from wecook_core.synth import synthesize, write_scenario
+    from wecook_tui.cli import main
+
+    scenario = synthesize(3)
+    inputs = write_scenario(scenario, tmp_path / "inputs", video=False, openpose=False)
+    # a blank video of the right size and length: the pipeline never looks at pixels, rendering is slow
+    writer = cv2.VideoWriter(str(inputs / "video.mp4"), cv2.VideoWriter_fourcc(*"mp4v"), scenario.fps,
+                             scenario.size)
+    blank = np.zeros((scenario.size[1], scenario.size[0], 3), np.uint8)
+    for _ in range(scenario.frames):
+        writer.write(blank)
+    writer.release()
+    create_session(tmp_path / "sessions", "s3", inputs / "video.mp4", inputs / "objects.csv", inputs / "hands.csv")
+    assert main(["analyze", "s3", "--root", str(tmp_path / "sessions")]) == 0
+    out = capsys.readouterr().out
+    assert "s3:" in out and "handover 1" in out and "holding 1" in out
+    folder = tmp_path / "sessions" / "s3"
+    trees = read_tree_file(folder / "trees.yaml")
+    graph = read_graph_file(folder / "graph.yaml")
+    assert len(graph.nodes) == len(trees) and set(graph.sequences) == {"P1", "P2"}
+    scores = evaluate(trees, scenario.truth)
+    assert scores.precision >= 0.8 and scores.recall >= 0.8
+
+    # reject the segment in the middle of the first tree with an action: that tree is cut there
+    first = next(t for t in trees if "(A " in str(t.tree) or "AP" in str(t.tree))
+    middle = (first.start + first.end) // 2
+    session = open_session(folder)
+    from wecook_core.pipeline import analyze
+    from wecook_core.recognize import load_knowledge
+
+    start = next(s.start for s in analyze(session.load_observations(), load_knowledge()).segmentation.segments
+                 if s.start <= middle < s.end)
+    session.record({"op": "set_status", "segment": start, "status": "rejected"})
+    assert main(["analyze", str(folder)]) == 0
+    again = read_tree_file(folder / "trees.yaml")
+    assert not any(t.start <= middle < t.end and t.tree == first.tree for t in again)
+
+    assert main(["analyze", "missing", "--root", str(tmp_path / "sessions")]) == 2
+    assert "missing" in capsys.readouterr().err
