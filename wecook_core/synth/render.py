@@ -115,9 +115,16 @@ def draw_object(canvas: _Canvas, path: ObjectPath, frame: int) -> None:
         canvas.poly(_ellipse(c, 0.78 * w, 0.78 * h, a), _shade(colour, 1.12))
     elif style == "tomato":
         canvas.poly(_ellipse(c, w, h, a), colour, dark)
-        canvas.dot(c, 2.5, (40, 140, 40))
+        cuts = min(int(path.worked[frame]), 3)
+        for k in range(cuts):  # slices
+            x = (k + 1) / (cuts + 1) * w - w / 2
+            canvas.line(c + rotation(a) @ np.array([x, -0.45 * h]), c + rotation(a) @ np.array([x, 0.45 * h]),
+                        (120, 150, 235), 1.5)
+        if not cuts:
+            canvas.dot(c, 2.5, (40, 140, 40))
     elif style == "potato":
-        canvas.poly(_ellipse(c, w, h, a), colour, dark)
+        peeled = path.worked[frame] > 0
+        canvas.poly(_ellipse(c, w, h, a), (150, 210, 235) if peeled else colour, dark)
         for dx, dy in ((-0.2, -0.1), (0.15, 0.2), (0.25, -0.15)):
             canvas.dot(c + rotation(a) @ np.array([dx * w, dy * h]), 1.2, dark)
     elif style in ("lemon", "dough", "heap"):

@@ -36,6 +36,8 @@ class ObjectPath:
     """bool ``(frames,)``: the object is on the table (stirred-in ingredients vanish)."""
     held: np.ndarray
     """bool ``(frames,)``: riding on a hand (drawn above the others)."""
+    worked: np.ndarray
+    """int ``(frames,)``: how often it has been worked so far (cuts of the tomato, peels of the potato)."""
 
     @property
     def label(self) -> str:
@@ -166,8 +168,11 @@ def resolve(script: Script, rng: np.random.Generator) -> Scene:
             cursor = b
         centre[cursor:] = current
         size = _sizes(frames, thing.kind.size, script.sizes.get(name, []), fps)
+        worked = np.zeros(frames, dtype=np.int64)
+        for mark in script.marks.get(name, []):
+            worked[min(mark, frames):] += 1
         objects.append(ObjectPath(thing.track_id, name, thing.kind, category_of(thing.label), centre,
-                                  angles[name], size, visible, held))
+                                  angles[name], size, visible, held, worked))
     return Scene(fps, frames, tuple(objects), persons, tuple(script.effects))
 
 

@@ -105,6 +105,8 @@ class Script:
     """Object name -> position events, in time order."""
     turns: dict[str, list[Turn]] = field(default_factory=lambda: defaultdict(list))
     sizes: dict[str, list[Resize]] = field(default_factory=lambda: defaultdict(list))
+    marks: dict[str, list[int]] = field(default_factory=lambda: defaultdict(list))
+    """Object name -> frames where it was worked once more (a cut, a peel): drawn, not detected."""
     effects: list[Effect] = field(default_factory=list)
     actions: list[Action] = field(default_factory=list)
     """The true actions (one tree each), plus the receiver's carry after a handover (a GRASP)."""
@@ -134,6 +136,7 @@ class _Draft:
         self.moves: dict[str, list[PositionEvent]] = defaultdict(list)
         self.turns: dict[str, list[Turn]] = defaultdict(list)
         self.sizes: dict[str, list[Resize]] = defaultdict(list)
+        self.marks: dict[str, list[int]] = defaultdict(list)
         self.effects: list[Effect] = []
         self.actions: list[Action] = []
         self.commits: list[Callable[[], None]] = []
@@ -252,9 +255,14 @@ class _Writer:
         s = self.script
         for hand, phases in draft.phases.items():
             s.phases[hand].extend(phases)
-        for target, source in ((s.moves, draft.moves), (s.turns, draft.turns), (s.sizes, draft.sizes)):
-            for name, events in source.items():
-                target[name].extend(events)  # type: ignore[arg-type]
+        for name, moves in draft.moves.items():
+            s.moves[name].extend(moves)
+        for name, turns in draft.turns.items():
+            s.turns[name].extend(turns)
+        for name, sizes in draft.sizes.items():
+            s.sizes[name].extend(sizes)
+        for name, marks in draft.marks.items():
+            s.marks[name].extend(marks)
         s.effects.extend(draft.effects)
         s.actions.extend(draft.actions)
         for person in persons:
@@ -339,7 +347,8 @@ class _Writer:
         knife, tomato = self.thing("knife"), self.thing("tomato")
         drift = float(self.rng.uniform(-7, 7))
         hand, t1, release, end = self.tool_on(draft, person, t, knife, tomato.home, "saw", 10.0, (4.5, 6.0),
-                                              (2.0, 2.8), (2.5, 4.5), drift=drift)
+                                              (2.0, 2.8), (2.5, 4.5), drift=drift,
+                                              during=lambda a, b: draft.marks["tomato"].append((a + b) // 2))
         for name in ("tomato", "chopping_board"):
             draft.use(name, end)
         return Action(ActionKind.TOOL, hand, t1, release, verb="cut", held="knife",
@@ -348,7 +357,8 @@ class _Writer:
     def peel(self, person: str, t: int, draft: _Draft) -> Action:
         peeler, potato = self.thing("peeler"), self.thing("potato")
         hand, t1, release, end = self.tool_on(draft, person, t, peeler, potato.home, "peel", 14.0, (7.0, 9.0),
-                                              (1.2, 1.7), (2.5, 4.0))
+                                              (1.2, 1.7), (2.5, 4.0),
+                                              during=lambda a, b: draft.marks["potato"].append((a + b) // 2))
         draft.use("potato", end)
         return Action(ActionKind.TOOL, hand, t1, release, verb="peel", held="peeler", targets=("potato",))
 
