@@ -1,16 +1,23 @@
 """Object association per segment (paper, "Object Association"): ingredient-container, hand-object,
 object-object.
 
-Everything is computed per frame on dense arrays aligned on frame index (one row per frame of the segment,
-NaN where a box is absent), then summarised per segment: a link is kept only when it holds for at least
-``params.min_frames`` consecutive frames inside the segment.
+Everything is computed per frame on dense arrays aligned on frame index (one row per frame, NaN where a box
+is absent; gaps of at most ``params.fill_gap`` frames interpolated), gathered in blocks of
+:data:`BLOCK_FRAMES` so memory does not grow with the video, then summarised per segment: a link is kept
+only when it holds for at least ``params.min_frames`` consecutive frames inside the segment (a segment
+shorter than that is judged on the ``min_frames`` around it).
 
 - Ingredient-container: an ingredient lies in a container when most of its box is inside the container's box
   (``params.contain_fraction``); among several, the highest Jaccard index wins.
-- Hand-object: the objects whose boxes overlap the hand's box; on ties the closest (box centres); a contained
-  ingredient is replaced by its container.
+- Hand-object: the objects whose boxes overlap the hand's box; among several, the one overlapped longest
+  without a break (a grasp persists while the hand carries the object over others), then the closest box
+  centre; a contained ingredient is replaced by its container.
 - Object-object: from each held object to the containers and ingredients whose boxes come within
-  ``params.near_fraction`` of the image diagonal of it, closest first; never to a tool.
+  ``params.near_fraction`` of the image diagonal of it while it dwells there (``params.dwell_*``: passing by
+  is not acting), for ``min_frames`` and ``params.min_share`` of the segment; closest first; never a tool.
+
+:func:`associate_segments` also returns the :class:`Timeline`: the per-frame links of the whole video, which
+transfer and collaboration detection track over time (:mod:`wecook_core.actions`).
 """
 
 from __future__ import annotations
