@@ -55,7 +55,7 @@ class FrameSource:
     seeking (seeking an H.264 file decodes from the previous key frame), so stepping forward costs one decode.
     """
 
-    def __init__(self, path: str | Path | None, cache_size: int = 256) -> None:
+    def __init__(self, path: str | Path | None, cache_size: int = 600) -> None:
         self.path = Path(path) if path is not None else None
         self.cache_size = cache_size
         self._lock = threading.Lock()
@@ -296,7 +296,6 @@ def draw(image: np.ndarray, overlay: Overlay, video_size: tuple[int, int]) -> Ca
 # ----------------------------------------------------------------------------------- half blocks
 
 _COLOURS: dict[int, Color] = {}
-_STYLES: dict[tuple[int, int], Style] = {}
 _QUANT = 0xF8
 """Colours are quantised to 5 bits per channel: fewer distinct styles, same look at this resolution."""
 
@@ -309,61 +308,69 @@ def _colour(packed: int) -> Color:
     return colour
 
 
-def _style(top: int, bottom: int) -> Style:
-    key = (top, bottom)
-    style = _STYLES.get(key)
+_PAIR_STYLES: dict[int, Style] = {}
+
+
+def _pair_style(key: int) -> Style:
+    """The style of a cell whose (top, bottom) colours are packed as ``top << 24 | bottom``."""
+    style = _PAIR_STYLES.get(key)
     if style is None:
-        if len(_STYLES) > 200_000:
-            _STYLES.clear()
-        style = Style.from_color(_colour(top), _colour(bottom))
-        _STYLES[key] = style
+        if len(_PAIR_STYLES) > 200_000:
+            _PAIR_STYLES.clear()
+        style = Style.from_color(_colour(key >> 24), _colour(key & 0xFFFFFF))
+        _PAIR_STYLES[key] = style
     return style
 
 
+def _label_cells(labels: list[Label], bottom: list[int], width: int) -> dict[int, Segment]:
+    cells: dict[int, Segment] = {}
+    for label in labels:
+        fg = _colour(((label.colour[0] & _QUANT) << 16) | ((label.colour[1] & _QUANT) << 8)
+                     | (label.colour[2] & _QUANT))
+        for offset, char in enumerate(label.text[: max(0, width - label.x)]):
+            x = label.x + offset
+            cells[x] = Segment(char, Style.from_color(fg, _colour(bottom[x])) + _BOLD)
+    return cells
+
+
+_BOLD = Style(bold=True)
+
+
 def to_strips(canvas: Canvas) -> list[Strip]:
-    """One :class:`Strip` per pair of pixel rows; labels overwrite cells with text on the bottom colour."""
+    """One :class:`Strip` per pair of pixel rows; labels overwrite cells with text on the bottom colour.
+
+    Runs of equal cells are found with numpy; Python only loops over the runs.
+    """
     image = canvas.image
     if image.shape[0] % 2:
         image = np.vstack([image, image[-1:]])
-    rgb = (image[..., ::-1] & _QUANT).astype(np.uint32)
+    rgb = (image[..., ::-1] & _QUANT).astype(np.uint64)
     packed = (rgb[..., 0] << 16) | (rgb[..., 1] << 8) | rgb[..., 2]
-    width = packed.shape[1]
+    keys = (packed[0::2] << 24) | packed[1::2]
+    rows, width = keys.shape
     labels_by_row: dict[int, list[Label]] = {}
     for label in canvas.labels:
         labels_by_row.setdefault(label.y, []).append(label)
+    change = np.ones((rows, width), dtype=bool)
+    change[:, 1:] = keys[:, 1:] != keys[:, :-1]
     strips: list[Strip] = []
-    for row in range(packed.shape[0] // 2):
-        top = packed[2 * row].tolist()
-        bottom = packed[2 * row + 1].tolist()
-        cells: list[tuple[str, Style] | None] | None = None
-        if row in labels_by_row:
-            cells = [None] * width
-            for label in labels_by_row[row]:
-                fg = _colour(((label.colour[0] & _QUANT) << 16) | ((label.colour[1] & _QUANT) << 8)
-                             | (label.colour[2] & _QUANT))
-                for offset, char in enumerate(label.text[: max(0, width - label.x)]):
-                    x = label.x + offset
-                    cells[x] = (char, Style.from_color(fg, _colour(bottom[x])) + Style(bold=True))
+    for row in range(rows):
+        row_keys = keys[row]
+        starts = np.flatnonzero(change[row]).tolist()
+        labels = labels_by_row.get(row)
+        cells = _label_cells(labels, (packed[2 * row + 1]).tolist(), width) if labels else None
+        if cells:
+            starts = sorted(set(starts) | set(cells) | {x + 1 for x in cells if x + 1 < width})
+        run_keys = row_keys[starts].tolist()
+        ends = [*starts[1:], width]
         segments: list[Segment] = []
-        run_key: tuple[int, int] | None = None
-        run = 0
-        for x in range(width):
-            if cells is not None and cells[x] is not None:
-                if run_key is not None:
-                    segments.append(Segment(HALF_BLOCK * run, _style(*run_key)))
-                    run_key, run = None, 0
-                char, style = cells[x]  # type: ignore[misc]
-                segments.append(Segment(char, style))
-                continue
-            key = (top[x], bottom[x])
-            if key == run_key:
-                run += 1
-                continue
-            if run_key is not None:
-                segments.append(Segment(HALF_BLOCK * run, _style(*run_key)))
-            run_key, run = key, 1
-        if run_key is not None:
-            segments.append(Segment(HALF_BLOCK * run, _style(*run_key)))
+        for start, end, key in zip(starts, ends, run_keys, strict=True):
+            if cells is not None and start in cells:
+                segments.append(cells[start])
+                if end - start > 1:
+                    segments.append(Segment(HALF_BLOCK * (end - start - 1), _pair_style(key)))
+            else:
+                segments.append(Segment(HALF_BLOCK * (end - start), _pair_style(key)))
         strips.append(Strip(segments, width))
     return strips
 

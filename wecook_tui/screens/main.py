@@ -8,16 +8,17 @@ from rich.text import Text
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal
-from textual.reactive import reactive
+from textual.reactive import var
 from textual.screen import Screen
 from textual.timer import Timer
-from textual.widgets import Footer, Static
+from textual.widgets import Footer
 
 from wecook_core.model import VERBS, Segment, SegmentStatus
 from wecook_tui import review
 from wecook_tui.screens.picker import PickerScreen
 from wecook_tui.widgets.frame_view import FrameView
 from wecook_tui.widgets.inspector import Inspector
+from wecook_tui.widgets.status_line import StatusLine
 from wecook_tui.widgets.timeline import Timeline
 
 if TYPE_CHECKING:
@@ -53,11 +54,12 @@ MAIN_BINDINGS: list[Binding] = [
 class MainScreen(Screen[None]):
     BINDINGS = MAIN_BINDINGS
 
-    frame: reactive[int] = reactive(0, init=False)
+    # `var`: a change calls the watcher but does not repaint the whole screen (widgets refresh themselves)
+    frame: var[int] = var(0, init=False)
     """The cursor: a 0-based frame index."""
-    selected_hand: reactive[str | None] = reactive(None, init=False)
+    selected_hand: var[str | None] = var(None, init=False)
     """The hand that change-action / change-object / change-link act on."""
-    playing: reactive[bool] = reactive(False, init=False)
+    playing: var[bool] = var(False, init=False)
 
     def __init__(self) -> None:
         super().__init__()
@@ -75,7 +77,7 @@ class MainScreen(Screen[None]):
             yield FrameView(id="frame")
             yield Inspector(id="inspector")
         yield Timeline(id="timeline")
-        yield Static(id="status")
+        yield StatusLine(id="status")
         yield Footer()
 
     # ------------------------------------------------------------------------------- view state
@@ -135,7 +137,7 @@ class MainScreen(Screen[None]):
             ("  ▶ playing" if self.playing else ""),
             ("  recomputing…" if wb.pending else ("  opening…" if wb.opened is None else ""), "yellow"),
         )
-        self.query_one("#status", Static).update(line)
+        self.query_one(StatusLine).show(line)
 
     def watch_frame(self) -> None:
         self.refresh_view()

@@ -7,7 +7,10 @@ the cursor (behind it, when stepping back) in the cache.
 
 from __future__ import annotations
 
+import contextlib
+import os
 import time
+from pathlib import Path
 
 import numpy as np
 from textual import work
@@ -19,8 +22,16 @@ from textual.worker import get_current_worker
 from wecook_tui.frames import Canvas, FrameSource, Label, Overlay, blank, draw, fit, to_strips
 from wecook_tui.messages import FrameDecoded
 
-PREFETCH = 48
+PREFETCH = 120
 """Frames decoded ahead of the cursor."""
+
+
+def _report_first_frame() -> None:
+    """Write the wall time of the first painted video frame to ``$WECOOK_FIRST_FRAME`` (for bench.workbench)."""
+    path = os.environ.get("WECOOK_FIRST_FRAME")
+    if path:
+        with contextlib.suppress(OSError):
+            Path(path).write_text(f"{time.time():.6f}")
 
 
 class FrameView(Widget):
@@ -46,6 +57,9 @@ class FrameView(Widget):
         self._image: np.ndarray | None = None
         self._direction = 1
         self._prefetch_until: int | None = None
+        self._first_reported = False
+        self.misses = 0
+        """Frames asked for that were not in the cache yet (the benchmark reports it)."""
         self.painted: tuple[int, float] | None = None
         """(frame, perf_counter) of the last repaint of the whole picture: the benchmark reads it."""
 
@@ -56,6 +70,8 @@ class FrameView(Widget):
         self.video_size = video_size
         self.message = source.facts.error if source is not None else None
         self._resize_source()
+        if source is not None and source.ok and self.index == 0 and self.size.width:
+            source.decode(0)  # opening the video already decoded frame 0: this only resizes it
         self.show(self.index, self.overlay)
 
     def show(self, index: int, overlay: Overlay) -> None:
@@ -74,6 +90,7 @@ class FrameView(Widget):
             self.shown = index
             self._paint()
         else:
+            self.misses += 1
             if self._image is not None:
                 self._paint()  # new overlay on the old picture while the frame decodes
             self._decode(index)
@@ -100,9 +117,9 @@ class FrameView(Widget):
         if source is None or not source.ok:
             return
         if self._direction > 0:
-            probe, start, stop = index + PREFETCH // 3, index + 1, index + PREFETCH
+            probe, start, stop = index + PREFETCH // 2, index + 1, index + PREFETCH
         else:
-            probe, start, stop = index - PREFETCH // 3, index - PREFETCH, index
+            probe, start, stop = index - PREFETCH // 2, index - PREFETCH, index
         probe = max(0, probe)
         if source.cached(probe) is None and self._prefetch_until != stop:
             self._prefetch_until = stop
@@ -158,4 +175,7 @@ class FrameView(Widget):
         line = Strip.join([Strip.blank(pad), strip]) if pad else strip
         if y == len(strips) - 1:
             self.painted = (self.shown if self.shown is not None else -1, time.perf_counter())
+            if self._image is not None and not self._first_reported:
+                self._first_reported = True
+                _report_first_frame()
         return line.crop_extend(0, width, None)
