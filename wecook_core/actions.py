@@ -1,8 +1,9 @@
 """Action recognition per segment (paper, "Action Recognition"): individual, transfer, collaborative.
 
 - Individual: a held tool acts on the ingredient it comes near (in its container) or else on a container; a
-  held ingredient acts on a container (pour oil into the pot) or, held still with nothing near, is worked by
-  the hand itself (squeeze the lemon). The verb is the argmax over candidate verbs of P(A) prod_k P(O_k | A)
+  held ingredient acts on a container (pour oil into the pot) or, held still with nothing near and when the
+  commonsense model says hands work it (``Params.hand_share``), is worked by the hand itself (squeeze the
+  lemon). The verb is the argmax over candidate verbs of P(A) prod_k P(O_k | A)
   (:func:`wecook_core.recognize.rank`) over the held object and the targets.
 - Transfer: an ingredient whose container changes (tracked over the whole video) while a hand, or the object
   it holds, moves it: targets ``(ingredient, source, destination)``.
@@ -26,8 +27,8 @@ import numpy as np
 from wecook_core.associate import (
     NONE,
     Timeline,
-    _gap,
     associate_segments,
+    box_gap,
     dwelling_points,
     frame_boxes,
     kept_runs,
@@ -258,7 +259,7 @@ def _arrival_end(
         return arrival
     boxes = frame_boxes(obs, arrival, hold_end, fill)
     with np.errstate(invalid="ignore"):
-        close = _gap(boxes.objects[:, carrier, :], boxes.objects[:, ingredient, :]) <= near
+        close = box_gap(boxes.objects[:, carrier, :], boxes.objects[:, ingredient, :]) <= near
     away = np.flatnonzero(~close)
     return arrival + int(away[0]) if len(away) else hold_end
 
@@ -280,7 +281,7 @@ def _mover(
         direct = (touched == ingredient) | (held == ingredient)
         carried_box = boxes.objects[rows, np.maximum(held, 0), :]
         with np.errstate(invalid="ignore"):
-            via = (held != NONE) & (held != ingredient) & (_gap(carried_box, ingredient_boxes) <= near)
+            via = (held != NONE) & (held != ingredient) & (box_gap(carried_box, ingredient_boxes) <= near)
         score = float(np.mean(direct | via))
         if score < 0.5:
             continue

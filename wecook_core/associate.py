@@ -114,7 +114,7 @@ def _intersection(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.clip(width, 0, None) * np.clip(height, 0, None)
 
 
-def _gap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def box_gap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Euclidean distance between two boxes' closest points (0 when they overlap); NaN where absent."""
     dx = np.clip(np.maximum(a[..., 0], b[..., 0]) - np.minimum(a[..., 2], b[..., 2]), 0, None)
     dy = np.clip(np.maximum(a[..., 1], b[..., 1]) - np.minimum(a[..., 3], b[..., 3]), 0, None)
@@ -351,7 +351,7 @@ def near_objects(
     dwells there (:func:`dwelling`): passing by on the way somewhere is not acting. Tools and the held object
     itself are never linked."""
     boxes = links.boxes
-    gap = _gap(boxes.objects[:, held : held + 1, :], boxes.objects)
+    gap = box_gap(boxes.objects[:, held : held + 1, :], boxes.objects)
     near = (gap <= params.near_fraction * video_diagonal) & rows[:, None] & dwelling(
         boxes.objects[:, held, :], params.dwell_frames, params.dwell_fraction * video_diagonal)[:, None]
     for column, category in enumerate(boxes.categories):
