@@ -133,6 +133,21 @@ def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[floa
     return out
 
 
+def _users(graph: ActionGraph) -> dict[str, set[str]]:
+    """Object name -> the persons whose actions use it (held or acted on)."""
+    users: dict[str, set[str]] = {}
+    for node in graph.nodes:
+        actions = [action_of(node.span.tree, node.span.start, node.span.end)]
+        if actions[0].partner is not None:
+            actions.append(actions[0].partner)
+        for action in actions:
+            person = action.hand.split("_", 1)[-1]
+            for name in (action.held, *action.targets):
+                if name is not None:
+                    users.setdefault(name, set()).add(person)
+    return users
+
+
 def _containing(graph: ActionGraph, obs: Observations, first: Mapping[str, np.ndarray]) -> dict[str, str]:
     """Ingredient -> the container it starts in: from the first action that names it with a container (a
     transfer's source, or the container it is acted on in), else from its first box lying mostly inside a
@@ -176,6 +191,8 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     :data:`FIRST_FRAMES` sightings. The image's table area is the bounding rectangle of those boxes (at least a
     fifth of the image on each axis); it is scaled, each axis on its own, onto the reach region
     ``[-reach_x, reach_x] x [-reach_y, reach_y]``: image left -> ``-x`` (P1's side), image top -> ``+y``.
+    An object that only one person's actions use is kept on that arm's half (``x <= 0`` for P1, ``x >= 0`` for
+    P2): a robot arm does not reach across the table as a person does.
     Sizes come from the category (containers wide, tools long and thin, ingredients small), scaled from the
     box by the mean of the two axis scales and clipped to sane limits. Objects on the table are then pushed
     apart until no footprints overlap, :data:`GAP` apart, inside the reach region; when they do not fit there,
@@ -199,6 +216,12 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     centres_px = (boxes[:, :2] + boxes[:, 2:]) / 2
     xy = (centres_px - lo) * scale - reach
     xy[:, 1] = -xy[:, 1]  # image y grows downwards; world +y is the image's top
+    users = _users(graph)
+    for k, name in enumerate(names):  # an object only one arm uses stays on that arm's half of the table
+        if users.get(name) == {"P1"}:
+            xy[k, 0] = min(xy[k, 0], 0.0)
+        elif users.get(name) == {"P2"}:
+            xy[k, 0] = max(xy[k, 0], 0.0)
     m_per_px = float(scale.mean())
     containing = _containing(graph, obs, first)
     objects: dict[str, SceneObject] = {}

@@ -289,3 +289,15 @@ def test_plans_of_synthetic_videos_are_valid_and_uncluttered(seed: int, persons:
         mine = [a for a in plan.actions if agent.pid in a.pids]
         for before, after in itertools.pairwise(mine):
             assert before.id in after.after
+
+
+def test_an_object_one_arm_uses_stays_on_its_half() -> None:
+    objects = (track(1, "knife", (500, 300, 600, 320)),        # at the far right of the image (P2's side)
+               track(2, "tomato", (100, 200, 140, 240)), track(3, "pot", (400, 100, 500, 200)))
+    categories = {"knife": Category.TOOL, "tomato": Category.INGREDIENT, "pot": Category.CONTAINER}
+    obs = Observations(VideoInfo("v.mp4", 30.0, 100, W, H), objects, (), categories)
+    nodes = (node("a1", "P1", 0, 40, "(HP (HP (H RH_P1) (O knife)) (AP (A cut) (O tomato)))"),
+             node("a2", "P2", 0, 40, "(HP (H LH_P2) (AP (A squeeze) (O pot)))"))
+    plan = plan_from_graph(ActionGraph(nodes, {"P1": ("a1",), "P2": ("a2",)}, ()), obs)
+    knife, pot = plan.scene.object("knife"), plan.scene.object("pot")
+    assert knife.x <= 0.0 < pot.x  # the knife only P1 uses comes to P1's half; the pot stays right
