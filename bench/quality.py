@@ -60,7 +60,9 @@ def score(seeds: Iterable[int], persons: int = 2, tally: Tally | None = None) ->
         tally.seconds += time.perf_counter() - started
 
         def case(span, categories=obs.categories) -> str:  # type: ignore[no-untyped-def]
-            return case_of(action_of(span.tree, span.start, span.end), categories)
+            action = action_of(span.tree, span.start, span.end)
+            found = case_of(action, categories)
+            return f"{found} ({action.verb})" if found == "held" else found  # pour, sprinkle apart
 
         predicted = [t for t in analysis.trees if has_action(t.tree)]
         truth = [t for t in scenario.truth if has_action(t.tree)]
