@@ -305,6 +305,18 @@ def test_write_scenario_round_trips_through_the_readers(tmp_path: Path) -> None:
     assert decoded == s.frames
 
 
+def test_video_frames_draw_the_scene_the_same_with_and_without_the_cache() -> None:
+    from wecook_core.synth.render import frames, render_frame
+
+    s = synthesize(10, duration_s=9)
+    for frame, image in enumerate(frames(s)):
+        if frame % 45 == 0:
+            assert np.array_equal(image, render_frame(s, frame)), frame
+    tomato = next(p for p in s.scene.objects if p.name == "tomato")
+    x, y = (int(v) for v in tomato.centre[0])
+    assert render_frame(s, 0)[y, x, 2] > 150  # a red tomato where the scene says it lies
+
+
 def test_the_openpose_folder_describes_the_same_hands(tmp_path: Path) -> None:
     s = synthesize(9, duration_s=8)
     out = write_scenario(s, tmp_path / "op", video=False)

@@ -195,14 +195,29 @@ def _background(size: tuple[int, int]) -> np.ndarray:
 _LAYER = {Category.CONTAINER: 0, Category.INGREDIENT: 1, Category.TOOL: 2}
 
 
-def _draw(canvas: _Canvas, scene: Scene, index: dict[str, ObjectPath], frame: int) -> None:
+def _order(scene: Scene, frame: int) -> list[ObjectPath]:
     visible = [p for p in scene.objects if p.visible[frame]]
     visible.sort(key=lambda p: (_LAYER[p.category] + 3 * bool(p.held[frame]), p.track_id))
-    for path in visible:
-        draw_object(canvas, path, frame)
+    return visible
+
+
+def _draw(canvas: _Canvas, scene: Scene, index: dict[str, ObjectPath], frame: int,
+          skip: frozenset[str] = frozenset()) -> None:
+    for path in _order(scene, frame):
+        if path.name not in skip:
+            draw_object(canvas, path, frame)
     _draw_effect(canvas, scene, index, frame)
     for person in scene.persons:
         draw_person(canvas, person, frame)
+
+
+def _resting(path: ObjectPath, frame: int) -> tuple[float, ...] | None:
+    """The object's drawn state when it lies still (same as on the frame before), else None."""
+    if not path.visible[frame] or path.held[frame] or frame == 0:
+        return None
+    now = (*path.centre[frame], path.angle[frame], *path.size[frame], float(path.worked[frame]))
+    before = (*path.centre[frame - 1], path.angle[frame - 1], *path.size[frame - 1], float(path.worked[frame - 1]))
+    return tuple(float(v) for v in now) if now == before else None
 
 
 def _camera(image: np.ndarray) -> np.ndarray:
@@ -212,14 +227,24 @@ def _camera(image: np.ndarray) -> np.ndarray:
 
 def frames(scenario: Scenario) -> Iterator[np.ndarray]:
     """Every frame of the scenario's video, BGR ``(height, width, 3)`` uint8 (the same buffer each time:
-    copy it to keep it)."""
+    copy it to keep it). Objects lying still are drawn once into a cached layer until one of them moves."""
     scene = scenario.scene
     background = _background(scenario.size)
     index = {path.name: path for path in scene.objects}
     canvas = _Canvas(scenario.size)
+    layer = _Canvas(scenario.size)
+    layer_key: tuple[tuple[str, tuple[float, ...]], ...] | None = None
     for frame in range(scene.frames):
-        np.copyto(canvas.image, background)
-        _draw(canvas, scene, index, frame)
+        resting = {p.name: state for p in scene.objects if (state := _resting(p, frame)) is not None}
+        key = tuple(sorted(resting.items()))
+        if key != layer_key:
+            np.copyto(layer.image, background)
+            for path in _order(scene, frame):
+                if path.name in resting:
+                    draw_object(layer, path, frame)
+            layer_key = key
+        np.copyto(canvas.image, layer.image)
+        _draw(canvas, scene, index, frame, skip=frozenset(resting))
         yield _camera(canvas.image)
 
 
