@@ -165,6 +165,13 @@ def frame_links(
     return links_of(boxes, params, since)
 
 
+def crop_links(links: FrameLinks, start: int, end: int) -> FrameLinks:
+    """The rows of ``[start, end)`` (within ``links``' range), as views (``since`` is not cropped)."""
+    a, b = start - links.start, end - links.start
+    return FrameLinks(crop(links.boxes, start, end), links.container[a:b], links.held[a:b], links.touched[a:b],
+                      links.since)
+
+
 BLOCK_FRAMES = 2048
 """Frames of boxes gathered at once while associating: bounds memory whatever the video's length."""
 
@@ -430,22 +437,25 @@ def associate_segments(
     associations: list[Associations | None] = []
     since = None
     previous_end = None
-    block: FrameBoxes | None = None
-    for segment in segments:
-        if block is None or not (block.start <= segment.start and segment.end <= block.end):
-            block = frame_boxes(obs, segment.start, max(segment.end, min(total, segment.start + BLOCK_FRAMES)),
-                                params.fill_gap)
-        links = frame_links(obs, segment.start, segment.end, params, since if previous_end == segment.start else None,
-                            block)
-        since, previous_end = links.since, segment.end
-        rows = slice(segment.start, segment.end)
+    first = 0
+    while first < len(segments):  # blocks of consecutive segments, about BLOCK_FRAMES long
+        last = first
+        while last + 1 < len(segments) and segments[last + 1].end - segments[first].start <= BLOCK_FRAMES:
+            last += 1
+        start, end = segments[first].start, segments[last].end
+        links = frame_links(obs, start, end, params, since if previous_end == start else None)
+        since, previous_end = links.since, end
+        rows = slice(start, end)
         container[rows] = links.container
         held[rows] = links.held
         touched[rows] = links.touched
-        # a segment too short to hold a link of min_frames is judged on the min_frames around it, once the
-        # frames after it are known
-        short = len(segment) < params.min_frames
-        associations.append(None if short else associations_of(links, segment, params, diagonal, corrections))
+        for segment in segments[first : last + 1]:
+            # a segment too short to hold a link of min_frames is judged on the min_frames around it, once
+            # the frames after it are known
+            short = len(segment) < params.min_frames
+            associations.append(None if short else associations_of(
+                crop_links(links, segment.start, segment.end), segment, params, diagonal, corrections))
+        first = last + 1
     for i, segment in enumerate(segments):
         if associations[i] is None:
             pad = (params.min_frames - len(segment) + 1) // 2
