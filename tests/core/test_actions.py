@@ -106,3 +106,20 @@ def test_hold_spans_bridge_short_gaps():
 
     labels = np.array([0] * 10 + [-1] * 3 + [0] * 10 + [-1] * 20 + [0] * 5)
     assert hold_spans(labels, 0, 8) == [(0, 23)]
+
+
+def test_a_still_hand_on_a_bottle_with_nothing_near_only_grasps_it(knowledge):
+    # hands squeeze lemons, they do not squeeze oil: the commonsense share of hand verbs decides
+    bottle = (300, 150, 320, 190)
+    obs = observations(90, {"oil": (Category.INGREDIENT, [still(0, 90, bottle)])},
+                       {"RH_P1": [still(0, 90, (295, 160, 325, 190))]})
+    (only,) = recognise(obs, [], knowledge)
+    assert [(a.kind, a.held) for a in only.actions] == [(ActionKind.GRASP, "oil")]
+
+
+def test_a_lemon_carried_across_the_table_is_grasped_not_squeezed(knowledge):
+    lemon = [(0, 60, (100, 150, 130, 180), (500, 150, 530, 180))]
+    hand = [(0, 60, (105, 160, 135, 190), (505, 160, 535, 190))]
+    obs = observations(60, {"lemon": (Category.INGREDIENT, lemon)}, {"LH_P1": hand})
+    (only,) = recognise(obs, [], knowledge)
+    assert [(a.kind, a.held) for a in only.actions] == [(ActionKind.GRASP, "lemon")]

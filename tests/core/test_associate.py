@@ -116,3 +116,44 @@ def test_hand_object_and_object_object_corrections_replace_the_links():
     assert second.hand_object == {"RH_P1": "tomato"}
     assert second.object_object == {"tomato": ("chopping_board",)}
     assert (timeline.held[60:150, 1] == timeline.column("tomato")).all()
+
+
+def test_a_grasp_persists_while_the_hand_carries_the_object_over_another():
+    # the hand holds the knife from frame 0 and carries it over a lemon whose centre is closer to the hand
+    knife = [(0, 40, (100, 200, 180, 215), (400, 200, 480, 215))]
+    hand = [(0, 40, (95, 195, 125, 225), (395, 195, 425, 225))]
+    obs = observations(40, {"knife": (Category.TOOL, knife),
+                            "lemon": (Category.INGREDIENT, [still(0, 40, (250, 195, 280, 225))])},
+                       {"RH_P1": hand})
+    links = frame_links(obs, 0, 40, Params())
+    assert (links.held[:, 1] == links.boxes.names.index("knife")).all()
+    # the same judgement when the video is cut in two in the middle of the carry
+    (first, second), timeline = associate_segments(obs, (Segment(0, 18), Segment(18, 40)), Params())
+    assert (timeline.held[:, 1] == timeline.column("knife")).all()
+    assert first.hand_object == second.hand_object == {"RH_P1": "knife"}
+
+
+def test_a_hand_the_detector_misses_for_a_few_frames_keeps_its_object():
+    knife = (300, 100, 380, 115)
+    on = (290, 95, 320, 125)
+    obs = observations(30, {"knife": (Category.TOOL, [still(0, 30, knife)])},
+                       {"RH_P1": [still(0, 12, on), still(18, 30, on)]})  # frames 12..17 missing
+    links = frame_links(obs, 0, 30, Params(fill_gap=10))
+    assert (links.held[:, 1] == 0).all()
+    assert (frame_links(obs, 0, 30, Params(fill_gap=0)).held[12:18, 1] == NONE).all()
+
+
+def test_an_object_carried_past_another_does_not_act_on_it():
+    board = (300, 300, 400, 400)
+    passing = [(0, 60, (100, 310, 180, 325), (600, 310, 680, 325))]  # 8 px a frame, right over the board
+    hand = [(0, 60, (95, 305, 125, 335), (595, 305, 625, 335))]
+    obs = observations(60, {"knife": (Category.TOOL, passing), "chopping_board": (Category.CONTAINER,
+                                                                                  [still(0, 60, board)])},
+                       {"RH_P1": hand})
+    (assoc,) = associate(obs, one_segment(obs), Params())
+    assert assoc.hand_object == {"RH_P1": "knife"} and assoc.object_object == {"knife": ()}
+    staying = observations(60, {"knife": (Category.TOOL, [still(0, 60, (320, 310, 400, 325))]),
+                                "chopping_board": (Category.CONTAINER, [still(0, 60, board)])},
+                           {"RH_P1": [still(0, 60, (395, 305, 425, 335))]})
+    (assoc,) = associate(staying, one_segment(staying), Params())
+    assert assoc.object_object == {"knife": ("chopping_board",)}
