@@ -12,11 +12,15 @@ def scenario_inputs(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Pat
     return write_inputs(tmp_path_factory.mktemp("scenario"))
 
 
-@pytest.fixture
-def session_path(tmp_path: Path, scenario_inputs: tuple[Path, Path, Path]) -> Path:
-    """A fresh session (real `create_session`) over the scenario, named ``kitchen``."""
+@pytest.fixture(params=["kitchen", pytest.param("demo", marks=pytest.mark.slow)])
+def session_path(request: pytest.FixtureRequest, tmp_path: Path, scenario_inputs: tuple[Path, Path, Path]) -> Path:
+    """A fresh session (real `create_session`): the small kitchen scenario, or the bundled demo
+    (`wecook demo`'s own code path, two persons, 1459 frames, every tree case)."""
     from wecook_core.session import create_session
+    from wecook_tui.commands.workbench import demo_session
 
+    if request.param == "demo":
+        return demo_session(tmp_path / "sessions")
     video, objects, hands = scenario_inputs
     return Path(create_session(tmp_path / "sessions", "kitchen", video, objects, hands))
 

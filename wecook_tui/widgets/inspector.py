@@ -92,7 +92,8 @@ class Inspector(VerticalScroll):
         for hand, name in sorted(assoc.hand_object.items()):
             text.append(f"  {hand} holds {name}\n")
         for name, targets in sorted(assoc.object_object.items()):
-            text.append(f"  {name} → {', '.join(targets)}\n")
+            if targets:
+                text.append(f"  {name} → {', '.join(targets)}\n")
         for name, container in sorted(assoc.containment.items()):
             text.append(f"  {name} in {container}\n", style="dim")
         if not (assoc.hand_object or assoc.object_object or assoc.containment):

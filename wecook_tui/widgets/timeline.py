@@ -109,7 +109,7 @@ class Timeline(Widget):
                 span = spans[index] if spans else None
                 label = span[2] if span and span[0] <= frame < span[1] else None
                 colour = ACTION_COLOURS.get(label, "#9e9e9e") if label else IDLE
-                boundary = column > 0 and span is not None and frames[column - 1] < span[0] <= frame
+                boundary = bool(row) and label is not None and row[-1][1] != colour  # the action changes
                 row.append(("▎" if boundary else "▄", colour))
             rows.append(row)
         status_row: list[Cell] = [(" ", IDLE)] * width
