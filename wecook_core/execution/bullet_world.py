@@ -49,7 +49,7 @@ from wecook_core.execution.skills import (
     object_kind,
     skill_name,
 )
-from wecook_core.execution.tsr import TSR, pose_to_matrix, sample
+from wecook_core.execution.tsr import TSR, pose_to_matrix, sample, xyzrpy_to_matrix
 from wecook_core.model import Category
 from wecook_core.plan import Plan, PlanAction
 
@@ -65,6 +65,11 @@ LINEAR_SPEED = 0.12
 TURN_SPEED = 1.2
 """Radians per second of the effector's rotation in straight moves and actuations."""
 IMAGE_SIZE = (320, 240)
+YIELD_SECONDS = 30.0
+"""Simulated seconds an arm waits for the other to go home when the other arm blocked all its goals."""
+FREE_MARGIN = 0.1
+"""Metres of clearance around an object put down on a free spot beyond which spots count as equally roomy
+(room for the hand to take it again)."""
 
 
 @dataclass
@@ -106,6 +111,11 @@ class BulletWorld:
         self.arm_contacts = 0
         self.arm_margin = ARM_MARGIN
         """Metres kept between the arms when planning (lowered while the receiver of a handover takes)."""
+        self.goal_blockers: set[str] = set()
+        """What blocked the goal candidates since the last failure report."""
+        self.other_in_the_way = False
+        self.moved_at = {pid: 0.0 for pid in self.arms}
+        """Simulated time each arm last moved."""
         self._touching = False
         self.homes: dict[str, np.ndarray] = {n: b.home.copy() for n, b in self.bodies.objects.items()}
         for pid, arm in self.arms.items():
@@ -282,12 +292,31 @@ class BulletWorld:
                     continue
                 if not (check and collides(q)):
                     return q, T
+                self.goal_blockers.update(self._in_the_way(pid))
         return None
+
+    def _in_the_way(self, pid: str) -> set[str]:
+        """What the planning client's arm ``pid`` (as last checked) penetrates: object names, ``table``, an arm."""
+        c = self.planning.client
+        names = {b.body: n for n, b in self.planning.bodies.objects.items()}
+        names[self.planning.bodies.table] = "table"
+        names.update({a.body: f"arm {k}" for k, a in self.planning.arms.items() if k != pid})
+        own = {r.name for r in self.hands[pid].riding}
+        return {names[x[2]] for x in p.getContactPoints(bodyA=self.planning.arms[pid].body, physicsClientId=c)
+                if x[8] < 0.0 and x[2] in names and names[x[2]] not in own}
+
+    def _no_goal(self, what: str, count: int) -> str:
+        blockers = sorted(self.goal_blockers)
+        self.other_in_the_way = any(b.startswith("arm ") for b in blockers)
+        self.goal_blockers = set()
+        if blockers:
+            return f"no collision-free {what} in {count} TSR samples (in the way: {', '.join(blockers)})"
+        return f"no reachable {what} in {count} TSR samples"
 
     def _goal_samples(self, tsrs: Sequence[TSR], T_eff_ee: np.ndarray, n: int,
                       accept: object = None) -> list[np.ndarray]:
         out: list[np.ndarray] = []
-        for _ in range(n * 4):
+        for _ in range(n * 12):
             if len(out) >= n:
                 break
             region = tsrs[int(self.rng.integers(len(tsrs)))]
@@ -325,6 +354,7 @@ class BulletWorld:
             n = max(math.ceil(d * SIM_HZ), 1)
             for i in range(1, n + 1):
                 self.commands[pid] = a + (b - a) * (i / n)
+                self.moved_at[pid] = self.time
                 yield WORK
 
     def _reserve(self, pid: str, path: Sequence[np.ndarray]) -> Program:
@@ -422,6 +452,27 @@ class BulletWorld:
         finally:
             self.reserved[pid] = None
 
+    def _let_other_move(self, pid: str, limit: float = 4.0) -> Program:
+        """Before a retry: if the other arm was in the way, wait until it rests at home (up to
+        :data:`YIELD_SECONDS`); else if it is moving, wait (up to ``limit`` s) until that motion ends, since the
+        failure may have been its fault and the world will look different."""
+        other = self._other(pid)
+        if other is not None and self.other_in_the_way:
+            self.other_in_the_way = False
+            for _ in range(int(YIELD_SECONDS * SIM_HZ)):
+                at_home = np.max(np.abs(self.arms[other].q() - HOME)) < 1e-2
+                if at_home or self.time - self.moved_at[other] > 1.0:  # home, or itself waiting: go on
+                    return
+                yield WAIT
+            return
+        if other is None or self.reserved[other] is None:
+            return
+        current = self.reserved[other]
+        for _ in range(int(limit * SIM_HZ)):
+            if self.reserved[other] is not current:
+                return
+            yield WAIT
+
     def _hold(self, seconds: float) -> Program:
         for _ in range(max(int(seconds * SIM_HZ), 1)):
             yield WORK
@@ -487,10 +538,12 @@ class BulletWorld:
         reason = "no reachable collision-free grasp"
         for attempt in range(self.attempts):
             if attempt:
+                yield from self._let_other_move(pid)
                 self._event("retry", action, pid, f"{primitive} {name}: attempt {attempt + 1} ({reason})", primitive)
             self._sync()
             candidates = self._goal_samples(regions, np.eye(4), self.samples, accept)
             pre_goal = None
+            blocked = None
             for G in candidates:
                 found = self._ik_goal(pid, [G], ignore)
                 if found is None:
@@ -498,11 +551,18 @@ class BulletWorld:
                 pre = G.copy()
                 pre[:3, 3] -= G[:3, 2] * approach
                 found_pre = self._ik_goal(pid, [pre], ignore_extra)
-                if found_pre is not None:
-                    pre_goal = (found_pre[0], pre, G)
-                    break
+                if found_pre is None:
+                    continue
+                try:  # the straight approach (and the lift) must be feasible from there
+                    moves = [G, G @ _lifted(self.skills.lift, G)] if lift else [G]
+                    self.cartesian_path(pid, found_pre[0], moves, ignore, f"approach {name}")
+                except ActionFailed as error:
+                    blocked = str(error)
+                    continue
+                pre_goal = (found_pre[0], pre, G)
+                break
             if pre_goal is None:
-                reason = f"no reachable collision-free grasp of {name} in {len(candidates)} TSR samples"
+                reason = blocked or self._no_goal(f"grasp of {name}", len(candidates))
                 continue
             try:
                 yield from self.transit(pid, pre_goal[0], ignore_extra, what=f"{primitive} {name}")
@@ -564,6 +624,7 @@ class BulletWorld:
         reason = "no reachable collision-free pose"
         for attempt in range(self.attempts):
             if attempt:
+                yield from self._let_other_move(pid)
                 self._event("retry", action, pid, f"engage: attempt {attempt + 1} ({reason})", "engage")
             self._sync()
             T0_w, sizes = self.frame(spec, roles, pid, meet)
@@ -584,8 +645,8 @@ class BulletWorld:
                     reason = f"the {then.motion} from there: {error}"
                     found = None
             if found is None:
-                reason = f"no reachable collision-free pose in {len(candidates)} TSR samples ({spec.frame})" \
-                    if then is None or not candidates else reason
+                reason = self._no_goal(f"pose at {spec.frame}", len(candidates)) \
+                    if then is None or not candidates or reason.startswith("no ") else reason
                 continue
             try:
                 yield from self.transit(pid, found[0], what="engage")
@@ -597,9 +658,39 @@ class BulletWorld:
         self._event("primitive_failed", action, pid, reason, "engage")
         raise ActionFailed(f"engage {spec.frame}: {reason}")
 
-    def place(self, action: PlanAction, pid: str, target: np.ndarray | list[TSR]) -> Program:
+    def _free_poses(self, name: str, region: TSR) -> list[np.ndarray]:
+        """Object poses of ``region`` on a 2 cm grid (yaw in 45-degree steps within the bounds), the roomiest
+        first: ordered by the clearance between the object's footprint and every other object's (those further
+        than :data:`FREE_MARGIN` count as equally roomy, then the nearest the region's centre wins)."""
+        own = {r.name for h in self.hands.values() for r in h.riding if h.carried == name}
+        half = np.array(self.bodies.objects[name].size) / 2
+        corners = np.array([[sx * half[0], sy * half[1]] for sx in (-1, 1) for sy in (-1, 1)])
+        boxes = np.array([p.getAABB(b.body, physicsClientId=self.client) for n, b in self.bodies.objects.items()
+                          if n not in own and n != name])[:, :, :2]
+        B = region.Bw
+        xs = np.arange(B[0, 0], B[0, 1] + 1e-9, 0.02)
+        ys = np.arange(B[1, 0], B[1, 1] + 1e-9, 0.02)
+        yaws = [y for y in np.radians([-90, -45, 0, 45, 90]) if B[5, 0] - 1e-9 <= y <= B[5, 1] + 1e-9] or [0.0]
+        scored = []
+        for yaw in yaws:
+            for x in xs:
+                for y in ys:
+                    T = region.T0_w @ xyzrpy_to_matrix([x, y, (B[2, 0] + B[2, 1]) / 2, 0, 0, yaw]) @ region.Tw_e
+                    pts = corners @ T[:2, :2].T + T[:2, 3]
+                    lo, hi = pts.min(axis=0), pts.max(axis=0)
+                    if len(boxes):
+                        gap = np.maximum(np.maximum(boxes[:, 0] - hi, lo - boxes[:, 1]), 0.0)
+                        overlap = np.all(np.maximum(boxes[:, 0] - hi, lo - boxes[:, 1]) < 0, axis=1)
+                        clearance = float(np.min(np.where(overlap, -1.0, np.hypot(gap[:, 0], gap[:, 1]))))
+                    else:
+                        clearance = 1.0
+                    scored.append((-min(clearance, FREE_MARGIN), math.hypot(x, y) + 0.01 * abs(yaw), T))
+        scored.sort(key=lambda item: (item[0], item[1]))
+        return [T for score, _, T in scored if -score > 0.0]
+
+    def place(self, action: PlanAction, pid: str, target: np.ndarray | list[TSR], free: bool = False) -> Program:
         """Put the carried object down at ``target`` (object pose, or TSRs of object poses): planned move above,
-        straight down, release."""
+        straight down, release. ``free``: only where it stands clear of the other objects."""
         hand = self.hands[pid]
         name = hand.carried
         if name is None:
@@ -611,9 +702,14 @@ class BulletWorld:
         reason = "no reachable place pose"
         for attempt in range(self.attempts):
             if attempt:
+                yield from self._let_other_move(pid)
                 self._event("retry", action, pid, f"place {name}: attempt {attempt + 1} ({reason})", "place")
             self._sync()
-            goals = self._goal_samples(regions, T_obj_ee, self.samples)
+            if free:
+                spots = self._free_poses(name, regions[0])
+                goals = [T @ T_obj_ee for T in spots[attempt * self.samples:(attempt + 1) * self.samples]]
+            else:
+                goals = self._goal_samples(regions, T_obj_ee, self.samples)
             chosen = None
             for G in goals:
                 found = self._ik_goal(pid, [G], [], check=False)
@@ -626,7 +722,7 @@ class BulletWorld:
                     chosen = (found_above[0], G)
                     break
             if chosen is None:
-                reason = f"no reachable place pose for {name} in {len(goals)} samples"
+                reason = self._no_goal(f"place pose for {name}", len(goals))
                 continue
             try:
                 yield from self.transit(pid, chosen[0], what=f"place {name}")
@@ -776,9 +872,9 @@ class BulletWorld:
         if self._kind(name) != "tool":
             spot = meet.copy()
             spot[2, 3] = self.bodies.table_height + self.half(name).hz
-            region = TSR(spot, np.eye(4), np.array([[-0.03, 0.03], [-0.06, 0.06], [0.002, 0.006], [0, 0], [0, 0],
+            region = TSR(spot, np.eye(4), np.array([[-0.04, 0.04], [-0.25, 0.25], [0.002, 0.006], [0, 0], [0, 0],
                                                     [-math.pi, math.pi]]))
-            yield from self.place(action, pid, [region])
+            yield from self.place(action, pid, [region], free=True)
             meeting.signal("at_meet")
             yield from self.go_home(pid)
             meeting.signal("released")  # out of the way
@@ -827,7 +923,7 @@ class BulletWorld:
             yield from meeting.wait_for("released")
         drop = self.skills.drop
         T0_w, sizes = self.frame(drop, {"tool": name}, pid)
-        yield from self.place(action, pid, [drop.tsr(T0_w, sizes)])
+        yield from self.place(action, pid, [drop.tsr(T0_w, sizes)], free=True)
         yield from self.go_home(pid)
 
     def _holder(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
@@ -867,6 +963,13 @@ class BulletWorld:
             if self.observer is not None:
                 self.observer.on_log(self.time, "warning", f"{pid} could not return home: {error}")
         self.reserved[pid] = None
+
+
+def _lifted(height: float, T: np.ndarray) -> np.ndarray:
+    """The transform that, right-multiplied onto ``T``, raises it by ``height`` along world z."""
+    up = np.eye(4)
+    up[:3, 3] = T[:3, :3].T @ np.array([0.0, 0.0, height])
+    return up
 
 
 class _Replan(Exception):

@@ -75,9 +75,9 @@ class PlanningScene:
     def _place_riding(self, pid: str) -> None:
         if not self.riding[pid]:
             return
-        ee = self.arms[pid].ee()
+        state = p.getLinkState(self.arms[pid].body, EE_LINK, computeForwardKinematics=True, physicsClientId=self.client)
         for r in self.riding[pid]:
-            pos, orn = matrix_to_pose(ee @ r.T_ee_obj)
+            pos, orn = p.multiplyTransforms(state[4], state[5], *r.local)
             p.resetBasePositionAndOrientation(self.bodies.objects[r.name].body, pos, orn, physicsClientId=self.client)
 
     def collision_fn(self, pid: str, *, ignore: Iterable[str] = (), margin: float = 0.0,

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import pybullet as p
 
-from wecook_core.execution.tsr import pose_to_matrix
+from wecook_core.execution.tsr import matrix_to_pose, pose_to_matrix
 
 ARM_JOINTS = (0, 1, 2, 3, 4, 5, 6)
 FINGER_JOINTS = (9, 10)
@@ -47,16 +47,14 @@ class Panda:
     def set_q(self, q: np.ndarray, fingers: float | None = None, velocity: np.ndarray | None = None) -> None:
         """Teleport the joints (and hold them there with the position motors)."""
         c = self.client
-        v = np.zeros(7) if velocity is None else velocity
-        for j, value, speed in zip(ARM_JOINTS, q, v, strict=True):
-            p.resetJointState(self.body, j, float(value), float(speed), physicsClientId=c)
-        targets = list(map(float, q))
+        targets = [float(v) for v in q]
         joints = list(ARM_JOINTS)
         if fingers is not None:
-            for j in FINGER_JOINTS:
-                p.resetJointState(self.body, j, float(fingers), physicsClientId=c)
             targets += [float(fingers)] * 2
             joints += list(FINGER_JOINTS)
+        speeds = [[0.0]] * len(joints) if velocity is None else [[float(v)] for v in velocity] + [[0.0]] * (
+            len(joints) - 7)
+        p.resetJointStatesMultiDof(self.body, joints, [[v] for v in targets], speeds, physicsClientId=c)
         p.setJointMotorControlArray(self.body, joints, p.POSITION_CONTROL, targetPositions=targets,
                                     forces=[500.0] * len(joints), physicsClientId=c)
 
@@ -81,11 +79,9 @@ class Panda:
         the joint limits, or None. One PyBullet IK call is ~1 cm off; it is called again from its own answer
         (re-seeding) up to ``iterations`` times, from ``seed_q`` first and then from random restarts.
         Moves the joints: use on the planning client."""
-        from scipy.spatial.transform import Rotation
-
         c = self.client
         pos = target[:3, 3].tolist()
-        orn = Rotation.from_matrix(target[:3, :3]).as_quat().tolist()
+        orn = list(matrix_to_pose(target)[1])
         seeds = [HOME if seed_q is None else seed_q] + [rng.uniform(LOWER, UPPER) for _ in range(restarts)]
         lower, upper = [*list(LOWER), 0.0, 0.0], [*list(UPPER), 0.04, 0.04]
         ranges = [u - lo for u, lo in zip(upper, lower, strict=True)]
@@ -96,12 +92,13 @@ class Panda:
                 self.set_q(q, fingers)
                 solution = p.calculateInverseKinematics(
                     self.body, EE_LINK, pos, orn, lowerLimits=lower, upperLimits=upper, jointRanges=ranges,
-                    restPoses=[*map(float, q), fingers, fingers], maxNumIterations=200, residualThreshold=1e-6,
+                    restPoses=[*map(float, q), fingers, fingers], maxNumIterations=60, residualThreshold=1e-6,
                     physicsClientId=c)
                 q = np.clip(np.array(solution[:7]), LOWER, UPPER)
                 reached = self.fk(q)
                 err = np.linalg.norm(reached[:3, 3] - target[:3, 3])
-                angle = Rotation.from_matrix(reached[:3, :3].T @ target[:3, :3]).magnitude()
+                cos = (np.trace(reached[:3, :3].T @ target[:3, :3]) - 1) / 2
+                angle = float(np.arccos(np.clip(cos, -1.0, 1.0)))
                 if err <= tolerance and angle <= angle_tolerance:
                     return q
         return None
