@@ -3,6 +3,9 @@ answers (seeds 1..20; the demo uses another seed), overall and per tree case (DE
 
 A case's precision counts the predicted trees of that case, its recall the ground-truth trees of that case
 (a correct pair has equal trees, so the same case). Only trees with an action or a collaboration count.
+Known limit: the commonsense tables (EPIC-KITCHENS) rank ``pour`` far above ``sprinkle`` for salt over a pot
+(43 vs 11 records), so every sprinkle is recognised as a pour: the one case below the target, as in the
+paper's own confusion matrix.
 
 Run: `.venv/bin/python -m bench.quality`.
 """
@@ -92,10 +95,12 @@ def rows_of(tally: Tally, seeds: Sequence[int]) -> list[dict[str, object]]:
     ]
     cases = sorted(set(tally.truth) | set(tally.predicted))
     for case in cases:
-        rows.append({"benchmark": f"precision / recall: {case}", "value": tally.precision(case), "unit": "fraction",
-                     "ratio_vs_baseline": tally.recall(case),
-                     "note": f"value = precision {tally.correct[case]}/{tally.predicted[case]}, "
-                             f"ratio column = recall {tally.correct[case]}/{tally.truth[case]}"})
+        rows.append({"benchmark": f"recall: {case}", "value": tally.recall(case), "unit": "fraction",
+                     "ratio_vs_baseline": tally.recall(case) / TARGET,
+                     "note": f"{tally.correct[case]}/{tally.truth[case]} true trees found"})
+        rows.append({"benchmark": f"precision: {case}", "value": tally.precision(case), "unit": "fraction",
+                     "ratio_vs_baseline": tally.precision(case) / TARGET,
+                     "note": f"{tally.correct[case]}/{tally.predicted[case]} predicted trees right"})
     return rows
 
 
