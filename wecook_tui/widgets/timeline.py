@@ -103,7 +103,7 @@ class Timeline(Widget):
             row: list[Cell] = []
             spans = lane.spans
             index = 0
-            for column, frame in enumerate(frames):
+            for frame in frames:
                 while index < len(spans) - 1 and spans[index][1] <= frame:
                     index += 1
                 span = spans[index] if spans else None
