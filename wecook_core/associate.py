@@ -139,8 +139,9 @@ class FrameLinks:
     touched: np.ndarray
     """int ``(frames, hands)``: like ``held`` but before replacing a contained ingredient by its container."""
     since: np.ndarray
-    """int64 ``(hands, objects)``: on the last frame, the frame where each hand's current overlap with each
-    object began (:data:`NONE`: no overlap); pass it to the next range's :func:`frame_links`."""
+    """int64 ``(2, hands, objects)``: on the last frame, where each hand's current overlap with each object
+    began and the last frame the hand carried it (:data:`NONE`: no overlap); pass it to the next range's
+    :func:`frame_links`."""
 
     @property
     def start(self) -> int:
@@ -206,35 +207,62 @@ def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None)
         found = np.take_along_axis(score, best[..., None], axis=2)[..., 0] > 0
         container[:, ingredients] = np.where(found, containers[best], NONE)
 
-    # hand-object: overlapping boxes; a grasp persists: among several, the one overlapped longest without a
-    # break (the hand carrying a spoon over a rolling pin still holds the spoon), then the closest centre.
+    # hand-object: overlapping boxes. Among several: first those the hand has carried (moved along with it)
+    # since it began to overlap them, then the one overlapped longest without a break (a grasp persists: a
+    # hand carrying a spoon over a rolling pin still holds the spoon), then the closest centre.
     hands = boxes.hand_boxes
     held = np.full((length, len(boxes.hands)), NONE, dtype=np.int32)
     touched = held.copy()
-    last = np.full((len(boxes.hands), n_objects), NONE, dtype=np.int64)
+    last = np.full((2, len(boxes.hands), n_objects), NONE, dtype=np.int64)
     if n_objects and length:
         inter = _intersection(hands[:, :, None, :], objects[:, None, :, :])
         overlap = inter > 0
         before = np.empty_like(overlap)
-        before[0] = since >= 0 if since is not None else False
+        before[0] = since[0] >= 0 if since is not None else False
         before[1:] = overlap[:-1]
         frames = np.arange(boxes.start, boxes.end, dtype=np.int64)[:, None, None]
         began = np.where(overlap & ~before, frames, NONE)
         if since is not None:
-            began[0] = np.where(overlap[0] & before[0], since, began[0])
+            began[0] = np.where(overlap[0] & before[0], since[0], began[0])
         run_start = np.maximum.accumulate(began, axis=0)
-        distance = np.linalg.norm(_centre(hands)[:, :, None, :] - _centre(objects)[:, None, :, :], axis=-1)
+        carried = overlap & _moving_together(hands, objects, params.dwell_frames)
+        last_carried = np.where(carried, frames, NONE)
+        if since is not None:
+            last_carried[0] = np.maximum(last_carried[0], since[1])
+        last_carried = np.maximum.accumulate(last_carried, axis=0)
+        carried_since = overlap & (last_carried >= run_start)
+        hand_centres, object_centres = _centre(hands), _centre(objects)
+        distance = np.linalg.norm(hand_centres[:, :, None, :] - object_centres[:, None, :, :], axis=-1)
         finite = distance[np.isfinite(distance)]
         scale = float(finite.max()) + 1.0 if finite.size else 1.0
-        distance = np.where(overlap, run_start + np.nan_to_num(distance, nan=0.0) / scale, np.inf)
-        best = np.argmin(distance, axis=2)
+        later = float(boxes.end + 1)  # ranks every carried object before any other
+        key = np.where(carried_since, 0.0, later) + run_start + np.nan_to_num(distance, nan=0.0) / scale
+        best = np.argmin(np.where(overlap, key, np.inf), axis=2)
         any_overlap = overlap.any(axis=2)
-        last = np.where(overlap[-1], run_start[-1], NONE)
+        last = np.stack([np.where(overlap[-1], run_start[-1], NONE), np.where(overlap[-1], last_carried[-1], NONE)])
         touched = np.where(any_overlap, best, NONE).astype(np.int32)
         rows = np.arange(length)[:, None]
         redirect = np.where(touched >= 0, container[rows, np.maximum(touched, 0)], NONE)
         held = np.where(redirect >= 0, redirect, touched).astype(np.int32)
     return FrameLinks(boxes, container, held, touched, last)
+
+
+def _moving_together(hands: np.ndarray, objects: np.ndarray, window: int) -> np.ndarray:
+    """``(frames, hands, objects)``: the hand moves (more than a quarter of its box's diagonal between
+    ``window`` frames before and after) and the object's box moves along with it (by the same displacement,
+    give or take half of it)."""
+    length = hands.shape[0]
+    index = np.arange(length)
+    after, before = np.minimum(index + window, length - 1), np.maximum(index - window, 0)
+    hand_centres, object_centres = _centre(hands), _centre(objects)
+    hand_step = hand_centres[after] - hand_centres[before]
+    object_step = object_centres[after] - object_centres[before]
+    with np.errstate(invalid="ignore"):
+        hand_size = np.hypot(hands[..., 2] - hands[..., 0], hands[..., 3] - hands[..., 1])
+        hand_move = np.linalg.norm(hand_step, axis=-1)
+        moving = hand_move > 0.25 * hand_size
+        apart = np.linalg.norm(object_step[:, None, :, :] - hand_step[:, :, None, :], axis=-1)
+        return np.asarray(moving[:, :, None] & (apart < 0.5 * hand_move[:, :, None]))
 
 
 # ----------------------------------------------------------------------------------------------- runs
@@ -464,7 +492,7 @@ def associate_segments(
             boxes = frame_boxes(obs, window.start, window.end, params.fill_gap)
             around = FrameLinks(boxes, container[rows].astype(np.int32), held[rows].astype(np.int32),
                                 touched[rows].astype(np.int32),
-                                np.full((len(HANDS), len(names)), NONE, dtype=np.int64))
+                                np.full((2, len(HANDS), len(names)), NONE, dtype=np.int64))
             associations[i] = associations_of(around, segment, params, diagonal, corrections, window)
     done = tuple(a for a in associations if a is not None)
     if corrections is not None:

@@ -157,3 +157,20 @@ def test_an_object_carried_past_another_does_not_act_on_it():
                            {"RH_P1": [still(0, 60, (395, 305, 425, 335))]})
     (assoc,) = associate(staying, one_segment(staying), Params())
     assert assoc.object_object == {"knife": ("chopping_board",)}
+
+
+def test_a_knife_picked_up_from_the_board_is_held_though_the_hand_was_over_the_board_first():
+    knife_on_board = (150, 320, 230, 335)
+    knife_moved = at(knife_on_board, 120, 60)
+    grip = (140, 312, 170, 342)
+    obs = observations(80, {
+        "chopping_board": (Category.CONTAINER, [still(0, 80, BOARD)]),
+        "knife": (Category.TOOL, [still(0, 25, knife_on_board), (25, 60, knife_on_board, knife_moved),
+                                  still(60, 80, knife_moved)]),
+    }, {"RH_P1": [(0, 20, (300, 400, 330, 430), grip), still(20, 25, grip), (25, 60, grip, at(grip, 120, 60)),
+                  still(60, 80, at(grip, 120, 60))]})
+    links = frame_links(obs, 0, 80, Params())
+    knife = links.boxes.names.index("knife")
+    assert (links.held[45:80, 1] == knife).all()  # carried since the overlap began: the knife, to the end
+    (assoc,) = associate(obs, Segmentation({}, (Segment(30, 80),)), Params())
+    assert assoc.hand_object == {"RH_P1": "knife"}
