@@ -115,5 +115,8 @@ def test_action_state_parses_the_execute_line_format() -> None:
     assert action_state("[   2.00s] a1 P1,P2 handover: done", ids) == ("a1", "done")
     assert action_state("[   2.00s] a1 P1 cut: FAILED: no IK solution", ids) == ("a1", "failed")
     assert action_state("a1\tP1\tcut\tdone\t", ids) == ("a1", "done")
+    skipped = "[  10.33s] a12 P2,P1 holding: skipped: needs a1 (cut), which failed"
+    assert action_state(skipped, ids) == ("a12", "skipped")
+    assert action_state("a1\tP1\ttransfer\tskipped\tneeds a12 (transfer), which failed", ids) == ("a1", "skipped")
     assert action_state("recording: runs/a1.mcap", set()) is None
     assert action_state("[   2.00s] a3 P1 cut: done", ids) is None  # not an action of this plan

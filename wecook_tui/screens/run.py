@@ -34,8 +34,10 @@ Command = Callable[[Path, Path], list[str]]
 """(plan path, mcap path) -> the argv that executes the plan."""
 
 WORD = re.compile(r"[A-Za-z0-9_]+")
-STATES = (("failed", re.compile(r"fail|error", re.I)), ("done", re.compile(r"\bdone\b|succe|\bok\b|✓", re.I)),
+STATES = (("skipped", re.compile(r"\bskipped\b", re.I)), ("failed", re.compile(r"fail|error", re.I)),
+          ("done", re.compile(r"\bdone\b|succe|\bok\b|✓", re.I)),
           ("running", re.compile(r"start|running|begin", re.I)))
+"""First match wins: a skipped action's line names the failure it waits on."""
 
 
 def execute_command(plan: Path, mcap: Path) -> list[str]:
@@ -187,9 +189,9 @@ class RunScreen(Screen[None]):
         action_id, state = found
         self.states[action_id] = state
         table = self.query_one("#run-actions", DataTable)
-        colour = {"done": "green", "failed": "red", "running": "yellow"}.get(state, "")
+        colour = {"done": "green", "failed": "red", "skipped": "magenta", "running": "yellow"}.get(state, "")
         table.update_cell(action_id, "state", Text(state, style=colour))
-        finished = sum(1 for s in self.states.values() if s in ("done", "failed"))
+        finished = sum(1 for s in self.states.values() if s in ("done", "failed", "skipped"))
         self.query_one("#run-progress", ProgressBar).update(progress=finished)
 
     def on_run_finished(self, message: RunFinished) -> None:
@@ -197,12 +199,14 @@ class RunScreen(Screen[None]):
         self.process = None
         done = sum(1 for s in self.states.values() if s == "done")
         failed = [a for a, s in self.states.items() if s == "failed"]
+        skipped = [a for a, s in self.states.items() if s == "skipped"]
         style = "bold green" if message.returncode == 0 else "bold red"
         summary = Text.assemble(
             ("Run finished: " if message.returncode == 0 else f"Run ended with exit code {message.returncode}: ",
              style),
             f"{done}/{len(self.states)} actions done",
             f", failed: {', '.join(failed)}" if failed else "",
+            f", skipped: {', '.join(skipped)}" if skipped else "",
             f" in {message.seconds:.1f} s\nMCAP: {message.mcap}\nlog: {message.log}",
         )
         self.query_one("#run-summary", Static).update(summary)
