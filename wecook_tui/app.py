@@ -14,6 +14,7 @@ from typing import Any
 
 from textual import work
 from textual.app import App, SystemCommand
+from textual.binding import Binding
 from textual.reactive import reactive
 from textual.screen import Screen
 
@@ -192,7 +193,13 @@ class WecookApp(App[None]):
     # -------------------------------------------------------------------------------- screens
 
     def open_help(self) -> None:
-        self.push_screen(HelpScreen(list(MAIN_BINDINGS), dict(self.keys.keymap)))
+        from wecook_tui.screens.picker import PickerScreen
+        from wecook_tui.screens.plan_review import PLAN_BINDINGS
+        from wecook_tui.screens.run import RUN_BINDINGS
+
+        more = {"Plan review": PLAN_BINDINGS, "Run screen": RUN_BINDINGS,
+                "Pickers (enter chooses)": list(PickerScreen.BINDINGS)}
+        self.push_screen(HelpScreen(list(MAIN_BINDINGS), dict(self.keys.keymap), more))
 
     def open_plan(self) -> None:
         if self.analysis is None:
@@ -221,7 +228,9 @@ class WecookApp(App[None]):
 
 
 def _binding_ids() -> set[str]:
+    from wecook_tui.screens.picker import PickerScreen
     from wecook_tui.screens.plan_review import PLAN_BINDINGS
     from wecook_tui.screens.run import RUN_BINDINGS
 
-    return {b.id for b in (*MAIN_BINDINGS, *PLAN_BINDINGS, *RUN_BINDINGS) if b.id}
+    everything = (*MAIN_BINDINGS, *PLAN_BINDINGS, *RUN_BINDINGS, *PickerScreen.BINDINGS, *HelpScreen.BINDINGS)
+    return {b.id for b in everything if isinstance(b, Binding) and b.id}
