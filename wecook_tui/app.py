@@ -6,6 +6,7 @@ Screens show; this class wires. Every stage is a core function called in a worke
 
 from __future__ import annotations
 
+import gc
 import time
 from collections.abc import Callable, Iterable
 from functools import partial
@@ -90,6 +91,7 @@ class WecookApp(App[None]):
     # -------------------------------------------------------------------------------- opening
 
     def on_mount(self) -> None:
+        tune_gc()
         self.push_screen(self.main)
         for problem in self.keys.problems:
             self.notify(problem, title="Key file", severity="warning", timeout=15)
@@ -225,6 +227,13 @@ class WecookApp(App[None]):
                 keys = self.keys.keymap.get(binding.id or "", binding.key)
                 yield SystemCommand(binding.description, f"keys: {keys}   id: {binding.id}",
                                     partial(self.run_action, binding.action, screen))
+
+
+def tune_gc() -> None:
+    """Collect the young generation less often. Every frame step allocates a few thousand short-lived segments,
+    and with the default thresholds that triggers full (generation 2) collections of 50-130 ms every dozen
+    steps: the p95 of key -> repaint fell from about 100 ms to about 30 ms with these (bench.workbench)."""
+    gc.set_threshold(20_000, 50, 100)
 
 
 def _binding_ids() -> set[str]:

@@ -54,6 +54,7 @@ class FrameView(Widget):
         self.message: str | None = None
         """Printed over the picture when frames cannot be shown (missing or corrupt video)."""
         self._strips: list[Strip] = []
+        self._dirty = False
         self._image: np.ndarray | None = None
         self._direction = 1
         self._prefetch_until: int | None = None
@@ -152,6 +153,13 @@ class FrameView(Widget):
         self.show(self.index, self.overlay)
 
     def _paint(self) -> None:
+        """Ask for a repaint; the picture is built when the compositor asks for lines, so keys that arrive
+        faster than the screen refreshes cost no conversions for frames nobody sees."""
+        self._dirty = True
+        self.refresh()
+
+    def _build(self) -> None:
+        self._dirty = False
         width, height = fit(self.video_size, (self.size.width, self.size.height))
         image = self._image
         if image is None or image.shape[1] != width or image.shape[0] != height:
@@ -160,12 +168,13 @@ class FrameView(Widget):
         if self.message:
             canvas.labels.append(Label(1, 0, self.message[: max(0, width - 2)], (255, 200, 80)))
         self._strips = to_strips(canvas)
-        self.refresh()
 
     def get_content_width(self, container: Size, viewport: Size) -> int:
         return container.width
 
     def render_line(self, y: int) -> Strip:
+        if self._dirty:
+            self._build()
         strips = self._strips
         width = self.size.width
         if y >= len(strips):
