@@ -1,0 +1,148 @@
+"""Frame decoding (cache, prefetch, damaged files), overlays, half-block rendering; and that a slow decode never
+holds up the keys."""
+
+from __future__ import annotations
+
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+from rich.segment import Segment
+from tui_driving import pilot_test
+from tui_fake import fake_workspace, make_video
+
+from wecook_tui.app import WecookApp
+from wecook_tui.frames import (
+    HALF_BLOCK,
+    BoxMark,
+    Canvas,
+    FrameSource,
+    HandMark,
+    Label,
+    LinkMark,
+    Overlay,
+    draw,
+    fit,
+    to_strips,
+)
+from wecook_tui.widgets.frame_view import FrameView
+
+
+def test_decode_caches_resizes_and_evicts(tmp_path: Path) -> None:
+    source = FrameSource(make_video(tmp_path / "v.mp4", frames=30), cache_size=8)
+    assert source.ok and source.facts.frame_count == 30 and (source.facts.width, source.facts.height) == (320, 180)
+    source.set_size(64, 36)
+    frame = source.decode(5)
+    assert frame is not None and frame.shape == (36, 64, 3)
+    assert source.cached(5) is frame
+    assert source.prefetch(6, 20) == 14
+    assert source.cached(5) is None and source.cached(19) is not None  # least recently used went first
+    assert source.decode(30) is None and source.decode(-1) is None
+    source.set_size(32, 18)
+    assert source.cached(19) is None  # a new size drops the cache
+
+
+def test_frames_match_a_sequential_read(tmp_path: Path) -> None:
+    """Seeks, backward reads and forward skips give the same pixels as reading the file in order."""
+    import cv2
+
+    path = make_video(tmp_path / "v.mp4", frames=40)
+    capture = cv2.VideoCapture(str(path))
+    truth = [capture.read()[1] for _ in range(40)]
+    source = FrameSource(path)
+    for index in (0, 1, 2, 30, 10, 11, 39, 5, 25):
+        got = source.decode(index)
+        assert got is not None and np.array_equal(got, truth[index]), index
+
+
+def test_prefetch_stops_when_cancelled(tmp_path: Path) -> None:
+    source = FrameSource(make_video(tmp_path / "v.mp4", frames=30))
+    calls = []
+    assert source.prefetch(0, 30, cancelled=lambda: len(calls.append(1) or calls) > 3) == 3
+
+
+def test_missing_and_corrupt_videos_say_why(tmp_path: Path) -> None:
+    missing = FrameSource(tmp_path / "nope.mp4")
+    assert not missing.ok and "missing" in (missing.facts.error or "")
+    assert missing.decode(0) is None
+    broken = tmp_path / "broken.mp4"
+    broken.write_bytes(b"\x00not a video" * 100)
+    corrupt = FrameSource(broken)
+    assert not corrupt.ok and "broken.mp4" in (corrupt.facts.error or "")
+
+
+def test_fit_keeps_the_aspect_and_an_even_height() -> None:
+    assert fit((1280, 720), (160, 45)) == (160, 90)
+    assert fit((1280, 720), (100, 45)) == (100, 56)
+    width, height = fit((640, 480), (80, 10))
+    assert height == 20 and width == 26 and height % 2 == 0
+
+
+def test_half_blocks_pair_rows_and_join_runs() -> None:
+    image = np.zeros((4, 6, 3), np.uint8)
+    image[0] = (0, 0, 255)  # BGR red on the top row
+    image[1] = (255, 0, 0)
+    image[2:, 3:] = (0, 255, 0)
+    strips = to_strips(Canvas(image))
+    assert len(strips) == 2 and all(strip.cell_length == 6 for strip in strips)
+    first: list[Segment] = list(strips[0])
+    assert len(first) == 1 and first[0].text == HALF_BLOCK * 6
+    assert first[0].style.color.triplet == (248, 0, 0)  # 5-bit quantised red on top
+    assert first[0].style.bgcolor.triplet == (0, 0, 248)
+    assert [len(s.text) for s in strips[1]] == [3, 3]
+
+
+def test_labels_overwrite_cells_with_text() -> None:
+    strips = to_strips(Canvas(np.zeros((4, 10, 3), np.uint8), [Label(2, 1, "knife", (255, 255, 255))]))
+    text = "".join(segment.text for segment in strips[1])
+    assert text == HALF_BLOCK * 2 + "knife" + HALF_BLOCK * 3
+    assert "".join(segment.text for segment in strips[0]) == HALF_BLOCK * 10
+
+
+def test_overlay_draws_scaled_boxes_links_and_hands() -> None:
+    image = np.zeros((18, 32, 3), np.uint8)
+    overlay = Overlay(boxes=(BoxMark("bowl", (100, 40, 200, 140), (0, 255, 0)),),
+                      hands=(HandMark("RH_P1", (300, 150), (255, 0, 0), selected=True),),
+                      links=(LinkMark((150, 90), (300, 150), (255, 255, 255)),))
+    canvas = draw(image, overlay, (320, 180))
+    assert not image.any()  # drawn on a copy
+    assert tuple(canvas.image[4, 15]) == (0, 255, 0)  # the box's top edge, scaled by 1/10
+    assert canvas.image[15, 30].any()  # the hand marker
+    assert {label.text for label in canvas.labels} == {"bowl", "RH_P1"}
+
+
+@pilot_test
+async def test_a_slow_decode_never_holds_up_the_keys(tmp_path: Path) -> None:
+    opener, analyzer = fake_workspace(tmp_path)
+    gate = threading.Event()
+
+    def slow_opener(path: Path):  # type: ignore[no-untyped-def]
+        opened = opener(path)
+        original = opened.frames.decode
+
+        def decode(index: int):  # type: ignore[no-untyped-def]
+            if index > 0:
+                gate.wait(5)  # a decoder stuck on a damaged file
+            return original(index)
+
+        opened.frames.decode = decode
+        opened.frames.prefetch = lambda *args, **kwargs: 0
+        return opened
+
+    app = WecookApp(tmp_path / "kitchen", opener=slow_opener, analyzer=analyzer)
+    async with app.run_test(size=(120, 40)) as pilot:
+        while app.analysis is None:
+            await pilot.pause(0.02)
+        view = app.main.query_one(FrameView)
+        started = time.perf_counter()
+        await pilot.press("L", "L", "n", "a")
+        assert time.perf_counter() - started < 2.0
+        assert app.main.frame == 40 and view.index == 40 and view.shown == 0  # old picture while decoding
+        assert app.corrections.status  # and the accept went through
+        gate.set()
+        for _ in range(200):
+            if view.shown == 40:
+                break
+            await pilot.pause(0.02)
+        assert view.shown == 40
