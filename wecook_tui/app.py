@@ -132,8 +132,9 @@ class WecookApp(App[None]):
             return False
         try:
             self.session.record(record)
-        except (InputError, ValueError, KeyError) as error:
-            self.notify(f"Not recorded: {error}", severity="error")
+        except (InputError, ValueError, KeyError, OSError, RuntimeError) as error:
+            # RuntimeError: the session's SessionChangedError (another wecook wrote the journal)
+            self.notify(f"Not recorded: {error}", severity="error", timeout=30)
             return False
         self.journal_changed()
         return True
@@ -149,7 +150,7 @@ class WecookApp(App[None]):
             return
         try:
             done = getattr(self.session, name)()
-        except (InputError, ValueError, IndexError) as error:
+        except (InputError, ValueError, IndexError, OSError, RuntimeError) as error:
             self.notify(str(error), severity="warning")
             return
         if done is False:

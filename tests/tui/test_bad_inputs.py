@@ -105,3 +105,24 @@ async def test_not_a_session_says_so(tmp_path: Path) -> None:
         await pilot.press("right", "a", "c", "e")
         assert app.screen is app.main
     assert notices and "session" in notices[0]
+
+
+@pilot_test
+async def test_journal_written_by_another_wecook_is_refused_not_fatal(own_session: Path) -> None:
+    from wecook_core.session import open_session
+
+    notices: list[str] = []
+    app = WecookApp(own_session)
+
+    def hook(message: object) -> None:
+        if isinstance(message, Notify):
+            notices.append(message.notification.message)
+
+    async with app.run_test(size=SIZE, message_hook=hook) as pilot:
+        await settle(pilot, app)
+        open_session(own_session).record({"op": "set_status", "segment": 0, "status": "rejected"})
+        await pilot.press("a")
+        await pilot.pause()
+        assert app.screen is app.main
+    assert [e["status"] for e in journal(own_session)] == ["rejected"]  # nothing half-written
+    assert any("Not recorded" in n and "journal" in n for n in notices), notices
