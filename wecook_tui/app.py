@@ -47,6 +47,7 @@ class WecookApp(App[None]):
         self.opened: Opened | None = None
         self.analysis: Any = None
         self.generation = 0
+        self._analysing = False
         """Bumped by every journal change; an analysis of an older generation is dropped."""
         self.main = MainScreen()
         self.run_command: Callable[[Path, Path], list[str]] | None = None
@@ -164,12 +165,26 @@ class WecookApp(App[None]):
         self.recompute()
 
     def recompute(self) -> None:
+        """Analyse the latest corrections: at most one analysis runs; corrections made meanwhile are folded
+        into the next one (a burst of keys costs two analyses, not one thread per key)."""
         if self.opened is None or self.obs is None:
             return
         self.pending = True
+        if self._analysing:
+            return
+        self._analysing = True
         self._analyze(self.generation, self.corrections)
 
-    @work(thread=True, exclusive=True, group="analysis", exit_on_error=False)
+    def _analysed(self, generation: int) -> bool:
+        """An analysis ended; start the next if the journal moved on. True if ``generation`` is current."""
+        self._analysing = False
+        if generation != self.generation:
+            self.recompute()
+            return False
+        self.pending = False
+        return True
+
+    @work(thread=True, group="analysis", exit_on_error=False)
     def _analyze(self, generation: int, corrections: Any) -> None:
         assert self.opened is not None
         started = time.perf_counter()
@@ -181,15 +196,12 @@ class WecookApp(App[None]):
         self.post_message(AnalysisReady(analysis, generation, time.perf_counter() - started))
 
     def on_analysis_ready(self, message: AnalysisReady) -> None:
-        if message.generation != self.generation:
-            return
-        self.analysis = message.analysis
-        self.pending = False
-        self.main.data_changed()
+        if self._analysed(message.generation):
+            self.analysis = message.analysis
+            self.main.data_changed()
 
     def on_analysis_failed(self, message: AnalysisFailed) -> None:
-        if message.generation == self.generation:
-            self.pending = False
+        if self._analysed(message.generation):
             self.notify(f"Analysis failed: {message.error}", severity="error", timeout=30)
             self.main.data_changed()
 
