@@ -16,7 +16,7 @@ from typing import Any
 from textual import work
 from textual.app import App, SystemCommand
 from textual.binding import Binding
-from textual.reactive import reactive
+from textual.reactive import var
 from textual.screen import Screen
 
 from wecook_core.errors import InputError
@@ -32,7 +32,7 @@ class WecookApp(App[None]):
     CSS_PATH = "workbench.tcss"
     TITLE = "wecook"
 
-    pending: reactive[bool] = reactive(False, init=False)
+    pending: var[bool] = var(False, init=False)
     """An analysis is being recomputed for the latest corrections."""
 
     def __init__(self, session_path: Path, *, keys: LoadedKeymap | None = None,
