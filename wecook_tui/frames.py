@@ -290,7 +290,23 @@ def draw(image: np.ndarray, overlay: Overlay, video_size: tuple[int, int]) -> Ca
             cv2.circle(out, centre, 5, (255, 255, 255), 1)
         if overlay.labels:
             labels.append(Label(max(0, centre[0] + 2), max(0, centre[1] // 2), hand.hand, hand.colour))
-    return Canvas(out, labels)
+    return Canvas(out, _spread(labels, width, height // 2))
+
+
+def _spread(labels: list[Label], columns: int, rows: int) -> list[Label]:
+    """Labels moved down a row (then up) when they would overwrite another; dropped if no row is free.
+    Hands' labels come last and are placed first, so they win."""
+    taken: dict[int, list[tuple[int, int]]] = {}
+    placed: list[Label] = []
+    for label in reversed(labels):
+        x = min(label.x, max(0, columns - len(label.text)))
+        span = (x, x + len(label.text) + 1)
+        for row in (label.y, label.y + 1, label.y - 1, label.y + 2):
+            if 0 <= row < max(rows, 1) and all(span[1] <= a or b <= span[0] for a, b in taken.get(row, [])):
+                taken.setdefault(row, []).append(span)
+                placed.append(Label(x, row, label.text, label.colour))
+                break
+    return placed[::-1]
 
 
 # ----------------------------------------------------------------------------------- half blocks

@@ -146,3 +146,15 @@ async def test_a_slow_decode_never_holds_up_the_keys(tmp_path: Path) -> None:
                 break
             await pilot.pause(0.02)
         assert view.shown == 40
+
+
+def test_overlapping_labels_move_to_a_free_row() -> None:
+    image = np.zeros((20, 40, 3), np.uint8)
+    overlay = Overlay(boxes=(BoxMark("bowl", (20, 40, 100, 100), (0, 255, 0)),
+                             BoxMark("board", (30, 40, 200, 100), (0, 255, 0))),
+                      hands=(HandMark("RH_P1", (0, 50), (255, 0, 0)),))
+    labels = draw(image, overlay, (400, 200)).labels
+    rows = {label.text: (label.x, label.y) for label in labels}
+    assert rows["bowl"][1] != rows["board"][1] or abs(rows["bowl"][0] - rows["board"][0]) > 5
+    cells = [(label.y, x) for label in labels for x in range(label.x, label.x + len(label.text))]
+    assert len(cells) == len(set(cells))  # no two labels share a cell
