@@ -313,3 +313,20 @@ async def test_reopen_restores_corrections_undo_and_redo(session_path: Path) -> 
         await pilot.press("y")  # the redo stack survived the reopen
         segs = again.analysis.segmentation.segments
         assert again.corrections.status == {0: SegmentStatus.ACCEPTED, segs[1].start: SegmentStatus.REJECTED}
+
+
+@pilot_test
+async def test_command_palette_runs_a_review_command(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        await pilot.press("ctrl+p")
+        await pilot.pause(0.2)
+        await pilot.press(*"Reject")
+        await pilot.pause(0.5)
+        await pilot.press("enter")
+        for _ in range(100):
+            if journal(session_path):
+                break
+            await pilot.pause(0.02)
+        assert ops(session_path) == ["set_status"] and journal(session_path)[0]["status"] == "rejected"
