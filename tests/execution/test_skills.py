@@ -57,8 +57,8 @@ def test_saw_descends_by_depth_and_strokes_along_the_axis():
 def test_circle_stays_on_its_radius_and_tilt_turns_by_its_angle():
     E = np.eye(4)
     path = actuation_path("circle", {"down": 0.05, "radius": 0.03, "turns": 1}, E, np.eye(3))
-    centre = np.array([0.0, 0.03])
-    ring = [w.pose[:2, 3] for w in path[1:-1]]
+    centre = np.array([0.0, 0.0])
+    ring = [w.pose[:2, 3] for w in path[1:-2]]
     assert all(np.linalg.norm(p - centre) == pytest.approx(0.03) for p in ring)
     tilt = actuation_path("tilt", {"angle": 90, "hold": 1.0}, E, np.eye(3))
     assert tilt[0].hold == 1.0

@@ -30,6 +30,7 @@ from wecook_core.execution.robot import (
     HOME,
     LOWER,
     MAX_SPEED,
+    REST,
     UPPER,
     Panda,
     attach,
@@ -57,6 +58,8 @@ JOINT_NAMES = [f"panda_joint{k + 1}" for k in range(7)] + ["panda_finger_joint1"
 STATE_EVERY = SIM_HZ // 30
 """Steps between two ``on_state`` calls (30 Hz)."""
 CONTACT_EVERY = 2
+TOUCH_DEPTH = 0.0005
+"""Metres of penetration from which two arms count as touching (contact points closer than zero)."""
 """Steps between two arm-arm contact queries."""
 JOINT_SPEED = 0.45
 """Fraction of the joint speed limits used by planned motions."""
@@ -67,6 +70,13 @@ TURN_SPEED = 1.2
 IMAGE_SIZE = (320, 240)
 YIELD_SECONDS = 30.0
 """Simulated seconds an arm waits for the other to go home when the other arm blocked all its goals."""
+APPROACH_OPENING = 0.008
+"""Metres per finger beyond the grip width the fingers open to approach an object."""
+ZONE_MARGIN = 0.08
+"""Metres around the objects of an action that its arm may sweep over while working."""
+ZONE_WAIT_SECONDS = 120.0
+"""Longest wait for the other arm to leave an overlapping zone (then the action goes ahead, reservations still
+keep the arms apart)."""
 FREE_MARGIN = 0.1
 """Metres of clearance around an object put down on a free spot beyond which spots count as equally roomy
 (room for the hand to take it again)."""
@@ -114,13 +124,20 @@ class BulletWorld:
         self.goal_blockers: set[str] = set()
         """What blocked the goal candidates since the last failure report."""
         self.other_in_the_way = False
+        self.right_of_way: str | None = None
+        self.zones: dict[str, np.ndarray] = {}
+        """Action id -> the table area it works in, while it runs (see :meth:`_claim_zone`)."""
+        self.zone_users: dict[str, set[str]] = {}
+        self.variants: dict[str, int] = {}
+        """Arm -> the axis option of its next actuation, chosen when engaging."""
+        """An arm the other one blocked: the other waits at rest until this arm's primitive ends."""
         self.moved_at = {pid: 0.0 for pid in self.arms}
         """Simulated time each arm last moved."""
         self._touching = False
         self.homes: dict[str, np.ndarray] = {n: b.home.copy() for n, b in self.bodies.objects.items()}
         for pid, arm in self.arms.items():
-            arm.set_q(HOME, 0.04)
-            self.commands[pid] = HOME.copy()
+            arm.set_q(REST, 0.04)
+            self.commands[pid] = REST.copy()
         for _ in range(60):  # let the objects settle before the clock starts
             p.stepSimulation(physicsClientId=self.client)
         self._frames = link_frames(self.bodies)
@@ -183,21 +200,29 @@ class BulletWorld:
         self.observer.on_state(self.time, world_poses(self.bodies), joints)
 
     def _check_arm_contact(self) -> None:
+        """Count each new touch (penetration deeper than :data:`TOUCH_DEPTH`) between the two arms' links."""
         c = self.client
         pids = sorted(self.arms)
         if len(pids) < 2:
             return
         a, b = (self.bodies.arms[pid].body for pid in pids[:2])
-        touching = bool(p.getContactPoints(a, b, physicsClientId=c))
+        points = [x for x in p.getContactPoints(a, b, physicsClientId=c) if x[8] < -TOUCH_DEPTH]
+        touching = bool(points)
         if touching and not self._touching:
             self.arm_contacts += 1
-            self._event("primitive_failed", None, None, "the two arms touched")
+            names_a, names_b = self.bodies.arms[pids[0]].links, self.bodies.arms[pids[1]].links
+            x = min(points, key=lambda q: q[8])
+            detail = (f"the two arms touched: {pids[0]} {names_a[x[3] + 1]} and {pids[1]} {names_b[x[4] + 1]} "
+                      f"({-x[8] * 1000:.1f} mm deep)")
+            self._event("primitive_failed", None, None, detail)
             if self.observer is not None:
-                self.observer.on_log(self.time, "error", "the two arms touched")
+                self.observer.on_log(self.time, "error", detail)
         self._touching = touching
 
     def _event(self, kind: str, action: PlanAction | None, pid: str | None, detail: str = "",
                primitive: str | None = None) -> None:
+        if kind in ("primitive_end", "primitive_failed") and pid is not None and pid == self.right_of_way:
+            self.right_of_way = None
         if self.observer is not None:
             self.observer.on_event(self.time, RunEvent(kind, action.id if action else None, primitive, pid, detail))  # type: ignore[arg-type]
 
@@ -302,8 +327,18 @@ class BulletWorld:
         names[self.planning.bodies.table] = "table"
         names.update({a.body: f"arm {k}" for k, a in self.planning.arms.items() if k != pid})
         own = {r.name for r in self.hands[pid].riding}
-        return {names[x[2]] for x in p.getContactPoints(bodyA=self.planning.arms[pid].body, physicsClientId=c)
-                if x[8] < 0.0 and x[2] in names and names[x[2]] not in own}
+        body = self.planning.arms[pid].body
+        links = self.bodies.arms[pid].links
+        contacts = p.getContactPoints(bodyA=body, physicsClientId=c)
+        out = {names[x[2]] for x in contacts if x[8] < 0.0 and x[2] in names and names[x[2]] not in own}
+        for r in self.hands[pid].riding:
+            carried = self.planning.bodies.objects[r.name].body
+            out |= {f"{names[x[2]]} (touched by the {r.name})"
+                    for x in p.getContactPoints(bodyA=carried, physicsClientId=c)
+                    if x[8] < 0.0 and x[2] in names and names[x[2]] not in own}
+        out |= {f"its own {links[x[3] + 1]} and {links[x[4] + 1]}" for x in contacts
+                if x[2] == body and x[8] < 0.0 and (min(x[3], x[4]), max(x[3], x[4])) not in self.planning.allowed_self}
+        return out
 
     def _no_goal(self, what: str, count: int) -> str:
         blockers = sorted(self.goal_blockers)
@@ -400,7 +435,7 @@ class BulletWorld:
         raises :class:`ActionFailed`. Moves the planning client's joints only."""
         arm = self.planning.arms[pid]
         names = list(self.bodies.objects) if ignore is None else list(ignore)
-        collides = self.planning.collision_fn(pid, ignore=names, margin=-0.01, arm_margin=min(self.arm_margin, 0.005))
+        collides = self.planning.collision_fn(pid, ignore=names, margin=-0.01, arm_margin=0.0)  # slow, straight
         path = [q]
         durations: list[float] = []
         marks: list[int] = []
@@ -426,7 +461,11 @@ class BulletWorld:
             marks.append(len(path) - 1)
             prev = T
         if not path_free(collides, path, 0.05):
-            raise ActionFailed(f"{what}: the straight path collides")
+            blockers = sorted(self._in_the_way(pid))
+            if any(b.startswith("arm ") for b in blockers):
+                self.other_in_the_way = True
+            raise ActionFailed(f"{what}: the straight path collides" + (f" with {', '.join(blockers)}"
+                                                                        if blockers else ""))
         return path, durations, marks
 
     def linear(self, pid: str, poses: Sequence[np.ndarray], ignore: Sequence[str] | None = None,
@@ -435,10 +474,16 @@ class BulletWorld:
         """Follow :meth:`cartesian_path` from where the arm is, holding and setting the fingers at each pose."""
         self._sync()
         path, durations, marks = self.cartesian_path(pid, self.arms[pid].q(), poses, ignore, what)
-        try:  # noqa: SIM105
+        try:
             yield from self._reserve(pid, path)
-        except _Replan:  # a straight move cannot change: it waited for the way to clear
-            pass
+        except _Replan:  # it waited for the other arm: check the straight path against where that arm is now
+            self._sync()
+            names = list(self.bodies.objects) if ignore is None else list(ignore)
+            collides = self.planning.collision_fn(pid, ignore=names, margin=-0.01,
+                                                  arm_margin=0.0)
+            if not path_free(collides, path, 0.05):
+                self.reserved[pid] = None
+                raise ActionFailed(f"{what}: the other arm stopped in the way") from None
         try:
             k = 0
             for j, end in enumerate(marks):
@@ -459,9 +504,10 @@ class BulletWorld:
         other = self._other(pid)
         if other is not None and self.other_in_the_way:
             self.other_in_the_way = False
+            self.right_of_way = pid  # the other arm, once home, waits for this primitive to end
             for _ in range(int(YIELD_SECONDS * SIM_HZ)):
-                at_home = np.max(np.abs(self.arms[other].q() - HOME)) < 1e-2
-                if at_home or self.time - self.moved_at[other] > 1.0:  # home, or itself waiting: go on
+                at_home = np.max(np.abs(self.arms[other].q() - REST)) < 1e-2
+                if at_home or self.time - self.moved_at[other] > 3.0:  # home, or itself waiting: go on
                     return
                 yield WAIT
             return
@@ -486,6 +532,10 @@ class BulletWorld:
         self.hands[pid].riding.append(Riding(name, T))
         self._collide_with_arm(pid, name, enabled=False)
 
+    def _holder_of(self, name: str, pid: str) -> str | None:
+        """The other arm whose hand carries ``name`` (or has it riding), if any."""
+        return next((k for k, h in self.hands.items() if k != pid and any(r.name == name for r in h.riding)), None)
+
     def _contents(self, name: str) -> list[str]:
         if self.bodies.objects[name].category is not Category.CONTAINER:
             return []
@@ -500,9 +550,13 @@ class BulletWorld:
         self.arms[pid].set_fingers(width)
 
     def go_home(self, pid: str) -> Program:
-        if np.max(np.abs(self.arms[pid].q() - HOME)) < 1e-3:
-            return
-        yield from self.transit(pid, HOME.copy(), what="return home")
+        """Back to :data:`REST`; then, if the other arm asked for the way, wait there until its primitive ends."""
+        if np.max(np.abs(self.arms[pid].q() - REST)) >= 1e-3:
+            yield from self.transit(pid, REST.copy(), what="return home")
+        for _ in range(int(YIELD_SECONDS * SIM_HZ)):
+            if self.right_of_way in (None, pid):
+                break
+            yield WAIT
 
     # ------------------------------------------------------------------------------------ primitives
 
@@ -529,8 +583,18 @@ class BulletWorld:
         """Pre-grasp (planned), straight approach, close, attach, lift (straight up)."""
         self._event("primitive_start", action, pid, name, primitive)
         body = self.bodies.objects[name]
+        holder = self._holder_of(name, pid)
+        if holder is not None and primitive != "take":  # in the other hand: wait until it is let go
+            for _ in range(int(YIELD_SECONDS * SIM_HZ)):
+                if self._holder_of(name, pid) is None:
+                    break
+                yield WAIT
+            else:
+                raise ActionFailed(f"{primitive} {name}: {holder} kept holding it")
         kind = self._kind(name)
         regions = tsrs or self._grasp_tsrs(name, pid)
+        grip = min(max(evaluate(self.skills.grip[kind], {"f": self.half(name)}), 0.0), 0.04)
+        self._set_grip(pid, min(grip + APPROACH_OPENING, 0.04))  # open just enough: neighbours stay clear
         support = [n for n, c in self.plan.scene.containing if n == name] + \
             [c for n, c in self.plan.scene.containing if n == name]
         ignore = [name, *support, *ignore_extra]
@@ -566,14 +630,14 @@ class BulletWorld:
                 continue
             try:
                 yield from self.transit(pid, pre_goal[0], ignore_extra, what=f"{primitive} {name}")
-                self._set_grip(pid, 0.04)
+                # the fingers close into the object without pushing it about: the constraint will hold it
+                self._collide_with_arm(pid, name, enabled=False)
                 yield from self.linear(pid, [pre_goal[2]], ignore=ignore, what=f"approach {name}")
             except ActionFailed as error:
+                self._collide_with_arm(pid, name, enabled=True)
                 reason = str(error)
                 continue
-            sizes = {"f": self.half(name)}
-            grip = max(evaluate(self.skills.grip[kind], sizes), 0.0)
-            self._set_grip(pid, min(grip, 0.04))
+            self._set_grip(pid, grip)
             yield from self._hold(0.2)
             constraint, T_ee_obj = attach(self.client, self.bodies.arms[pid].body, body.body)
             hand = self.hands[pid]
@@ -637,13 +701,19 @@ class BulletWorld:
                     if found is not None:
                         break
                     continue
-                try:
-                    waypoints = self._actuation_waypoints(pid, then, roles, G)
-                    self.cartesian_path(pid, found[0], [w.pose @ T_eff_ee for w in waypoints], None, "actuate")
-                    break
-                except ActionFailed as error:
-                    reason = f"the {then.motion} from there: {error}"
+                options = len(str(then.params.get("axis", "")).split(","))
+                for variant in range(options):
+                    try:
+                        waypoints = self._actuation_waypoints(pid, then, roles, G, variant)
+                        self.cartesian_path(pid, found[0], [w.pose @ T_eff_ee for w in waypoints], None, "actuate")
+                        self.variants[pid] = variant
+                        break
+                    except ActionFailed as error:
+                        reason = f"the {then.motion} from there: {error}"
+                else:
                     found = None
+                if found is not None:
+                    break
             if found is None:
                 reason = self._no_goal(f"pose at {spec.frame}", len(candidates)) \
                     if then is None or not candidates or reason.startswith("no ") else reason
@@ -736,9 +806,10 @@ class BulletWorld:
         self._event("primitive_failed", action, pid, reason, "place")
         raise ActionFailed(f"place {name}: {reason}")
 
-    def _actuation_waypoints(self, pid: str, step: Step, roles: dict[str, str | None], ee: np.ndarray
-                             ) -> list[Waypoint]:
-        """The effector waypoints of ``step`` starting with the hand at ``ee``."""
+    def _actuation_waypoints(self, pid: str, step: Step, roles: dict[str, str | None], ee: np.ndarray,
+                             variant: int | None = None) -> list[Waypoint]:
+        """The effector waypoints of ``step`` starting with the hand at ``ee``; ``variant`` picks one of the
+        step's axis options (default: the one the last engage chose)."""
         assert step.motion is not None
         hand = self.hands[pid]
         T_ee_eff = hand.riding[0].T_ee_obj if hand.riding else np.eye(4)
@@ -748,6 +819,10 @@ class BulletWorld:
         if step.contact is not None:
             sizes["f"] = self.half(roles.get(step.contact[1]))
         params = {k: (v if k == "axis" else evaluate(v, sizes)) for k, v in step.params.items()}
+        if "axis" in params:
+            options = str(params["axis"]).split(",")
+            chosen = self.variants.get(pid, 0) if variant is None else variant
+            params["axis"] = options[min(chosen, len(options) - 1)]
         contact_target = roles.get(step.contact[1]) if step.contact else None
         Rw = self._facing(contact_target, pid)[:3, :3] if contact_target is not None \
             else np.eye(3)
@@ -807,7 +882,49 @@ class BulletWorld:
 
     # ------------------------------------------------------------------------------------ actions
 
+    def _zone(self, action: PlanAction) -> np.ndarray:
+        """The table area an action works in: ``[[x0, y0], [x1, y1]]`` around the objects it names (and the
+        meeting point of a handover), grown by :data:`ZONE_MARGIN`."""
+        names = {action.tool, action.location, action.source, *action.ingredients}
+        if action.partner is not None:
+            act = action.partner
+            names |= {act.tool, act.location, act.source, *act.ingredients}
+        boxes = [np.array(p.getAABB(self.bodies.objects[n].body, physicsClientId=self.client))[:, :2]
+                 for n in names if n is not None]
+        if action.verb == "handover":
+            meet = self._meet(*action.pids[:2])[:2, 3]
+            boxes.append(np.array([meet - 0.1, meet + 0.1]))
+        if not boxes:
+            return np.zeros((2, 2))
+        stacked = np.stack(boxes)
+        return np.array([stacked[:, 0].min(axis=0) - ZONE_MARGIN, stacked[:, 1].max(axis=0) + ZONE_MARGIN])
+
+    def _claim_zone(self, action: PlanAction, pid: str) -> Program:
+        """Wait until no action of the other arm works in an overlapping zone, then hold this action's zone."""
+        if action.id in self.zones:
+            return
+        zone = self._zone(action)
+        for _ in range(int(ZONE_WAIT_SECONDS * SIM_HZ)):
+            busy = [z for owner, z in self.zones.items() if owner != action.id
+                    and np.all(zone[0] < z[1]) and np.all(z[0] < zone[1])]
+            if not busy:
+                break
+            yield WAIT
+        self.zones[action.id] = zone
+
     def program(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        """The role of ``pid`` in ``action``, inside the action's workspace zone (held until every role ends)."""
+        yield from self._claim_zone(action, pid)
+        self.zone_users.setdefault(action.id, set()).add(pid)
+        try:
+            yield from self._role(action, pid, meeting)
+        finally:
+            users = self.zone_users.get(action.id, set())
+            users.discard(pid)
+            if not users:
+                self.zones.pop(action.id, None)
+
+    def _role(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
         if action.verb == "handover":
             giver, _receiver = action.pids
             yield from (self._giver(action, pid, meeting) if pid == giver else self._receiver(action, pid, meeting))

@@ -122,7 +122,7 @@ class PlanningScene:
         del riding
         return collides
 
-    def swept_boxes(self, pid: str, path: Sequence[np.ndarray], step: float = 0.08,
+    def swept_boxes(self, pid: str, path: Sequence[np.ndarray], step: float = 0.04,
                     pad: float = 0.03) -> np.ndarray:
         """World AABBs ``(n, 2, 3)`` of the arm's links and riding objects along ``path`` (states ``step`` radians
         apart), grown by ``pad`` metres: the region the motion sweeps, reserved while it runs."""

@@ -20,7 +20,10 @@ EE_LINK = 11
 """``panda_grasptarget``."""
 HAND_LINK = 8
 HOME = np.array([0.0, -1.0, 0.0, -2.7, 0.0, 1.7, 0.785])
-"""Radians: tucked in front of the base, gripper down; both arms start and rest here."""
+"""Radians: gripper down 26 cm in front of the base, 39 cm up; the first seed of IK."""
+REST = np.array([0.0, -1.6, 0.0, -2.9, 0.0, 1.3, 0.785])
+"""Radians: folded back over the base (nothing beyond 21 cm in front of it), gripper down; the arms start here and
+return here between actions, leaving the table to the other arm."""
 FINGER_OPEN = 0.04
 """Metres per finger (the Panda opens 8 cm)."""
 LOWER = np.array([-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973])

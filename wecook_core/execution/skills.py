@@ -203,10 +203,11 @@ def _step(data: Any, path: Path, place: str) -> Step:
         raise _bad(path, f"{place}.motion", f"unknown motion {motion!r}, expected one of {', '.join(MOTIONS)}")
     params: dict[str, Expr] = {}
     for k, v in (data.get("params") or {}).items():
-        if k == "axis":
-            if v not in AXIS_NAMES:
-                raise _bad(path, f"{place}.params.axis", f"expected x, y or z, got {v!r}")
-            params[k] = v
+        if k == "axis":  # one axis, or for a tilt a list of axes to choose from in order ("-x": the other way)
+            options = v if isinstance(v, list) and motion == "tilt" else [v]
+            if not options or any(not isinstance(o, str) or o.lstrip("-") not in AXIS_NAMES for o in options):
+                raise _bad(path, f"{place}.params.axis", f"expected x, y or z (a tilt: a list of them), got {v!r}")
+            params[k] = options[0] if len(options) == 1 else ",".join(options)
         else:
             params[str(k)] = _expr(v, path, f"{place}.params.{k}")
     contact = data.get("contact")
@@ -331,13 +332,16 @@ def actuation_path(motion: str, params: Mapping[str, float], E: np.ndarray, Rw: 
         down, r, turns = g("down", 0.05), g("radius", 0.03), g("turns", 2)
         out.append(Waypoint(_moved(E, Rw, (0, 0, -down))))
         steps = int(16 * turns)
-        for k in range(steps + 1):
+        for k in range(steps + 1):  # around the engage point, starting on its +x side
             phase = 2 * math.pi * k / 16
-            out.append(Waypoint(_moved(E, Rw, (r * math.sin(phase), r * (1 - math.cos(phase)), -down))))
+            out.append(Waypoint(_moved(E, Rw, (r * math.cos(phase), r * math.sin(phase), -down))))
+        out.append(Waypoint(_moved(E, Rw, (0, 0, -down))))
     elif motion == "tilt":
         angle = math.radians(g("angle", 90))
-        axis = str(params.get("axis", "y"))
+        axis = str(params.get("axis", "y")).split(",")[0]
         direction = -1.0 if axis == "y" else 1.0  # positive angles tip the top away from the arm (-x) or sideways
+        if axis.startswith("-"):
+            axis, direction = axis[1:], -direction
         tilted = _moved(E, Rw, axis=axis, angle=direction * angle, pivot=hand)
         out.append(Waypoint(tilted, hold=g("hold", 0.5)))
         for _ in range(int(g("shakes", 0))):
@@ -365,7 +369,7 @@ def actuation_path(motion: str, params: Mapping[str, float], E: np.ndarray, Rw: 
         r = g("radius", 0.04)
         for k in range(1, 9):
             a = math.pi * k / 8
-            out.append(Waypoint(_moved(E, Rw, (r * (1 - math.cos(a)), 0, r * math.sin(a)), axis="y", angle=-a / 2)))
+            out.append(Waypoint(_moved(E, Rw, (r * (1 - math.cos(a)), 0, r * math.sin(a)), axis="y", angle=-a / 4)))
     elif motion == "scoop":
         down, sweep, angle = g("down", 0.05), g("sweep", 0.03), math.radians(g("angle", 15))
         out.append(Waypoint(_moved(E, Rw, (0, 0, -down))))

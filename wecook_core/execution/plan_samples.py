@@ -1,0 +1,88 @@
+"""Synthetic two-arm plans with known content, for tests and benchmarks of the executor.
+
+:func:`synthetic_plan` lays a random kitchen out on the table the way :func:`wecook_core.plan.layout_scene`
+does (inside the reach region where it can, tools lying across the table, ingredients in their containers) and
+writes ``n`` actions alternating between the persons, with one handover and one holding, every action after
+the previous action of each agent it involves. Every verb of the vocabulary appears across a few seeds.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from wecook_core.model import Category
+from wecook_core.plan import Act, Plan, PlanAction, Scene, SceneObject, agents_for
+
+_SLOTS = [(x, y) for y in (-0.285, -0.095, 0.095, 0.285) for x in (-0.19, 0.0, 0.19)]
+"""Footprint centres (metres) objects are dealt to: 19 cm apart, so that a tool lies at least 4 cm from its
+neighbours (room for the fingers, as :func:`wecook_core.plan.layout_scene` leaves), inside both arms' reach."""
+
+
+def _objects(rng: np.random.Generator) -> tuple[list[SceneObject], list[tuple[str, str]]]:
+    slots = [_SLOTS[i] for i in rng.permutation(len(_SLOTS))]
+    half_pi = math.pi / 2
+    specs = [
+        ("chopping_board", Category.CONTAINER, "box", (0.22, 0.15, 0.02), 0.0),
+        ("bowl", Category.CONTAINER, "cylinder", (0.15, 0.15, 0.07), 0.0),
+        ("pot", Category.CONTAINER, "cylinder", (0.16, 0.16, 0.1), 0.0),
+        ("knife", Category.TOOL, "box", (0.2, 0.03, 0.025), half_pi),
+        ("spoon", Category.TOOL, "box", (0.18, 0.03, 0.02), half_pi),
+        ("rolling_pin", Category.TOOL, "box", (0.22, 0.035, 0.035), half_pi),
+        ("oil", Category.INGREDIENT, "cylinder", (0.05, 0.05, 0.14), 0.0),
+        ("lemon", Category.INGREDIENT, "sphere", (0.05, 0.05, 0.05), 0.0),
+    ]
+    objects = [SceneObject(name, cat, shape, size, slots[k][0], slots[k][1], yaw)
+               for k, (name, cat, shape, size, yaw) in enumerate(specs)]
+    board, bowl = objects[0], objects[1]
+    objects.append(SceneObject("tomato", Category.INGREDIENT, "sphere", (0.05, 0.05, 0.05), board.x, board.y))
+    objects.append(SceneObject("cheese", Category.INGREDIENT, "box", (0.04, 0.04, 0.03), bowl.x, bowl.y))
+    return objects, [("tomato", "chopping_board"), ("cheese", "bowl")]
+
+
+_INDIVIDUAL = [
+    ("cut", "knife", ("tomato",), "chopping_board", None),
+    ("peel", "knife", ("tomato",), "chopping_board", None),
+    ("spread", "knife", ("tomato",), "chopping_board", None),
+    ("roll", "rolling_pin", ("tomato",), "chopping_board", None),
+    ("stir", "spoon", (), "pot", None),
+    ("dip", "spoon", (), "bowl", None),
+    ("pour", "oil", (), "pot", None),
+    ("sprinkle", "oil", (), "bowl", None),
+    ("squeeze", None, ("lemon",), "pot", None),
+    ("wrap", "knife", ("tomato",), "chopping_board", None),
+    ("transfer", "spoon", ("cheese",), "pot", "bowl"),
+]
+
+
+def synthetic_plan(seed: int, n: int = 10) -> Plan:
+    """A plan of ``n`` actions (``n >= 3``) by P1 and P2 on a random layout; the same seed gives the same plan."""
+    rng = np.random.default_rng(seed)
+    objects, containing = _objects(rng)
+    order = [_INDIVIDUAL[i] for i in rng.permutation(len(_INDIVIDUAL))]
+    if any(verb == "transfer" for verb, *_ in order[: n - 2]):  # the cheese leaves the bowl: no dip after it
+        order = [o for o in order if o[0] != "transfer"] + [o for o in order if o[0] == "transfer"]
+    handover_at, holding_at = sorted(rng.choice(np.arange(1, n), size=2, replace=False).tolist())
+    actions: list[PlanAction] = []
+    last: dict[str, str] = {}
+    k = 0
+    for i in range(n):
+        aid = f"a{i + 1}"
+        person = ("P1", "P2")[i % 2]
+        other = "P2" if person == "P1" else "P1"
+        if i == handover_at:
+            action = PlanAction(aid, (person, other), "handover", str(rng.choice(["knife", "lemon", "spoon"])))
+        elif i == holding_at:
+            action = PlanAction(aid, (person, other), "holding", "bowl", partner=Act("stir", "spoon", (), "bowl"))
+        else:
+            verb, tool, ingredients, location, source = order[k % len(order)]
+            k += 1
+            action = PlanAction(aid, (person,), verb, tool, ingredients, location, source)
+        after = tuple(dict.fromkeys(last[p] for p in action.pids if p in last))
+        actions.append(PlanAction(action.id, action.pids, action.verb, action.tool, action.ingredients,
+                                  action.location, action.source, action.partner, after))
+        for p in action.pids:
+            last[p] = aid
+    return Plan(agents=agents_for(["P1", "P2"]), scene=Scene(objects=tuple(objects), containing=tuple(containing)),
+                actions=tuple(actions))
