@@ -208,12 +208,14 @@ class WecookApp(App[None]):
     # -------------------------------------------------------------------------------- screens
 
     def open_help(self) -> None:
+        from wecook_tui.screens.links import LinkPickerScreen
         from wecook_tui.screens.picker import PickerScreen
         from wecook_tui.screens.plan_review import PLAN_BINDINGS
         from wecook_tui.screens.run import RUN_BINDINGS
 
         more = {"Plan review": PLAN_BINDINGS, "Run screen": RUN_BINDINGS,
-                "Pickers (enter chooses)": list(PickerScreen.BINDINGS)}
+                "Pickers (enter chooses)": list(PickerScreen.BINDINGS),
+                "Link picker (space toggles)": list(LinkPickerScreen.BINDINGS)}
         self.push_screen(HelpScreen(list(MAIN_BINDINGS), dict(self.keys.keymap), more))
 
     def open_plan(self) -> None:
@@ -250,9 +252,11 @@ def tune_gc() -> None:
 
 
 def _binding_ids() -> set[str]:
+    from wecook_tui.screens.links import LinkPickerScreen
     from wecook_tui.screens.picker import PickerScreen
     from wecook_tui.screens.plan_review import PLAN_BINDINGS
     from wecook_tui.screens.run import RUN_BINDINGS
 
-    everything = (*MAIN_BINDINGS, *PLAN_BINDINGS, *RUN_BINDINGS, *PickerScreen.BINDINGS, *HelpScreen.BINDINGS)
+    everything = (*MAIN_BINDINGS, *PLAN_BINDINGS, *RUN_BINDINGS, *PickerScreen.BINDINGS, *HelpScreen.BINDINGS,
+                  *LinkPickerScreen.BINDINGS)
     return {b.id for b in everything if isinstance(b, Binding) and b.id}

@@ -10,6 +10,7 @@ from wecook_core.model import SegmentStatus
 from wecook_tui import review
 from wecook_tui.app import WecookApp
 from wecook_tui.screens.help import HelpScreen
+from wecook_tui.screens.links import LinkPickerScreen
 from wecook_tui.screens.main import MAIN_BINDINGS
 from wecook_tui.screens.picker import PickerScreen
 from wecook_tui.widgets.frame_view import FrameView
@@ -173,17 +174,25 @@ async def test_change_object_object_link(session_path: Path) -> None:
         app.main.selected_hand = "RH_P1"
         await pilot.press("k")
         screen = app.screen
-        assert isinstance(screen, PickerScreen)
+        assert isinstance(screen, LinkPickerScreen)
         offered = [v for v, _ in screen.options]
         tools = {name for name, category in app.obs.categories.items() if category == "tool"}
         assert held not in offered and not tools & set(offered)  # never the held object itself, never a tool
-        target = offered[0]
-        await pick(pilot, app, target)
+        current = review.associations_of(app.analysis, index, segs[index]).object_object.get(held, ())
+        # toggle off whatever is linked now, toggle on the two closest candidates, confirm
+        for row, value in enumerate(offered):
+            if (value in current) != (row < 2):
+                await pilot.press("home", *(["down"] * row), "space")
+        await pilot.press("enter")
+        await pilot.pause()
+        targets = offered[:2]
         entry = journal(session_path)[-1]
-        assert (entry["op"], entry["object"], entry["targets"]) == ("set_object_object", held, [target])
+        assert (entry["op"], entry["object"], entry["targets"]) == ("set_object_object", held, targets)
         await settle(pilot, app)
         assoc = review.associations_of(app.analysis, index, segs[index])
-        assert assoc.object_object[held] == (target,)
+        assert assoc.object_object[held] == tuple(targets)
+        await pilot.press("k", "escape")  # cancelling records nothing
+        assert len(journal(session_path)) == 1
 
 
 @pilot_test

@@ -15,6 +15,7 @@ from textual.widgets import Footer
 
 from wecook_core.model import VERBS, Segment, SegmentStatus
 from wecook_tui import review
+from wecook_tui.screens.links import LinkPickerScreen
 from wecook_tui.screens.picker import PickerScreen
 from wecook_tui.widgets.frame_view import FrameView
 from wecook_tui.widgets.inspector import Inspector
@@ -254,16 +255,15 @@ class MainScreen(Screen[None]):
             self.notify(f"{hand} holds nothing here: set its object first (change object).", severity="warning")
             return
         near = review.link_candidates(obs, held, self.frame, seg)
-        options = [(name, f"{name:<16} {d:6.0f} px") for name, d in near] + [(review.NOTHING, "(nothing)")]
+        options = [(name, f"{name:<16} {d:6.0f} px") for name, d in near]
         targets = assoc.object_object.get(held, ()) if assoc else ()
 
-        def chosen(name: str | None) -> None:
-            if name:
-                new = () if name == review.NOTHING else (name,)
+        def chosen(new: tuple[str, ...] | None) -> None:
+            if new is not None and new != tuple(targets):
                 self.wb.correct(review.set_object_object(seg, held, new))
 
-        self.app.push_screen(PickerScreen(f"What {held} acts on in [{seg.start}, {seg.end})", options,
-                                          targets[0] if targets else None), chosen)
+        self.app.push_screen(LinkPickerScreen(f"What {held} acts on in [{seg.start}, {seg.end})", options,
+                                              targets), chosen)
 
     def action_split(self) -> None:
         _, seg = self.current()
