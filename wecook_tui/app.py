@@ -199,6 +199,19 @@ class WecookApp(App[None]):
         if self._analysed(message.generation):
             self.analysis = message.analysis
             self.main.data_changed()
+            self._write_results(message.analysis)
+
+    @work(thread=True, exclusive=True, group="results", exit_on_error=False)
+    def _write_results(self, analysis: Any) -> None:
+        """Keep the session's ``trees.yaml`` and ``graph.yaml`` in step with the corrections."""
+        from wecook_core.formats.treefile import write_tree_file
+        from wecook_core.graph import write_graph_file
+
+        try:
+            write_tree_file(self.session.trees_path, analysis.trees)
+            write_graph_file(self.session.graph_path, analysis.graph)
+        except (OSError, AttributeError, ValueError) as error:
+            self.call_from_thread(self.notify, f"Cannot write the analysis results: {error}", severity="warning")
 
     def on_analysis_failed(self, message: AnalysisFailed) -> None:
         if self._analysed(message.generation):

@@ -6,6 +6,7 @@ from pathlib import Path
 
 from tui_driving import journal, pick, pilot_test, settle
 
+from wecook_core.formats.treefile import read_tree_file
 from wecook_core.model import SegmentStatus
 from wecook_tui import review
 from wecook_tui.app import WecookApp
@@ -104,6 +105,9 @@ async def test_accept_and_reject_are_journaled_and_shown(session_path: Path) -> 
         await settle(pilot, app)
         assert app.analysis.corrections.status == {0: SegmentStatus.ACCEPTED, segs[1].start: SegmentStatus.REJECTED}
         assert timeline.status[segs[1].start] is SegmentStatus.REJECTED
+        written = read_tree_file(session_path / "trees.yaml")  # the results on disk follow the corrections
+        assert [(t.start, t.end) for t in written] == [(t.start, t.end) for t in app.analysis.trees]
+        assert (session_path / "graph.yaml").is_file()
 
 
 @pilot_test
