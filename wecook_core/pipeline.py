@@ -43,6 +43,9 @@ class Params:
     so a long video is cut as finely as a short one (BIC still chooses how many are used)."""
     k: dict[str, int] = field(default_factory=dict)
     """Hand -> number of breakpoints forced by the user (otherwise chosen automatically)."""
+    min_segment_s: float = 0.3
+    """Seconds: the hands' breakpoints closer than this merge into one cut of the union, so no segment of the
+    video is a sliver between two hands' nearly simultaneous phase changes."""
     min_frames: int = 8
     """An association is kept only when it holds for at least this many consecutive frames."""
     seed: int = 0

@@ -16,7 +16,7 @@ from wecook_core.errors import InputError
 from wecook_core.model import HANDS, HandTrack, Observations, VideoInfo
 from wecook_core.pipeline import Params
 from wecook_core.segment import choose_k, ggs, load_series, refine_breakpoints, segment_hands, segment_objective
-from wecook_core.segmentation.hands import running_median
+from wecook_core.segmentation.hands import running_median, union_breakpoints
 from wecook_core.segmentation.synthetic import hand_trajectory
 from wecook_tui.cli import main
 
@@ -172,7 +172,7 @@ def test_segment_hands_recovers_the_phases_of_every_hand():
     rng = np.random.default_rng(7)
     truth = {hand: hand_trajectory(rng, frames) for hand in HANDS}
     obs = observations({h: (np.arange(frames), t.xy) for h, t in truth.items()}, frames)
-    seg = segment_hands(obs, Params(lamb=1e-4))
+    seg = segment_hands(obs, Params(lamb=1e-4, min_segment_s=0))  # the plain union
     for hand, trajectory in truth.items():
         found, true = np.array(seg.per_hand[hand]), np.array(trajectory.breakpoints)
         distance = np.abs(true[:, None] - found[None, :])
@@ -183,6 +183,25 @@ def test_segment_hands_recovers_the_phases_of_every_hand():
     assert starts == sorted({0, *itertools.chain.from_iterable(seg.per_hand.values())})
     assert seg.segments[-1].end == frames
     assert all(a.end == b.start for a, b in itertools.pairwise(seg.segments))
+
+
+def test_union_merges_near_simultaneous_cuts_of_different_hands():
+    assert union_breakpoints([(100, 300), (103, 200), (95,)], 1000, 9) == [100, 200, 300]
+    assert union_breakpoints([(5, 500), (995,)], 1000, 9) == [500]  # slivers at the ends go
+    assert union_breakpoints([(10, 18, 26)], 1000, 9) == [18]  # a chain of near cuts is one group
+    assert union_breakpoints([(10, 18, 23, 40)], 1000, 9) == [18, 40]
+    assert union_breakpoints([(10, 20)], 1000, 1) == [10, 20]
+
+
+def test_segments_are_never_slivers():
+    frames = 2400
+    rng = np.random.default_rng(7)
+    obs = observations({h: (np.arange(frames), hand_trajectory(rng, frames).xy) for h in HANDS}, frames)
+    seg = segment_hands(obs, Params(lamb=1e-4, min_segment_s=0.3))
+    assert min(len(s) for s in seg.segments) >= 9
+    plain = segment_hands(obs, Params(lamb=1e-4, min_segment_s=0))
+    assert min(len(s) for s in plain.segments) < 9  # the four hands do cut slivers without merging
+    assert seg.per_hand == plain.per_hand
 
 
 def test_segment_hands_interpolates_gaps_and_skips_absent_hands():

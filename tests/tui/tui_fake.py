@@ -77,6 +77,14 @@ class FakeSession:
     def journal(self) -> Path:
         return self.path / "journal.jsonl"
 
+    @property
+    def trees_path(self) -> Path:
+        return self.path / "trees.yaml"
+
+    @property
+    def graph_path(self) -> Path:
+        return self.path / "graph.yaml"
+
     def entries(self) -> list[dict]:
         if not self.journal.exists():
             return []

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -73,10 +74,35 @@ def segment_hands(obs: Observations, params: Params, *, sample_hz: float = SAMPL
         series, filled = hand_series(track, frame_count, video.width, video.height)
         interpolated[track.hand] = filled
         per_hand[track.hand] = _segment_series(series, params, step, params.k.get(track.hand))
-    cuts = sorted({b for breaks in per_hand.values() for b in breaks if 0 < b < frame_count})
+    min_frames = max(1, round(params.min_segment_s * video.fps)) if video.fps > 0 else 1
+    cuts = union_breakpoints(per_hand.values(), frame_count, min_frames)
     edges = [0, *cuts, frame_count]
     segments = tuple(Segment(a, b) for a, b in itertools.pairwise(edges)) if frame_count > 0 else ()
     return Segmentation(per_hand=per_hand, segments=segments, interpolated=interpolated)
+
+
+def union_breakpoints(breaks: Iterable[Sequence[int]], frame_count: int, min_frames: int) -> list[int]:
+    """The interior cuts of the whole video: every hand's breakpoints, no two closer than ``min_frames``.
+
+    Two hands rarely change phase on the same frame; the plain union then cuts a sliver of a frame or two
+    between them, a segment no action fits in and no reviewer wants to step through. Cuts that follow each
+    other by less than ``min_frames`` form a group, replaced by its median; a group's median that still lands
+    within ``min_frames`` of the previous cut is dropped, and so are cuts within ``min_frames`` of the ends.
+    Every segment of the result is at least ``min_frames`` long.
+    """
+    cuts = sorted({b for hand in breaks for b in hand if min_frames <= b <= frame_count - min_frames})
+    groups: list[list[int]] = []
+    for cut in cuts:
+        if groups and cut - groups[-1][-1] < min_frames:
+            groups[-1].append(cut)
+        else:
+            groups.append([cut])
+    merged: list[int] = []
+    for group in groups:
+        cut = int(np.median(group))
+        if not merged or cut - merged[-1] >= min_frames:
+            merged.append(cut)
+    return merged
 
 
 def running_median(series: np.ndarray, window: int) -> np.ndarray:
