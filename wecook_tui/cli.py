@@ -11,14 +11,14 @@ from collections.abc import Sequence
 from wecook_core.errors import InputError
 
 COMMAND_MODULES: tuple[str, ...] = (
+    "session",  # new, sessions
+    "workbench",  # open, demo
     "analyze",
+    "execute",  # export, execute, runs
     "evaluate",
-    "execute",
-    "knowledge",
-    "segment",
-    "session",
     "synth",
-    "workbench",
+    "segment",
+    "knowledge",  # knowledge, recognize
 )
 """Modules of `wecook_tui.commands`, in the order their commands are listed by `wecook --help`."""
 
