@@ -116,3 +116,14 @@ def test_new_with_mot_boxes_a_labels_file_and_a_forced_format(tmp_path: Path, ca
     session = open_session(root / "mot")
     assert session.inputs["labels"].path == str(labels.resolve())
     assert session.load_observations().objects[0].label == "Whisk"
+
+
+def test_demo_without_a_terminal_prints_trees_graph_and_scores(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    from wecook_tui.cli import main
+
+    assert main(["demo", "--root", str(tmp_path), "--headless"]) == 0
+    out = capsys.readouterr().out
+    assert "(HP (HP (H RH_P1) (O knife)) (AP (A cut)" in out
+    assert "wecook_graph: 1" in out and "sequences:" in out
+    assert "against the truth: precision" in out
+    assert (tmp_path / "demo" / "trees.yaml").is_file() and (tmp_path / "demo" / "graph.yaml").is_file()

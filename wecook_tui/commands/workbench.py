@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 from pathlib import Path
 
 from wecook_core.errors import InputError
@@ -19,6 +20,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     opener.set_defaults(func=run)
     demo = subparsers.add_parser("demo", help="build the bundled demo session if missing, then open it")
     demo.add_argument("--root", type=Path, default=None, help="sessions folder (as for open)")
+    demo.add_argument("--headless", action="store_true",
+                      help="no workbench: analyse the demo and print its trees, graph and scores against the truth "
+                           "(the default when there is no terminal)")
     demo.set_defaults(func=run_demo)
 
 
@@ -70,4 +74,46 @@ def run(args: argparse.Namespace) -> int:
 
 def run_demo(args: argparse.Namespace) -> int:
     quiet_decoders()
-    return launch(demo_session(args.root))
+    path = demo_session(args.root)
+    if args.headless or not (sys.stdin.isatty() and sys.stdout.isatty()):
+        return report_demo(path)
+    return launch(path)
+
+
+def report_demo(path: Path) -> int:
+    """Analyse the demo session (with its corrections) and print trees, graph and scores against the truth."""
+    from rich.console import Console
+    from rich.table import Table
+
+    from wecook_core.evaluate import evaluate
+    from wecook_core.formats.treefile import read_tree_file, write_tree_file
+    from wecook_core.graph import dump_graph, write_graph_file
+    from wecook_core.pipeline import analyze
+    from wecook_core.recognize import load_knowledge
+    from wecook_core.session import open_session
+    from wecook_core.synth import demo_dir
+    from wecook_core.trees import format_tree
+
+    console = Console(highlight=False)
+    session = open_session(path)
+    for warning in session.warnings:
+        console.print(f"[yellow]warning:[/] {warning}")
+    obs = session.load_observations()
+    analysis = analyze(obs, load_knowledge(), session.params, session.corrections)
+    write_tree_file(session.trees_path, analysis.trees)
+    write_graph_file(session.graph_path, analysis.graph)
+    fps = obs.video.fps or 30.0
+    console.print(f"[bold]demo session[/] {path}: {len(analysis.segmentation.segments)} segments, "
+                  f"{len(analysis.trees)} trees")
+    trees = Table("frames", "seconds", "tree", title="action trees", title_justify="left")
+    for span in analysis.trees:
+        trees.add_row(f"{span.start}-{span.end}", f"{span.start / fps:.1f}-{span.end / fps:.1f}",
+                      format_tree(span.tree))
+    console.print(trees)
+    console.print("[bold]action graph[/]")
+    console.print(dump_graph(analysis.graph), markup=False, soft_wrap=True)
+    scores = evaluate(analysis.trees, read_tree_file(Path(demo_dir()) / "truth.yaml"))
+    console.print(f"[bold]against the truth:[/] precision {scores.precision:.3f}, recall {scores.recall:.3f} "
+                  f"({scores.correct} correct of {scores.predicted} predicted, {scores.truth} true)")
+    console.print(f"wrote {session.trees_path} and {session.graph_path}; review them with `wecook open {path}`")
+    return 0
