@@ -66,6 +66,9 @@ class Imported:
     """Gaps longer than ``InputChecks.max_gap_seconds``, by hand then frame."""
     missing: dict[str, int] = field(default_factory=dict)
     """Hand -> frames missing between its first and last detection (all gaps, short ones too)."""
+    video_problem: str | None = None
+    """Why the video itself could not be opened, when its recorded facts stood in (see
+    :meth:`wecook_core.session.Session.import_observations`); None: the video was probed."""
 
 
 def load_observations(
@@ -79,11 +82,12 @@ def load_observations(
     select: str | None = None,
     categories: CategoryTable | None = None,
     checks: InputChecks | None = None,
+    video_facts: VideoInfo | None = None,
 ) -> Observations:
     """The checked observations of a video (see :func:`import_observations` for the warnings too)."""
     return import_observations(
         video, objects, hands, objects_format=objects_format, hands_format=hands_format, labels=labels,
-        select=select, categories=categories, checks=checks,
+        select=select, categories=categories, checks=checks, video_facts=video_facts,
     ).observations
 
 
@@ -98,13 +102,15 @@ def import_observations(
     select: str | None = None,
     categories: CategoryTable | None = None,
     checks: InputChecks | None = None,
+    video_facts: VideoInfo | None = None,
 ) -> Imported:
     """Import the video's facts, the object boxes and the hand tracks, name objects uniquely, categorise
     them and check everything against the video. ``labels`` is the labels file of MOT boxes; ``select`` the
-    video (name or id) of a COCO-VID file that holds several."""
+    video (name or id) of a COCO-VID file that holds several. ``video_facts``, when known (a session
+    records them), stand in for probing ``video``, which is then not opened (it may be missing or damaged)."""
     checks = checks or InputChecks()
     warnings: list[str] = []
-    info = probe_video(video)
+    info = video_facts if video_facts is not None else probe_video(video)
     note = frame_count_note(info)
     if note:
         warnings.append(note)

@@ -23,7 +23,7 @@ import re
 import shutil
 import tempfile
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -31,6 +31,7 @@ import yaml
 
 from wecook_core import __version__
 from wecook_core.errors import InputError
+from wecook_core.formats.video import probe_video
 from wecook_core.journal import Journal, JournalEntry, read_journal, replay
 from wecook_core.model import Corrections, Observations, VideoInfo
 from wecook_core.observations import Imported, import_observations
@@ -224,25 +225,42 @@ class Session:
         return self.journal.redo() is not None
 
     # inputs
-    def import_observations(self) -> Imported:
-        """Import the inputs again (cached): InputError when one is missing or no longer reads."""
-        if self._imported is None:
-            video, objects, hands = (self._input("video"), self._input("objects"), self._input("hands"))
-            labels = self.inputs.get("labels")
-            self._imported = import_observations(
-                video.path, objects.path, hands.path, objects_format=objects.format, hands_format=hands.format,
-                labels=labels.path if labels else None, select=objects.select,
-                categories=self.category_table(),
-            )
+    def import_observations(self, *, video_optional: bool = False) -> Imported:
+        """Import the inputs again (cached): InputError when one is missing or no longer reads.
+
+        ``video_optional``: a video that is missing or does not open is no error when the session recorded
+        its facts: those stand in, and :attr:`Imported.video_problem` says what is wrong with the video (the
+        boxes and hands are checked against the recorded facts as usual).
+        """
+        if self._imported is not None:
+            return self._imported
+        video = self._input("video")
+        try:
+            facts = probe_video(video.path)
+        except InputError as error:
+            if not video_optional or self.video is None:
+                raise
+            return replace(self._import(video.path, self.video), video_problem=str(error))
+        self._imported = self._import(video.path, facts)
         return self._imported
+
+    def _import(self, video: str, facts: VideoInfo) -> Imported:
+        objects, hands = self._input("objects"), self._input("hands")
+        labels = self.inputs.get("labels")
+        return import_observations(
+            video, objects.path, hands.path, objects_format=objects.format, hands_format=hands.format,
+            labels=labels.path if labels else None, select=objects.select, categories=self.category_table(),
+            video_facts=facts,
+        )
 
     def category_table(self) -> CategoryTable | None:
         """The category table with the session's extra categories file on top; None: the default table."""
         extra = self.inputs.get("categories")
         return _category_table(Path(extra.path) if extra else None)
 
-    def load_observations(self) -> Observations:
-        return self.import_observations().observations
+    def load_observations(self, *, video_optional: bool = False) -> Observations:
+        """The observations of :meth:`import_observations`."""
+        return self.import_observations(video_optional=video_optional).observations
 
     def _input(self, role: str) -> InputFile:
         item = self.inputs.get(role)

@@ -30,25 +30,6 @@ class Opened:
     """GGS's own segmentation, computed by the first analysis and reused by the next ones."""
 
 
-def _without_video(session: Any) -> Any:
-    """Boxes and hands read on their own, with the video facts recorded in the session."""
-    from wecook_core.categories import categorize_all
-    from wecook_core.formats.detect import read_hands, read_objects
-    from wecook_core.model import Observations
-    from wecook_core.observations import unique_names
-
-    video = session.video
-    if video is None:
-        raise InputError(session.path / "session.yaml", "no video facts recorded", place="video")
-    objects, hands = session.inputs["objects"], session.inputs["hands"]
-    labels = session.inputs.get("labels")
-    tracks, _ = read_objects(objects.path, objects.format, labels=labels.path if labels else None)
-    named = unique_names(tracks)
-    hand_tracks, _ = read_hands(hands.path, hands.format)
-    categories = categorize_all([t.label for t in named], objects.path)
-    return Observations(video, tuple(named), tuple(hand_tracks), {t.name: categories[t.label] for t in named})
-
-
 def open_workspace(path: Path) -> Opened:
     """Open the session, read its observations and the commonsense tables, open the video."""
     from wecook_core.recognize import load_knowledge
@@ -58,13 +39,12 @@ def open_workspace(path: Path) -> Opened:
     warnings = [str(w) for w in getattr(session, "warnings", ())]
     obs = None
     try:
-        obs = session.load_observations()
-    except InputError as error:
-        try:
-            obs = _without_video(session)
-            warnings.append(f"{error}: showing boxes and hands without the video")
-        except (InputError, KeyError, OSError) as second:
-            warnings.append(f"inputs cannot be read: {error}" + (f"; {second}" if str(second) != str(error) else ""))
+        imported = session.import_observations(video_optional=True)
+        obs = imported.observations
+        if imported.video_problem:
+            warnings.append(f"{imported.video_problem}: showing boxes and hands without the video")
+    except (InputError, OSError) as error:
+        warnings.append(f"inputs cannot be read: {error}")
     knowledge = None
     try:
         knowledge = load_knowledge()

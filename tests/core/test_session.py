@@ -140,6 +140,23 @@ def test_changed_and_missing_inputs_are_warnings(tmp_path: Path, inputs: dict[st
         session.load_observations()
 
 
+def test_video_optional_imports_against_the_recorded_video_facts(tmp_path: Path, inputs: dict[str, Path]) -> None:
+    path = create(tmp_path / "s", inputs)
+    whole = open_session(path).import_observations(video_optional=True)
+    assert whole.video_problem is None and whole.observations.video.frame_count == FRAMES
+    inputs["video"].write_bytes(b"\x00garbage" * 100)
+    session = open_session(path)
+    with pytest.raises(InputError, match=r"take\.avi"):
+        session.load_observations()
+    imported = session.import_observations(video_optional=True)
+    assert imported.video_problem is not None and "take.avi" in imported.video_problem
+    assert imported.observations.video == session.video
+    assert [t.name for t in imported.observations.objects] == ["whisk", "pan"]
+    assert set(imported.observations.categories) == {"whisk", "pan"}
+    with pytest.raises(InputError, match=r"take\.avi"):
+        session.load_observations()  # the stand-in is not cached as the real import
+
+
 def test_a_torn_journal_line_is_a_warning_when_opening(tmp_path: Path, inputs: dict[str, Path]) -> None:
     session = open_session(create(tmp_path, inputs))
     session.record({"op": "set_status", "segment": 0, "status": "accepted"})
