@@ -5,8 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import cv2
-import numpy as np
+from grey_video import write_grey_video
 
 W, H, FRAMES, FPS = 96, 64, 20, 10.0
 
@@ -14,10 +13,7 @@ W, H, FRAMES, FPS = 96, 64, 20, 10.0
 def make_inputs(folder: Path) -> dict[str, Path]:
     folder.mkdir(parents=True, exist_ok=True)
     video = folder / "take.avi"
-    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"MJPG"), FPS, (W, H))
-    for i in range(FRAMES):
-        writer.write(np.full((H, W, 3), i * 10, np.uint8))
-    writer.release()
+    write_grey_video(video, FRAMES, (W, H), FPS)
     objects = folder / "objects.csv"
     objects.write_text("frame,track_id,label,x1,y1,x2,y2\n0,1,whisk,10,10,20,20\n0,2,pan,40,30,90,60\n")
     hands = folder / "openpose"

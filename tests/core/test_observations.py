@@ -2,9 +2,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import cv2
 import numpy as np
 import pytest
+from grey_video import write_grey_video
 
 from wecook_core.categories import CategoryTable, parse_categories
 from wecook_core.errors import InputError
@@ -17,11 +17,7 @@ TABLE: CategoryTable = parse_categories("objects:\n  knife: tool\n  bowl: contai
 
 
 def write_video(path: Path, frames: int = FRAMES) -> Path:
-    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), FPS, (W, H))
-    for i in range(frames):
-        writer.write(np.full((H, W, 3), i * 8 % 256, np.uint8))
-    writer.release()
-    return path
+    return write_grey_video(path, frames, (W, H), FPS)
 
 
 def write_inputs(tmp_path: Path, objects: list[str], hands: list[str]) -> tuple[Path, Path, Path]:

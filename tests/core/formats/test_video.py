@@ -2,20 +2,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import cv2
-import numpy as np
 import pytest
+from grey_video import write_grey_video
 
 from wecook_core.errors import InputError
 from wecook_core.formats.video import frame_count_note, probe_video, usable_frames
 
 
 def write_video(path: Path, frames: int = 40, size: tuple[int, int] = (64, 48), fps: float = 10.0) -> Path:
-    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), fps, size)
-    for i in range(frames):
-        writer.write(np.full((size[1], size[0], 3), (i * 6) % 256, np.uint8))
-    writer.release()
-    return path
+    return write_grey_video(path, frames, size, fps)
 
 
 def test_probe_reads_fps_size_and_checks_the_declared_count(tmp_path: Path) -> None:
