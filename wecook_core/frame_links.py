@@ -1,0 +1,243 @@
+"""Per-frame boxes and links of a stretch of video, on dense arrays aligned on frame index (one row per frame,
+NaN where a box is absent; gaps of at most ``params.fill_gap`` frames interpolated): which container holds
+each ingredient, which object each hand touches and holds. :mod:`wecook_core.associate` summarises them per
+segment."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from wecook_core.label_runs import NONE
+from wecook_core.model import HANDS, Category, Observations
+
+if TYPE_CHECKING:
+    from wecook_core.pipeline import Params
+
+
+@dataclass(frozen=True, eq=False)
+class FrameBoxes:
+    """Every object's and hand's box on the frames ``[start, end)``, one row per frame."""
+
+    start: int
+    end: int
+    """Frames ``[start, end)``: row ``i`` is frame ``start + i``."""
+    names: tuple[str, ...]
+    """Object names, the column order of ``objects``."""
+    categories: tuple[Category, ...]
+    """Category of each object of ``names``."""
+    objects: np.ndarray
+    """float64 ``(frames, objects, 4)``: ``x1 y1 x2 y2`` pixels, NaN where the object is not seen."""
+    hands: tuple[str, ...]
+    """Hand names (always :data:`HANDS`), the column order of ``hand_boxes``."""
+    hand_boxes: np.ndarray
+    """float64 ``(frames, hands, 4)``: pixels, NaN where the hand is not detected."""
+
+
+def frame_boxes(obs: Observations, start: int, end: int, fill: int = 0) -> FrameBoxes:
+    """Dense boxes of every object and hand on ``[start, end)`` (cost: the tracks' entries in the range),
+    gaps of at most ``fill`` frames interpolated."""
+    length = max(0, end - start)
+    names = tuple(track.name for track in obs.objects)
+    categories = tuple(Category(obs.categories.get(name, Category.INGREDIENT)) for name in names)
+    objects = np.full((length, len(names), 4), np.nan)
+    for column, track in enumerate(obs.objects):
+        _scatter(objects[:, column], track.frames, track.boxes, start, end, fill)
+    hand_boxes = np.full((length, len(HANDS), 4), np.nan)
+    for hand_track in obs.hands:
+        if hand_track.hand in HANDS:
+            _scatter(hand_boxes[:, HANDS.index(hand_track.hand)], hand_track.frames, hand_track.boxes, start, end,
+                     fill)
+    return FrameBoxes(start, end, names, categories, objects, HANDS, hand_boxes)
+
+
+def _scatter(out: np.ndarray, frames: np.ndarray, values: np.ndarray, start: int, end: int, fill: int) -> None:
+    """Write a track's entries on ``[start, end)`` into ``out`` (row = frame - start), interpolating linearly
+    across gaps of at most ``fill`` frames (a detector missing a few frames)."""
+    lo, hi = np.searchsorted(frames, [start, end])
+    if hi > lo:
+        out[frames[lo:hi] - start] = values[lo:hi]
+    if fill <= 0 or len(frames) < 2:
+        return
+    a, b = max(lo - 1, 0), min(hi + 1, len(frames))  # the entries just outside the range bound its gaps
+    near_frames, near_values = frames[a:b], values[a:b]
+    if len(near_frames) < 2:
+        return
+    gaps = np.diff(near_frames)
+    if not ((gaps > 1) & (gaps <= fill + 1)).any():
+        return
+    missing = np.arange(start, end)
+    position = np.searchsorted(near_frames, missing)
+    inside = (position > 0) & (position < len(near_frames))
+    before = near_frames[np.clip(position - 1, 0, len(near_frames) - 1)]
+    after = near_frames[np.clip(position, 0, len(near_frames) - 1)]
+    todo = inside & (after != missing) & (after - before <= fill + 1)
+    if todo.any():
+        t = missing[todo]
+        for k in range(values.shape[1]):
+            out[todo, k] = np.interp(t, near_frames, near_values[:, k])
+
+
+def _area(boxes: np.ndarray) -> np.ndarray:
+    return np.clip(boxes[..., 2] - boxes[..., 0], 0, None) * np.clip(boxes[..., 3] - boxes[..., 1], 0, None)
+
+
+def _intersection(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Intersection areas of broadcast box arrays ``a[..., 4]`` and ``b[..., 4]`` (NaN where either is absent)."""
+    width = np.minimum(a[..., 2], b[..., 2]) - np.maximum(a[..., 0], b[..., 0])
+    height = np.minimum(a[..., 3], b[..., 3]) - np.maximum(a[..., 1], b[..., 1])
+    return np.clip(width, 0, None) * np.clip(height, 0, None)
+
+
+def box_gap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Euclidean distance between two boxes' closest points (0 when they overlap); NaN where absent."""
+    dx = np.clip(np.maximum(a[..., 0], b[..., 0]) - np.minimum(a[..., 2], b[..., 2]), 0, None)
+    dy = np.clip(np.maximum(a[..., 1], b[..., 1]) - np.minimum(a[..., 3], b[..., 3]), 0, None)
+    return np.hypot(dx, dy)
+
+
+def box_centres(boxes: np.ndarray) -> np.ndarray:
+    """Centres ``(..., 2)`` of boxes ``(..., 4)`` given as x1, y1, x2, y2."""
+    return np.stack([(boxes[..., 0] + boxes[..., 2]) / 2, (boxes[..., 1] + boxes[..., 3]) / 2], axis=-1)
+
+
+@dataclass(frozen=True, eq=False)
+class FrameLinks:
+    """Per-frame links on ``[start, end)``, before the ``min_frames`` filter."""
+
+    boxes: FrameBoxes
+    container: np.ndarray
+    """int ``(frames, objects)``: column index of the container holding each ingredient, :data:`NONE` if none
+    (always NONE for tools and containers)."""
+    held: np.ndarray
+    """int ``(frames, hands)``: column index of the object each hand holds, :data:`NONE` if none (a contained
+    ingredient already replaced by its container)."""
+    touched: np.ndarray
+    """int ``(frames, hands)``: like ``held`` but before replacing a contained ingredient by its container."""
+    since: np.ndarray
+    """int64 ``(2, hands, objects)``: on the last frame, where each hand's current overlap with each object
+    began and the last frame the hand carried it (:data:`NONE`: no overlap); pass it to the next range's
+    :func:`frame_links`."""
+
+    @property
+    def start(self) -> int:
+        return self.boxes.start
+
+    @property
+    def end(self) -> int:
+        return self.boxes.end
+
+
+def frame_links(
+    obs: Observations, start: int, end: int, params: Params, since: np.ndarray | None = None,
+    block: FrameBoxes | None = None,
+) -> FrameLinks:
+    """Ingredient-container and hand-object links of every frame of ``[start, end)``; ``since`` carries the
+    hand-object overlaps on from the frame before ``start`` (:attr:`FrameLinks.since` of the previous range).
+    ``block``: boxes already gathered for frames that include ``[start, end)``."""
+    if block is not None and block.start <= start and end <= block.end:
+        boxes = crop(block, start, end)
+    else:
+        boxes = frame_boxes(obs, start, end, params.fill_gap)
+    return links_of(boxes, params, since)
+
+
+def crop_links(links: FrameLinks, start: int, end: int) -> FrameLinks:
+    """The rows of ``[start, end)`` (within ``links``' range), as views (``since`` is not cropped)."""
+    a, b = start - links.start, end - links.start
+    return FrameLinks(crop(links.boxes, start, end), links.container[a:b], links.held[a:b], links.touched[a:b],
+                      links.since)
+
+
+BLOCK_FRAMES = 2048
+"""Frames of boxes gathered at once while associating: bounds memory whatever the video's length."""
+
+
+def crop(boxes: FrameBoxes, start: int, end: int) -> FrameBoxes:
+    """The rows of ``[start, end)`` (within ``boxes``' range), as views."""
+    a, b = start - boxes.start, end - boxes.start
+    return FrameBoxes(start, end, boxes.names, boxes.categories, boxes.objects[a:b], boxes.hands,
+                      boxes.hand_boxes[a:b])
+
+
+def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None) -> FrameLinks:
+    cats = np.array([str(c) for c in boxes.categories])
+    length, n_objects = boxes.objects.shape[:2]
+    objects = boxes.objects
+
+    # ingredient-container: the containers covering most of the ingredient's box, best Jaccard index first.
+    container = np.full((length, n_objects), NONE, dtype=np.int32)
+    ingredients = np.flatnonzero(cats == Category.INGREDIENT)
+    containers = np.flatnonzero(cats == Category.CONTAINER)
+    if len(ingredients) and len(containers) and length:
+        ing = objects[:, ingredients, None, :]
+        con = objects[:, None, containers, :]
+        inter = _intersection(ing, con)
+        ing_area = _area(ing)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            jaccard = inter / (ing_area + _area(con) - inter)
+            inside = inter / ing_area
+        ok = (inside >= params.contain_fraction) & (jaccard > 0)
+        score = np.where(ok, jaccard, -1.0)
+        best = np.argmax(score, axis=2)
+        found = np.take_along_axis(score, best[..., None], axis=2)[..., 0] > 0
+        container[:, ingredients] = np.where(found, containers[best], NONE)
+
+    # hand-object: overlapping boxes. Among several: first those the hand has carried (moved along with it)
+    # since it began to overlap them, then the one overlapped longest without a break (a grasp persists: a
+    # hand carrying a spoon over a rolling pin still holds the spoon), then the closest centre.
+    hands = boxes.hand_boxes
+    held = np.full((length, len(boxes.hands)), NONE, dtype=np.int32)
+    touched = held.copy()
+    last = np.full((2, len(boxes.hands), n_objects), NONE, dtype=np.int64)
+    if n_objects and length:
+        inter = _intersection(hands[:, :, None, :], objects[:, None, :, :])
+        overlap = inter > 0
+        before = np.empty_like(overlap)
+        before[0] = since[0] >= 0 if since is not None else False
+        before[1:] = overlap[:-1]
+        frames = np.arange(boxes.start, boxes.end, dtype=np.int64)[:, None, None]
+        began = np.where(overlap & ~before, frames, NONE)
+        if since is not None:
+            began[0] = np.where(overlap[0] & before[0], since[0], began[0])
+        run_start = np.maximum.accumulate(began, axis=0)
+        carried = overlap & _moving_together(hands, objects, params.dwell_frames)
+        last_carried = np.where(carried, frames, NONE)
+        if since is not None:
+            last_carried[0] = np.maximum(last_carried[0], since[1])
+        last_carried = np.maximum.accumulate(last_carried, axis=0)
+        carried_since = overlap & (last_carried >= run_start)
+        hand_centres, object_centres = box_centres(hands), box_centres(objects)
+        distance = np.linalg.norm(hand_centres[:, :, None, :] - object_centres[:, None, :, :], axis=-1)
+        finite = distance[np.isfinite(distance)]
+        scale = float(finite.max()) + 1.0 if finite.size else 1.0
+        later = float(boxes.end + 1)  # ranks every carried object before any other
+        key = np.where(carried_since, 0.0, later) + run_start + np.nan_to_num(distance, nan=0.0) / scale
+        best = np.argmin(np.where(overlap, key, np.inf), axis=2)
+        any_overlap = overlap.any(axis=2)
+        last = np.stack([np.where(overlap[-1], run_start[-1], NONE), np.where(overlap[-1], last_carried[-1], NONE)])
+        touched = np.where(any_overlap, best, NONE).astype(np.int32)
+        rows = np.arange(length)[:, None]
+        redirect = np.where(touched >= 0, container[rows, np.maximum(touched, 0)], NONE)
+        held = np.where(redirect >= 0, redirect, touched).astype(np.int32)
+    return FrameLinks(boxes, container, held, touched, last)
+
+
+def _moving_together(hands: np.ndarray, objects: np.ndarray, window: int) -> np.ndarray:
+    """``(frames, hands, objects)``: the hand moves (more than a quarter of its box's diagonal between
+    ``window`` frames before and after) and the object's box moves along with it (by the same displacement,
+    give or take half of it)."""
+    length = hands.shape[0]
+    index = np.arange(length)
+    after, before = np.minimum(index + window, length - 1), np.maximum(index - window, 0)
+    hand_centres, object_centres = box_centres(hands), box_centres(objects)
+    hand_step = hand_centres[after] - hand_centres[before]
+    object_step = object_centres[after] - object_centres[before]
+    with np.errstate(invalid="ignore"):
+        hand_size = np.hypot(hands[..., 2] - hands[..., 0], hands[..., 3] - hands[..., 1])
+        hand_move = np.linalg.norm(hand_step, axis=-1)
+        moving = hand_move > 0.25 * hand_size
+        apart = np.linalg.norm(object_step[:, None, :, :] - hand_step[:, :, None, :], axis=-1)
+        return np.asarray(moving[:, :, None] & (apart < 0.5 * hand_move[:, :, None]))
