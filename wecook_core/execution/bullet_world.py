@@ -14,7 +14,7 @@ import contextlib
 import itertools
 import math
 import time
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -77,6 +77,10 @@ ZONE_MARGIN = 0.08
 ZONE_WAIT_SECONDS = 120.0
 """Longest wait for the other arm to leave an overlapping zone (then the action goes ahead, reservations still
 keep the arms apart)."""
+HAND_SPAN = 0.22
+"""Metres: the Panda hand's length along its finger axis (it lies across an object it takes from above)."""
+HAND_CLEAR_HEIGHT = 0.04
+"""Metres above the table from which an object can be in the way of a hand taking something from above."""
 FREE_MARGIN = 0.1
 """Metres of clearance around an object put down on a free spot beyond which spots count as equally roomy
 (room for the hand to take it again)."""
@@ -116,7 +120,6 @@ class BulletWorld:
         self.wall_start = time.perf_counter()
         self.hands = {pid: Hand() for pid in self.arms}
         self.commands: dict[str, np.ndarray] = {}
-        self._applied: dict[str, np.ndarray] = {}
         self.reserved: dict[str, np.ndarray | None] = {pid: None for pid in self.arms}
         self.arm_contacts = 0
         self.arm_margin = ARM_MARGIN
@@ -162,11 +165,8 @@ class BulletWorld:
 
     def step(self) -> None:
         c = self.client
-        for pid, arm in self.arms.items():
-            q = self.commands[pid]
-            if self._applied.get(pid) is not q:
-                arm.set_q(q)
-                self._applied[pid] = q
+        for pid, arm in self.arms.items():  # kinematic arms: exactly where commanded, every step
+            arm.set_q(self.commands[pid])
         for pid, hand in self.hands.items():
             if hand.riding:
                 state = p.getLinkState(self.bodies.arms[pid].body, EE_LINK, computeForwardKinematics=True,
@@ -311,7 +311,7 @@ class BulletWorld:
         collides = self.planning.collision_fn(pid, ignore=ignore, arm_margin=self.arm_margin)
         current = self.arms[pid].q()
         for T in targets:
-            for seed_q in (current, HOME, self.rng.uniform(LOWER, UPPER), self.rng.uniform(LOWER, UPPER)):
+            for seed_q in (HOME, current, self.rng.uniform(LOWER, UPPER), self.rng.uniform(LOWER, UPPER)):
                 q = arm.ik(T, self.rng, seed_q, restarts=0)
                 if q is None:
                     continue
@@ -330,7 +330,8 @@ class BulletWorld:
         body = self.planning.arms[pid].body
         links = self.bodies.arms[pid].links
         contacts = p.getContactPoints(bodyA=body, physicsClientId=c)
-        out = {names[x[2]] for x in contacts if x[8] < 0.0 and x[2] in names and names[x[2]] not in own}
+        out = {f"{names[x[2]]} ({links[x[3] + 1]})" if names[x[2]] == "table" else names[x[2]]
+               for x in contacts if x[8] < 0.0 and x[2] in names and names[x[2]] not in own}
         for r in self.hands[pid].riding:
             carried = self.planning.bodies.objects[r.name].body
             out |= {f"{names[x[2]]} (touched by the {r.name})"
@@ -374,6 +375,12 @@ class BulletWorld:
             result = plan_motion(loose, planner=self.planner, time_limit=self.planning_time,
                                  seed=self._planning_seed())
         if not result.ok:
+            if result.status in ("invalid_start", "invalid_goal"):
+                q = start if result.status == "invalid_start" else goal
+                self.planning.collision_fn(pid, ignore=list(self.bodies.objects), arm_margin=self.arm_margin)(q)
+                blockers = sorted(self._in_the_way(pid))
+                if blockers:
+                    return f"{result.status.replace('_', ' ')}: touching {', '.join(blockers)}"
             return result.status
         return list(result.path)
 
@@ -411,10 +418,20 @@ class BulletWorld:
 
     def transit(self, pid: str, goal: np.ndarray, ignore: Sequence[str] = (), what: str = "move") -> Program:
         """A planned, collision-free move to joint goal ``goal`` (re-planned if the other arm was in the way)."""
+        escaped = False
         for _ in range(20):
             path = self._plan(pid, goal, ignore)
+            if isinstance(path, str) and path.startswith("invalid start: touching") and "arm " not in path \
+                    and not escaped:  # resting on the table or an object: straight up out of contact first
+                escaped = True
+                up = self.arms[pid].ee()
+                up[2, 3] += 0.06
+                with contextlib.suppress(ActionFailed):
+                    yield from self.linear(pid, [up], ignore=None, what="lift clear", margin=-0.03)
+                continue
             if isinstance(path, str):
-                raise ActionFailed(f"{what}: no path ({path} after {self.planning_time:.1f} s)")
+                raise ActionFailed(f"{what}: no path ({path})" if "touching" in path
+                                   else f"{what}: no path ({path} after {self.planning_time:.1f} s)")
             try:
                 yield from self._reserve(pid, path)
             except _Replan:
@@ -428,14 +445,14 @@ class BulletWorld:
         raise ActionFailed(f"{what}: the other arm kept the way blocked")
 
     def cartesian_path(self, pid: str, q: np.ndarray, poses: Sequence[np.ndarray], ignore: Sequence[str] | None,
-                       what: str) -> tuple[list[np.ndarray], list[float], list[int]]:
+                       what: str, margin: float = -0.01) -> tuple[list[np.ndarray], list[float], list[int]]:
         """Joint path of straight effector moves from ``q`` through ee ``poses`` (IK on each step, densified to
         1 cm / 0.1 rad), checked against the other arm and the table (objects in ``ignore``, or every object
         when None, are skipped). Returns the path, each segment's duration and the index ending each move;
         raises :class:`ActionFailed`. Moves the planning client's joints only."""
         arm = self.planning.arms[pid]
         names = list(self.bodies.objects) if ignore is None else list(ignore)
-        collides = self.planning.collision_fn(pid, ignore=names, margin=-0.01, arm_margin=0.0)  # slow, straight
+        collides = self.planning.collision_fn(pid, ignore=names, margin=margin, arm_margin=0.0)  # slow, straight
         path = [q]
         durations: list[float] = []
         marks: list[int] = []
@@ -470,16 +487,16 @@ class BulletWorld:
 
     def linear(self, pid: str, poses: Sequence[np.ndarray], ignore: Sequence[str] | None = None,
                holds: Sequence[float] | None = None, fingers: Sequence[float | None] | None = None,
-               what: str = "straight move") -> Program:
+               what: str = "straight move", margin: float = -0.01) -> Program:
         """Follow :meth:`cartesian_path` from where the arm is, holding and setting the fingers at each pose."""
         self._sync()
-        path, durations, marks = self.cartesian_path(pid, self.arms[pid].q(), poses, ignore, what)
+        path, durations, marks = self.cartesian_path(pid, self.arms[pid].q(), poses, ignore, what, margin)
         try:
             yield from self._reserve(pid, path)
         except _Replan:  # it waited for the other arm: check the straight path against where that arm is now
             self._sync()
             names = list(self.bodies.objects) if ignore is None else list(ignore)
-            collides = self.planning.collision_fn(pid, ignore=names, margin=-0.01,
+            collides = self.planning.collision_fn(pid, ignore=names, margin=margin,
                                                   arm_margin=0.0)
             if not path_free(collides, path, 0.05):
                 self.reserved[pid] = None
@@ -730,13 +747,30 @@ class BulletWorld:
 
     def _free_poses(self, name: str, region: TSR) -> list[np.ndarray]:
         """Object poses of ``region`` on a 2 cm grid (yaw in 45-degree steps within the bounds), the roomiest
-        first: ordered by the clearance between the object's footprint and every other object's (those further
-        than :data:`FREE_MARGIN` count as equally roomy, then the nearest the region's centre wins)."""
+        first. Room is the smaller of two clearances: the object's footprint to every other object, and the
+        footprint of a hand taking it again (:data:`HAND_SPAN` across the object at its grasp point) to every
+        object taller than :data:`HAND_CLEAR_HEIGHT`. Clearances beyond :data:`FREE_MARGIN` count as equally
+        roomy; then the spot nearest the region's centre wins."""
         own = {r.name for h in self.hands.values() for r in h.riding if h.carried == name}
         half = np.array(self.bodies.objects[name].size) / 2
+        grasp_x = -0.55 * half[0] if self._kind(name) == "tool" else 0.0
         corners = np.array([[sx * half[0], sy * half[1]] for sx in (-1, 1) for sy in (-1, 1)])
-        boxes = np.array([p.getAABB(b.body, physicsClientId=self.client) for n, b in self.bodies.objects.items()
-                          if n not in own and n != name])[:, :, :2]
+        hand = np.array([[grasp_x + sx * 0.03, sy * HAND_SPAN / 2] for sx in (-1, 1) for sy in (-1, 1)])
+        others = [(np.array(p.getAABB(b.body, physicsClientId=self.client)), b) for n, b in self.bodies.objects.items()
+                  if n not in own and n != name]
+        boxes = np.array([box[:, :2] for box, _ in others]).reshape(-1, 2, 2)
+        tall = np.array([box[:, :2] for box, _ in others if box[1, 2] - self.bodies.table_height > HAND_CLEAR_HEIGHT]
+                        ).reshape(-1, 2, 2)
+
+        def clearance(pts: np.ndarray, against: np.ndarray) -> float:
+            if not len(against):
+                return 1.0
+            lo, hi = pts.min(axis=0), pts.max(axis=0)
+            sep = np.maximum(against[:, 0] - hi, lo - against[:, 1])
+            overlap = np.all(sep < 0, axis=1)
+            gap = np.maximum(sep, 0.0)
+            return float(np.min(np.where(overlap, -1.0, np.hypot(gap[:, 0], gap[:, 1]))))
+
         B = region.Bw
         xs = np.arange(B[0, 0], B[0, 1] + 1e-9, 0.02)
         ys = np.arange(B[1, 0], B[1, 1] + 1e-9, 0.02)
@@ -746,15 +780,9 @@ class BulletWorld:
             for x in xs:
                 for y in ys:
                     T = region.T0_w @ xyzrpy_to_matrix([x, y, (B[2, 0] + B[2, 1]) / 2, 0, 0, yaw]) @ region.Tw_e
-                    pts = corners @ T[:2, :2].T + T[:2, 3]
-                    lo, hi = pts.min(axis=0), pts.max(axis=0)
-                    if len(boxes):
-                        gap = np.maximum(np.maximum(boxes[:, 0] - hi, lo - boxes[:, 1]), 0.0)
-                        overlap = np.all(np.maximum(boxes[:, 0] - hi, lo - boxes[:, 1]) < 0, axis=1)
-                        clearance = float(np.min(np.where(overlap, -1.0, np.hypot(gap[:, 0], gap[:, 1]))))
-                    else:
-                        clearance = 1.0
-                    scored.append((-min(clearance, FREE_MARGIN), math.hypot(x, y) + 0.01 * abs(yaw), T))
+                    R, t = T[:2, :2], T[:2, 3]
+                    room = min(clearance(corners @ R.T + t, boxes), clearance(hand @ R.T + t, tall))
+                    scored.append((-min(room, FREE_MARGIN), math.hypot(x, y) + 0.01 * abs(yaw), T))
         scored.sort(key=lambda item: (item[0], item[1]))
         return [T for score, _, T in scored if -score > 0.0]
 
@@ -781,6 +809,7 @@ class BulletWorld:
             else:
                 goals = self._goal_samples(regions, T_obj_ee, self.samples)
             chosen = None
+            blocked = None
             for G in goals:
                 found = self._ik_goal(pid, [G], [], check=False)
                 if found is None:
@@ -788,11 +817,17 @@ class BulletWorld:
                 above = G.copy()
                 above[2, 3] += self.skills.lift
                 found_above = self._ik_goal(pid, [above], [])
-                if found_above is not None:
-                    chosen = (found_above[0], G)
-                    break
+                if found_above is None:
+                    continue
+                try:  # the straight way down must be feasible too
+                    self.cartesian_path(pid, found_above[0], [G], None, f"put down {name}")
+                except ActionFailed as error:
+                    blocked = str(error)
+                    continue
+                chosen = (found_above[0], G)
+                break
             if chosen is None:
-                reason = self._no_goal(f"place pose for {name}", len(goals))
+                reason = blocked or self._no_goal(f"place pose for {name}", len(goals))
                 continue
             try:
                 yield from self.transit(pid, chosen[0], what=f"place {name}")
@@ -948,7 +983,8 @@ class BulletWorld:
         return None
 
     def _individual(self, action: PlanAction, pid: str, verb: str, tool: str | None, ingredients: Sequence[str],
-                    location: str | None, source: str | None) -> Program:
+                    location: str | None, source: str | None,
+                    after_grasp: Callable[[], Program] | None = None) -> Program:
         tool_category = self.bodies.objects[tool].category if tool else None
         skill = self.skills.skills.get(skill_name(verb, tool, tool_category))
         if skill is None:
@@ -965,6 +1001,8 @@ class BulletWorld:
                                         "source": source or (self._container_of(ingredient) if ingredient else None)}
         home = self.pose(carried)
         yield from self.grasp(action, pid, carried)
+        if after_grasp is not None:
+            yield from after_grasp()
         for k, step in enumerate(skill.steps):
             if step.primitive == "engage":
                 assert step.tsr is not None
@@ -1046,6 +1084,7 @@ class BulletWorld:
     def _holder(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
         name = action.tool
         assert name is not None
+        yield from meeting.wait_for("tool_ready")  # the actor first takes its tool, then the container is held
         yield from self.grasp(action, pid, name, lift=False, primitive="hold")
         yield from self._hold(self.skills.hold_time)
         meeting.signal("held")
@@ -1058,9 +1097,13 @@ class BulletWorld:
         act = action.partner
         if act is None:
             raise ActionFailed("holding without the partner's action")
-        yield from meeting.wait_for("held")
+        def ready() -> Program:
+            meeting.signal("tool_ready")
+            yield from meeting.wait_for("held")
+
         location = act.location or action.tool
-        yield from self._individual(action, pid, act.verb, act.tool, act.ingredients, location, act.source)
+        yield from self._individual(action, pid, act.verb, act.tool, act.ingredients, location, act.source,
+                                    after_grasp=ready)
         meeting.signal("acted")
 
     def recover(self, pid: str) -> Program:

@@ -2,8 +2,11 @@
 
 :func:`synthetic_plan` lays a random kitchen out on the table the way :func:`wecook_core.plan.layout_scene`
 does (inside the reach region where it can, tools lying across the table, ingredients in their containers) and
-writes ``n`` actions alternating between the persons, with one handover and one holding, every action after
-the previous action of each agent it involves. Every verb of the vocabulary appears across a few seeds.
+writes ``n`` actions, with one handover and one holding, every action after the previous action of each agent it
+involves. As in a video, a person works on the things on their side of the table (P1 on ``-x``): an action goes to
+the person nearer its place (its location, else its ingredient or tool), alternating when it is in the middle;
+the giver of a handover is the one nearer the object, the holder of a holding the one nearer the container.
+Every verb of the vocabulary appears across a few seeds.
 """
 
 from __future__ import annotations
@@ -67,17 +70,27 @@ def synthetic_plan(seed: int, n: int = 10) -> Plan:
     actions: list[PlanAction] = []
     last: dict[str, str] = {}
     k = 0
+    where = {o.name: o.x for o in objects}
+
+    def nearer(name: str | None, i: int) -> str:
+        x = where.get(name or "", 0.0)
+        return "P1" if x < -1e-9 else "P2" if x > 1e-9 else ("P1", "P2")[i % 2]
+
+    def pair(first: str) -> tuple[str, str]:
+        return (first, "P2" if first == "P1" else "P1")
+
     for i in range(n):
         aid = f"a{i + 1}"
-        person = ("P1", "P2")[i % 2]
-        other = "P2" if person == "P1" else "P1"
         if i == handover_at:
-            action = PlanAction(aid, (person, other), "handover", str(rng.choice(["knife", "lemon", "spoon"])))
+            thing = str(rng.choice(["knife", "lemon", "spoon"]))
+            action = PlanAction(aid, pair(nearer(thing, i)), "handover", thing)
         elif i == holding_at:
-            action = PlanAction(aid, (person, other), "holding", "bowl", partner=Act("stir", "spoon", (), "bowl"))
+            action = PlanAction(aid, pair(nearer("bowl", i)), "holding", "bowl",
+                                partner=Act("stir", "spoon", (), "bowl"))
         else:
             verb, tool, ingredients, location, source = order[k % len(order)]
             k += 1
+            person = nearer(location or (ingredients[0] if ingredients else tool), i)
             action = PlanAction(aid, (person,), verb, tool, ingredients, location, source)
         after = tuple(dict.fromkeys(last[p] for p in action.pids if p in last))
         actions.append(PlanAction(action.id, action.pids, action.verb, action.tool, action.ingredients,
