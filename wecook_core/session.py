@@ -17,7 +17,6 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import datetime as dt
-import hashlib
 import os
 import re
 import shutil
@@ -32,6 +31,7 @@ import yaml
 from wecook_core import __version__
 from wecook_core.errors import InputError
 from wecook_core.formats.video import probe_video
+from wecook_core.input_files import InputFile, content_hash, input_problem, record_input
 from wecook_core.journal import Journal, JournalEntry, read_journal, replay
 from wecook_core.model import Corrections, Observations, VideoInfo
 from wecook_core.observations import Imported, import_observations
@@ -64,79 +64,6 @@ def check_name(name: str) -> str:
         raise InputError(None, f"bad session name {name!r}: use 1-64 letters, digits, '.', '_' or '-', starting "
                          "with a letter or digit")
     return name
-
-
-# ----------------------------------------------------------------------------------------- inputs
-
-
-@dataclass(frozen=True)
-class InputFile:
-    """One input of a session, as it was when the session was made."""
-
-    role: str
-    """``video``, ``objects``, ``hands`` or ``labels``."""
-    path: str
-    """Absolute path."""
-    sha256: str
-    """Hex digest of the content; of a folder: of its sorted relative file names and their contents."""
-    size: int
-    """Bytes (of all files, for a folder)."""
-    mtime_ns: int
-    """Latest modification time (ns); with ``size``, lets opening skip re-hashing an unchanged input."""
-    format: str | None = None
-    select: str | None = None
-    """Which video of a COCO-VID file holding several (name or id); None: the only one, or the one named
-    like the video file."""
-
-
-def content_hash(path: str | Path) -> str:
-    """sha256 of a file's bytes, or of a folder's sorted ``relative/name\\0`` + file digest pairs."""
-    path = Path(path)
-    if path.is_dir():
-        digest = hashlib.sha256()
-        for file in _files(path):
-            digest.update(file.relative_to(path).as_posix().encode() + b"\0")
-            digest.update(bytes.fromhex(content_hash(file)))
-        return digest.hexdigest()
-    digest = hashlib.sha256()
-    with path.open("rb") as handle:
-        for block in iter(lambda: handle.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()
-
-
-def _files(folder: Path) -> list[Path]:
-    return sorted((p for p in folder.rglob("*") if p.is_file()), key=lambda p: p.relative_to(folder).as_posix())
-
-
-def _stat(path: Path) -> tuple[int, int]:
-    """(size, latest mtime_ns) of a file or a folder's files."""
-    if path.is_dir():
-        stats = [p.stat() for p in _files(path)]
-        return sum(s.st_size for s in stats), max((s.st_mtime_ns for s in stats), default=path.stat().st_mtime_ns)
-    stat = path.stat()
-    return stat.st_size, stat.st_mtime_ns
-
-
-def _input_file(role: str, path: str | Path, format: str | None = None, select: str | None = None) -> InputFile:
-    path = Path(path).resolve()
-    size, mtime = _stat(path)
-    return InputFile(role, str(path), content_hash(path), size, mtime, format, select)
-
-
-def _input_problem(item: InputFile) -> str | None:
-    """A warning when the input is missing or its content changed, else None."""
-    path = Path(item.path)
-    if not path.exists():
-        return f"{item.role} input is missing: {item.path}"
-    try:
-        if _stat(path) == (item.size, item.mtime_ns):
-            return None
-        if content_hash(path) == item.sha256:
-            return None
-    except OSError as error:
-        return f"{item.role} input cannot be read: {item.path} ({error.strerror})"
-    return f"{item.role} input changed since the session was made (sha256 differs): {item.path}"
 
 
 def _fsync_dir(path: Path) -> None:
@@ -295,7 +222,7 @@ def _inputs(value: Any, warnings: list[str]) -> dict[str, InputFile]:
             warnings.append(f"session.yaml: input {role!r} is incomplete; ignored")
             continue
         inputs[role] = InputFile(role=role, **{k: v for k, v in item.items() if k in names and k != "role"})
-        problem = _input_problem(inputs[role])
+        problem = input_problem(inputs[role])
         if problem:
             warnings.append(problem)
     return inputs
@@ -374,14 +301,14 @@ def create_session(
                                        hands_format=hands_format, labels=labels, select=select,
                                        categories=_category_table(Path(categories) if categories else None))
     inputs = {
-        "video": _input_file("video", video),
-        "objects": _input_file("objects", objects, imported.objects_format, select),
-        "hands": _input_file("hands", hands, imported.hands_format),
+        "video": record_input("video", video),
+        "objects": record_input("objects", objects, imported.objects_format, select),
+        "hands": record_input("hands", hands, imported.hands_format),
     }
     if labels is not None:
-        inputs["labels"] = _input_file("labels", labels)
+        inputs["labels"] = record_input("labels", labels)
     if categories is not None:
-        inputs["categories"] = _input_file("categories", categories)
+        inputs["categories"] = record_input("categories", categories)
     meta = {
         "wecook_session": SESSION_FORMAT,
         "name": name,
@@ -468,3 +395,20 @@ def list_sessions(root: str | Path) -> list[SessionSummary]:
         entries, _, _ = read_journal(folder / JOURNAL_FILE)
         summaries.append(SessionSummary(folder.name, folder, video, created, len(replay(entries).applied)))
     return summaries
+
+
+__all__ = [
+    "ENV_ROOT",
+    "JOURNAL_FILE",
+    "SESSION_FILE",
+    "SESSION_FORMAT",
+    "InputFile",
+    "Session",
+    "SessionSummary",
+    "check_name",
+    "content_hash",
+    "create_session",
+    "list_sessions",
+    "open_session",
+    "sessions_root",
+]
