@@ -25,7 +25,7 @@ from pathlib import Path
 
 import yaml
 
-from wecook_core.errors import InputError
+from wecook_core.errors import InputError, yaml_error
 from wecook_core.knowledge.nouns import match, normalise
 from wecook_core.model import Category
 from wecook_core.resources import ASSETS_DIR
@@ -103,9 +103,7 @@ def parse_categories(text: str, path: str | Path) -> CategoryTable:
     try:
         root = yaml.compose(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
     except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        raise InputError(path, f"invalid YAML: {getattr(error, 'problem', error)}",
-                         place=f"line {mark.line + 1}" if mark else None) from None
+        raise yaml_error(path, error, "invalid YAML") from None
     if root is None:
         return CategoryTable({}, (str(path),))
     if not isinstance(root, yaml.MappingNode):

@@ -24,3 +24,11 @@ class InputError(Exception):
         elif self.place:
             where = f"{self.place}: "
         return where + self.message
+
+
+def yaml_error(path: str | Path | None, error: Exception, what: str = "malformed YAML") -> InputError:
+    """The :class:`InputError` of a YAML parser's error: ``what``, then the parser's problem in brackets, placed
+    at the line the parser points at (when it points at one)."""
+    mark = getattr(error, "problem_mark", None)
+    place = f"line {mark.line + 1}" if mark is not None else None
+    return InputError(path, f"{what} ({getattr(error, 'problem', None) or error})", place=place)

@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from wecook_core.errors import InputError
+from wecook_core.errors import InputError, yaml_error
 from wecook_core.model import (
     HANDS,
     PERSONS,
@@ -288,9 +288,7 @@ def read_graph_file(path: str | Path) -> ActionGraph:
     except (OSError, UnicodeDecodeError) as error:
         raise InputError(path, f"cannot read: {error}") from None
     except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        raise InputError(path, f"not YAML ({getattr(error, 'problem', error)})",
-                         place=f"line {mark.line + 1}" if mark is not None else None) from None
+        raise yaml_error(path, error, "not YAML") from None
     if not isinstance(data, dict) or data.get(FORMAT_KEY) != FORMAT_VERSION:
         raise InputError(path, f"not a graph file (expected {FORMAT_KEY}: {FORMAT_VERSION})")
     nodes = []

@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 import yaml
 
 from wecook_core import __version__
-from wecook_core.errors import InputError
+from wecook_core.errors import InputError, yaml_error
 from wecook_core.formats.video import probe_video
 from wecook_core.input_files import InputFile, content_hash, input_problem, record_input
 from wecook_core.journal import Journal, JournalEntry, read_journal, replay
@@ -350,9 +350,7 @@ def open_session(path: str | Path) -> Session:
     except FileNotFoundError:
         raise InputError(path, f"not a session: no {SESSION_FILE}") from None
     except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        place = f"line {mark.line + 1}" if mark is not None else None
-        raise InputError(meta_path, f"malformed YAML ({getattr(error, 'problem', error)})", place=place) from None
+        raise yaml_error(meta_path, error) from None
     if not isinstance(meta, dict) or "inputs" not in meta:
         raise InputError(meta_path, "not a wecook session file (no inputs)")
     warnings: list[str] = []

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import yaml
 
-from wecook_core.errors import InputError
+from wecook_core.errors import InputError, yaml_error
 from wecook_core.model import TreeSpan
 from wecook_core.trees import TreeSyntaxError, format_tree, parse_tree
 
@@ -35,9 +35,7 @@ def read_tree_file(path: str | Path) -> tuple[TreeSpan, ...]:
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        place = f"line {mark.line + 1}" if mark is not None else None
-        raise InputError(path, f"not YAML ({getattr(error, 'problem', error)})", place=place) from None
+        raise yaml_error(path, error, "not YAML") from None
     if data is None:
         raise InputError(path, "empty file; expected a list of {start, end, tree}")
     if not isinstance(data, list):

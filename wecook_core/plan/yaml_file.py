@@ -8,7 +8,7 @@ from typing import Any
 
 import yaml
 
-from wecook_core.errors import InputError
+from wecook_core.errors import InputError, yaml_error
 from wecook_core.model import Category
 from wecook_core.plan.checks import validate
 from wecook_core.plan.model import DEFAULT_ROBOT, PLAN_VERSION, Act, Agent, Plan, PlanAction, Scene, SceneObject, Table
@@ -199,9 +199,7 @@ def load_plan(text: str, path: str | Path | None = None, *, check: bool = True) 
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        place = f"line {mark.line + 1}" if mark is not None else None
-        raise InputError(path, f"not valid YAML ({getattr(error, 'problem', None) or error})", place=place) from None
+        raise yaml_error(path, error, "not valid YAML") from None
     plan = plan_from_dict(data, path)
     if check:
         validate(plan, path)
