@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 
@@ -32,3 +33,8 @@ def yaml_error(path: str | Path | None, error: Exception, what: str = "malformed
     mark = getattr(error, "problem_mark", None)
     place = f"line {mark.line + 1}" if mark is not None else None
     return InputError(path, f"{what} ({getattr(error, 'problem', None) or error})", place=place)
+
+
+def json_error(path: str | Path | None, error: json.JSONDecodeError, what: str = "malformed JSON") -> InputError:
+    """The :class:`InputError` of a JSON parser's error: ``what`` and its message, at its line and column."""
+    return InputError(path, f"{what} ({error.msg})", place=f"line {error.lineno}, column {error.colno}")

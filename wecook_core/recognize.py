@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from wecook_core.errors import InputError
+from wecook_core.errors import InputError, json_error
 from wecook_core.knowledge.nouns import match
 from wecook_core.resources import ASSETS_DIR
 
@@ -166,7 +166,7 @@ def load_knowledge(path: Path | None = None) -> Knowledge:
     except (OSError, UnicodeDecodeError) as error:
         raise InputError(path, f"cannot read the knowledge tables: {error}") from None
     except json.JSONDecodeError as error:
-        raise InputError(path, f"invalid JSON: {error.msg}", place=f"line {error.lineno}") from None
+        raise json_error(path, error, "invalid JSON") from None
     knowledge = knowledge_from_json(data, path)
     _CACHE[key] = knowledge
     return knowledge

@@ -16,7 +16,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from wecook_core.errors import InputError
+from wecook_core.errors import InputError, json_error
 from wecook_core.formats.fields import Box, Warn, check_box, ignore_warning, parse_float, parse_int
 from wecook_core.formats.tracks import object_tracks
 from wecook_core.model import ObjectTrack
@@ -108,8 +108,7 @@ def _load(path: Path) -> Mapping[str, Any]:
     try:
         data = json.loads(text)
     except json.JSONDecodeError as error:
-        raise InputError(path, f"malformed JSON ({error.msg})", place=f"line {error.lineno}, column {error.colno}"
-                         ) from None
+        raise json_error(path, error) from None
     if not isinstance(data, dict):
         raise InputError(path, "expected a JSON object with videos, images, annotations, categories")
     return data

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from wecook_core.errors import InputError
+from wecook_core.errors import InputError, json_error
 from wecook_core.formats.fields import Warn, ignore_warning
 from wecook_core.model import HandTrack
 
@@ -150,8 +150,7 @@ def _people(file: Path) -> list[tuple[int, dict[str, object]]]:
     try:
         data = json.loads(text)
     except json.JSONDecodeError as error:
-        raise InputError(file, f"malformed JSON ({error.msg})", place=f"line {error.lineno}, column {error.colno}"
-                         ) from None
+        raise json_error(file, error) from None
     if not isinstance(data, dict) or not isinstance(data.get("people"), list):
         raise InputError(file, "expected an object with a 'people' list (OpenPose JSON)")
     people = []
