@@ -126,3 +126,37 @@ async def test_journal_written_by_another_wecook_is_refused_not_fatal(own_sessio
         assert app.screen is app.main
     assert [e["status"] for e in journal(own_session)] == ["rejected"]  # nothing half-written
     assert any("Not recorded" in n and "journal" in n for n in notices), notices
+
+
+@pilot_test
+async def test_undo_and_redo_refused_by_the_journal_are_notices_not_tracebacks(own_session: Path) -> None:
+    from wecook_core.session import open_session
+
+    notices: list[str] = []
+    app = WecookApp(own_session)
+
+    def hook(message: object) -> None:
+        if isinstance(message, Notify):
+            notices.append(message.notification.message)
+
+    async with app.run_test(size=SIZE, message_hook=hook) as pilot:
+        await settle(pilot, app)
+        await pilot.press("a", "z")  # accept, undo: the journal says so
+        await settle(pilot, app)
+        assert [e["op"] for e in journal(own_session)] == ["set_status", "undo"]
+        open_session(own_session).record({"op": "set_status", "segment": 0, "status": "rejected"})
+        await pilot.press("y")  # redo, but another wecook wrote the journal meanwhile
+        await pilot.pause()
+        assert app.screen is app.main
+        assert [e["op"] for e in journal(own_session)] == ["set_status", "undo", "set_status"]
+        assert any("journal" in n and "changed" in n for n in notices), notices
+
+        def full_disk(op: str, fields: dict) -> None:
+            raise OSError(28, "No space left on device")
+
+        app.session.journal._append = full_disk  # type: ignore[method-assign]
+        notices.clear()
+        await pilot.press("y")  # redo again, and the disk refuses
+        await pilot.pause()
+        assert app.screen is app.main
+        assert any("No space left" in n for n in notices), notices
