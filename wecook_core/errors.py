@@ -38,3 +38,14 @@ def yaml_error(path: str | Path | None, error: Exception, what: str = "malformed
 def json_error(path: str | Path | None, error: json.JSONDecodeError, what: str = "malformed JSON") -> InputError:
     """The :class:`InputError` of a JSON parser's error: ``what`` and its message, at its line and column."""
     return InputError(path, f"{what} ({error.msg})", place=f"line {error.lineno}, column {error.colno}")
+
+
+def read_input_text(path: str | Path, missing: str = "file not found") -> str:
+    """The UTF-8 text of the user's file ``path``: an :class:`InputError` saying ``missing`` when there is no
+    such file, ``cannot read: ...`` when it does not read (a folder, no permission, not UTF-8)."""
+    try:
+        return Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(path, missing) from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(path, f"cannot read: {error}") from None

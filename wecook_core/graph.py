@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from wecook_core.errors import InputError, yaml_error
+from wecook_core.errors import InputError, read_input_text, yaml_error
 from wecook_core.model import (
     HANDS,
     PERSONS,
@@ -281,12 +281,9 @@ def write_graph_file(path: str | Path, graph: ActionGraph) -> None:
 def read_graph_file(path: str | Path) -> ActionGraph:
     """Read a graph file; bad content raises :class:`InputError` naming the entry and the field."""
     path = Path(path)
+    text = read_input_text(path)
     try:
-        data = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError(path, "file not found") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(path, f"cannot read: {error}") from None
+        data = yaml.safe_load(text)
     except yaml.YAMLError as error:
         raise yaml_error(path, error, "not YAML") from None
     if not isinstance(data, dict) or data.get(FORMAT_KEY) != FORMAT_VERSION:

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import yaml
 
-from wecook_core.errors import InputError, yaml_error
+from wecook_core.errors import InputError, read_input_text, yaml_error
 from wecook_core.model import TreeSpan
 from wecook_core.trees import TreeSyntaxError, format_tree, parse_tree
 
@@ -26,12 +26,7 @@ def write_tree_file(path: str | Path, spans: Sequence[TreeSpan]) -> None:
 
 def read_tree_file(path: str | Path) -> tuple[TreeSpan, ...]:
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(path, "file not found") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(path, f"cannot read: {error}") from None
+    text = read_input_text(path)
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as error:

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wecook_core.errors import InputError
+from wecook_core.errors import InputError, read_input_text
 
 _SEPARATORS = re.compile(r"[,\s]+")
 
@@ -22,12 +22,7 @@ def load_series(path: str | Path, columns: Sequence[int] | None = None) -> np.nd
     that is not a finite number, a row whose length differs from the first row's, or a column out of range.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(path, "no such file") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(path, f"cannot read: {error}") from None
+    text = read_input_text(path, "no such file")
     rows: list[list[float]] = []
     width = 0
     for number, line in enumerate(text.splitlines(), start=1):
