@@ -16,10 +16,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from wecook_core.model import Action, ActionKind
+from wecook_core.synth.draft import Draft, point
 from wecook_core.synth.events import Appear, Effect, Glide, PositionEvent, Resize, Ride, Turn
 from wecook_core.synth.kitchen import MAX_DOUGH
 from wecook_core.synth.layout import Body, Layout, Thing, extent, make_layout
-from wecook_core.synth.motion import Hold, Move, Phase, Work, rotation
+from wecook_core.synth.motion import Move, Phase, Work, rotation
 
 # -------------------------------------------------------------------------------------------- script
 
@@ -56,62 +57,6 @@ TASKS: tuple[str, ...] = (
 
 TAIL_SECONDS = 1.5
 """Idle time after the last task."""
-
-
-class _Draft:
-    """One task being written: its phases and events are kept apart until the task is known to fit."""
-
-    def __init__(self, fps: float, rng: np.random.Generator) -> None:
-        self.fps = fps
-        self.rng = rng
-        self.phases: dict[str, list[Phase]] = defaultdict(list)
-        self.moves: dict[str, list[PositionEvent]] = defaultdict(list)
-        self.turns: dict[str, list[Turn]] = defaultdict(list)
-        self.sizes: dict[str, list[Resize]] = defaultdict(list)
-        self.marks: dict[str, list[int]] = defaultdict(list)
-        self.effects: list[Effect] = []
-        self.actions: list[Action] = []
-        self.commits: list[Callable[[], None]] = []
-        self.busy: dict[str, int] = {}
-        """Object name -> first frame it is free again."""
-        self.end = 0
-
-    def frames(self, seconds: float) -> int:
-        return max(1, round(seconds * self.fps))
-
-    def span(self, low: float, high: float) -> int:
-        return self.frames(self.rng.uniform(low, high))
-
-    # hands
-    def move(self, hand: str, t: int, p0: np.ndarray, p1: np.ndarray, pace: float = 1.0) -> int:
-        distance = float(np.hypot(*(np.asarray(p1) - np.asarray(p0))))
-        seconds = (0.35 + distance / 380.0) * pace * self.rng.uniform(0.9, 1.15)
-        end = t + self.frames(seconds)
-        bulge = self.rng.normal(0.0, 0.07) * distance
-        skew = self.rng.uniform(0.8, 1.2)
-        self.phases[hand].append(Move(t, end, _pt(p0), _pt(p1), bulge, skew))
-        self.end = max(self.end, end)
-        return end
-
-    def hold(self, hand: str, t: int, p: np.ndarray, frames: int) -> int:
-        self.phases[hand].append(Hold(t, t + frames, _pt(p)))
-        self.end = max(self.end, t + frames)
-        return t + frames
-
-    def work(self, hand: str, t: int, p: np.ndarray, pattern: str, axis: np.ndarray, amplitude: float,
-             frequency: float, frames: int, drift: float = 0.0) -> int:
-        axis = np.asarray(axis, dtype=float) / max(float(np.hypot(*axis)), 1e-9)
-        phase = float(self.rng.uniform(0, 2 * np.pi)) if pattern in ("saw", "shake", "squeeze") else 0.0
-        self.phases[hand].append(Work(t, t + frames, _pt(p), pattern, _pt(axis), amplitude, frequency, phase, drift))
-        self.end = max(self.end, t + frames)
-        return t + frames
-
-    def use(self, name: str, until: int) -> None:
-        self.busy[name] = max(self.busy.get(name, 0), until)
-
-
-def _pt(p: np.ndarray | tuple[float, float]) -> tuple[float, float]:
-    return (float(p[0]), float(p[1]))
 
 
 def _angle(d: np.ndarray) -> float:
@@ -181,7 +126,7 @@ class _Writer:
     def grip_point(self, thing: Thing, grip: np.ndarray, angle: float | None = None) -> np.ndarray:
         return thing.home + rotation(thing.angle if angle is None else angle) @ grip
 
-    def commit(self, draft: _Draft, persons: tuple[str, ...], kind: str) -> bool:
+    def commit(self, draft: Draft, persons: tuple[str, ...], kind: str) -> bool:
         if self.limit is not None and draft.end + round(TAIL_SECONDS * self.fps) > self.limit:
             return False
         s = self.script
@@ -209,7 +154,7 @@ class _Writer:
 
     # ---- the common shape of a task: take an object, visit stations, put it back
     def take(
-        self, draft: _Draft, hand: str, t: int, thing: Thing, grip: np.ndarray,
+        self, draft: Draft, hand: str, t: int, thing: Thing, grip: np.ndarray,
         stations: list[Callable[[int], int]], poses: list[tuple[np.ndarray, float]],
         back: tuple[np.ndarray, float] | None = None,
     ) -> tuple[int, int, int, list[int]]:
@@ -241,12 +186,12 @@ class _Writer:
         release = draft.hold(hand, t, home_point, draft.span(0.15, 0.3))
         end = draft.move(hand, release, home_point, rest)
         vector = -np.asarray(grip, dtype=float)
-        draft.moves[thing.name].append(Ride(t1, release, hand, thing.name, _pt(vector)))
+        draft.moves[thing.name].append(Ride(t1, release, hand, thing.name, point(vector)))
         draft.use(thing.name, end)
         return t1, release, end, starts
 
     # ---- tasks
-    def tool_on(self, draft: _Draft, person: str, t: int, tool: Thing, target: np.ndarray, pattern: str,
+    def tool_on(self, draft: Draft, person: str, t: int, tool: Thing, target: np.ndarray, pattern: str,
                 along: float, amplitude: tuple[float, float], frequency: tuple[float, float],
                 seconds: tuple[float, float], *, drift: float = 0.0, across: bool = False,
                 hand: str | None = None, grip_side: bool = False,
@@ -275,7 +220,7 @@ class _Writer:
         t1, release, end, _ = self.take(draft, hand, t, tool, grip, [station], [(hand_at, work_angle)])
         return hand, t1, release, end
 
-    def cut(self, person: str, t: int, draft: _Draft) -> Action:
+    def cut(self, person: str, t: int, draft: Draft) -> Action:
         knife, tomato = self.thing("knife"), self.thing("tomato")
         drift = float(self.rng.uniform(-7, 7))
         hand, t1, release, end = self.tool_on(draft, person, t, knife, tomato.home, "saw", 10.0, (4.5, 6.0),
@@ -286,7 +231,7 @@ class _Writer:
         return Action(ActionKind.TOOL, hand, t1, release, verb="cut", held="knife",
                       targets=("tomato", "chopping_board"))
 
-    def peel(self, person: str, t: int, draft: _Draft) -> Action:
+    def peel(self, person: str, t: int, draft: Draft) -> Action:
         peeler, potato = self.thing("peeler"), self.thing("potato")
         hand, t1, release, end = self.tool_on(draft, person, t, peeler, potato.home, "peel", 14.0, (7.0, 9.0),
                                               (1.2, 1.7), (2.5, 4.0),
@@ -294,7 +239,7 @@ class _Writer:
         draft.use("potato", end)
         return Action(ActionKind.TOOL, hand, t1, release, verb="peel", held="peeler", targets=("potato",))
 
-    def roll(self, person: str, t: int, draft: _Draft) -> Action:
+    def roll(self, person: str, t: int, draft: Draft) -> Action:
         pin, dough = self.thing("rolling_pin"), self.thing("dough")
         body = self.body(person)
         hand = body.hand_towards((pin.home + dough.home) / 2)
@@ -317,14 +262,14 @@ class _Writer:
         draft.commits.append(done)
         return Action(ActionKind.TOOL, hand, t1, release, verb="roll", held="rolling_pin", targets=("dough",))
 
-    def stir(self, person: str, t: int, draft: _Draft) -> Action:
+    def stir(self, person: str, t: int, draft: Draft) -> Action:
         spoon, pot = self.thing("spoon"), self.thing("pot")
         hand, t1, release, end = self.tool_on(draft, person, t, spoon, pot.home, "circle", 14.0, (7.0, 10.0),
                                               (0.8, 1.2), (2.5, 4.0))
         draft.use("pot", end)
         return Action(ActionKind.TOOL, hand, t1, release, verb="stir", held="spoon", targets=("pot",))
 
-    def squeeze(self, person: str, t: int, draft: _Draft) -> Action:
+    def squeeze(self, person: str, t: int, draft: Draft) -> Action:
         lemon = self.thing("lemon")
         body = self.body(person)
         hand = body.hand_towards(lemon.home)
@@ -341,7 +286,7 @@ class _Writer:
         t1, release, _, _ = self.take(draft, hand, t, lemon, grip, [station], [(point, lemon.angle)])
         return Action(ActionKind.HAND, hand, t1, release, verb="squeeze", targets=("lemon",))
 
-    def pour_like(self, person: str, t: int, draft: _Draft, name: str, verb: str) -> Action:
+    def pour_like(self, person: str, t: int, draft: Draft, name: str, verb: str) -> Action:
         bottle, pot = self.thing(name), self.thing("pot")
         body = self.body(person)
         hand = body.hand_towards((bottle.home + pot.home) / 2)
@@ -374,29 +319,29 @@ class _Writer:
         draft.use("pot", end)
         return Action(ActionKind.TOOL, hand, t1, release, verb=verb, held=name, targets=("pot",))
 
-    def pour(self, person: str, t: int, draft: _Draft) -> Action:
+    def pour(self, person: str, t: int, draft: Draft) -> Action:
         return self.pour_like(person, t, draft, "oil", "pour")
 
-    def sprinkle(self, person: str, t: int, draft: _Draft) -> Action:
+    def sprinkle(self, person: str, t: int, draft: Draft) -> Action:
         return self.pour_like(person, t, draft, "salt", "sprinkle")
 
-    def _into_pot(self, draft: _Draft, content: Thing, start: int, seconds: float, refill: Callable[[], np.ndarray]
+    def _into_pot(self, draft: Draft, content: Thing, start: int, seconds: float, refill: Callable[[], np.ndarray]
                   ) -> int:
         """``content`` slides into the pot from ``start``, lies there a moment, is stirred in (vanishes) and
         comes back in its container a few seconds later (a refill). Returns when the pot is clear again."""
         pot = self.thing("pot")
         drop = pot.home + self.rng.uniform(-8, 8, 2)
         glide_end = start + draft.frames(seconds)
-        draft.moves[content.name].append(Glide(start, glide_end, _pt(drop)))
+        draft.moves[content.name].append(Glide(start, glide_end, point(drop)))
         gone = glide_end + draft.span(1.1, 1.5)
         draft.moves[content.name].append(Appear(gone, False))
         back = gone + draft.span(2.0, 3.5)
-        draft.moves[content.name].append(Appear(back, True, _pt(refill())))
+        draft.moves[content.name].append(Appear(back, True, point(refill())))
         draft.use(content.name, back + draft.frames(0.5))
         draft.use("pot", gone + draft.frames(0.3))
         return gone
 
-    def transfer_tool(self, person: str, t: int, draft: _Draft) -> Action:
+    def transfer_tool(self, person: str, t: int, draft: Draft) -> Action:
         spoon, pot = self.thing("spoon"), self.thing("pot")
         source_name, content_name = self.layout.groups["spoon"][1:]
         source, content = self.thing(source_name), self.thing(content_name)
@@ -432,7 +377,7 @@ class _Writer:
         return Action(ActionKind.TRANSFER, hand, t1, release, verb="transfer", held="spoon",
                       targets=(content.name, source.name, pot.name))
 
-    def transfer_tip(self, person: str, t: int, draft: _Draft) -> Action:
+    def transfer_tip(self, person: str, t: int, draft: Draft) -> Action:
         bowl, pot = self.thing("bowl"), self.thing("pot")
         content = self.thing(self.layout.groups["bowl"][1])
         body = self.body(person)
@@ -458,13 +403,13 @@ class _Writer:
 
         t1, release, _, _ = self.take(draft, hand, t, bowl, grip, [tip], [(hand_at, angle)])
         vector = np.asarray(-grip) + content.offset
-        draft.moves[content.name].append(Ride(t1, glide_at[0], hand, "bowl", _pt(vector)))
+        draft.moves[content.name].append(Ride(t1, glide_at[0], hand, "bowl", point(vector)))
         home = bowl.home + rotation(bowl.angle) @ content.offset
         self._into_pot(draft, content, glide_at[0], 0.5, lambda: home)
         return Action(ActionKind.TRANSFER, hand, t1, release, verb="transfer", held="bowl",
                       targets=(content.name, bowl.name, pot.name))
 
-    def holding(self, t: int, draft: _Draft, on: str) -> Action:
+    def holding(self, t: int, draft: Draft, on: str) -> Action:
         """One person holds the pot (or the chopping board) while the other stirs in it (or cuts on it)."""
         actor = self.owner("spoon" if on == "pot" else "knife")
         holder = "P2" if actor == "P1" else "P1"
@@ -494,7 +439,7 @@ class _Writer:
             draft.use("tomato", end)
         return Action(ActionKind.HOLDING, hand, t1, release, held=on, partner=partner)
 
-    def handover(self, t: int, draft: _Draft, name: str) -> tuple[Action, Action]:
+    def handover(self, t: int, draft: Draft, name: str) -> tuple[Action, Action]:
         thing = self.thing(name)
         giver_person = thing.owner or "P1"
         receiver_person = "P2" if giver_person == "P1" else "P1"
@@ -517,12 +462,12 @@ class _Writer:
         # receiver: arrives a moment after the giver, takes it, carries it to its side
         r_at = meeting + rotation(thing.angle) @ r_grip
         r_rest = np.asarray(receiver.rests[r_hand])
-        probe = _Draft(self.fps, self.rng)
+        probe = Draft(self.fps, self.rng)
         r_reach = probe.move(r_hand, 0, r_rest, r_at)
         t_grasp = t3 + draft.span(0.1, 0.3)
         r_start = max(t_grasp - r_reach, self.free[receiver_person] + draft.frames(0.2))
         t_grasp = r_start + r_reach
-        draft.phases[r_hand].append(Move(r_start, t_grasp, _pt(r_rest), _pt(r_at), *_bulge(probe, r_hand)))
+        draft.phases[r_hand].append(Move(r_start, t_grasp, point(r_rest), point(r_at), *_bulge(probe, r_hand)))
         g_release = max(t_grasp, t3) + draft.span(0.5, 0.85)
         draft.hold(g_hand, t3, g_at, g_release - t3)
         g_end = draft.move(g_hand, g_release, g_at, np.asarray(giver.rests[g_hand]))
@@ -532,8 +477,8 @@ class _Writer:
         t_land = draft.move(r_hand, r_wait, r_at, r_land, pace=1.1)
         r_release = draft.hold(r_hand, t_land, r_land, draft.span(0.15, 0.3))
         r_end = draft.move(r_hand, r_release, r_land, r_rest)
-        draft.moves[name].append(Ride(t1, g_release, g_hand, name, _pt(-g_grip)))
-        draft.moves[name].append(Ride(g_release, r_release, r_hand, name, _pt(-r_grip)))
+        draft.moves[name].append(Ride(t1, g_release, g_hand, name, point(-g_grip)))
+        draft.moves[name].append(Ride(g_release, r_release, r_hand, name, point(-r_grip)))
         draft.use(name, max(g_end, r_end))
         for middle in ("pot", "chopping_board"):
             draft.use(middle, max(g_end, r_end))
@@ -551,7 +496,7 @@ class _Writer:
 
     # ---- scheduling
     def schedule(self, kind: str, extra: str | None = None) -> bool:
-        draft = _Draft(self.fps, self.rng)
+        draft = Draft(self.fps, self.rng)
         middle = ("pot", "chopping_board", "tomato")
         if kind == "holding":
             assert extra is not None
@@ -598,7 +543,7 @@ _TASK_OBJECTS: dict[str, tuple[str, tuple[str, ...]]] = {
 """Task -> (the group whose owner does it, the objects it keeps busy)."""
 
 
-def _bulge(draft: _Draft, hand: str) -> tuple[float, float]:
+def _bulge(draft: Draft, hand: str) -> tuple[float, float]:
     move = draft.phases[hand][-1]
     assert isinstance(move, Move)
     return move.bulge, move.skew
