@@ -2,19 +2,12 @@ from __future__ import annotations
 
 import itertools
 
-import pytest
 from handmade_scenes import cutting, handing_over, holding, observations, pouring, squeezing, still, transferring
 
 from wecook_core.actions import handover_events, hold_spans, recognize_actions, transfer_events
 from wecook_core.associate import associate_segments
 from wecook_core.model import ActionKind, Category, Corrections, Segment, Segmentation
 from wecook_core.pipeline import Params
-from wecook_core.recognize import load_knowledge
-
-
-@pytest.fixture(scope="module")
-def knowledge():
-    return load_knowledge()
 
 
 def recognise(obs, cuts, knowledge, corrections=None):

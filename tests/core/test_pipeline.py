@@ -13,11 +13,6 @@ from wecook_core.trees import format_tree, parse_tree
 CUT_TREE = "(HP (HP (H RH_P1) (O knife)) (AP (A cut) (OP (O tomato) (O chopping_board))))"
 
 
-@pytest.fixture(scope="module")
-def knowledge():
-    return load_knowledge()
-
-
 def given(*edges):
     return Segmentation({}, tuple(Segment(a, b) for a, b in itertools.pairwise(edges)))
 
@@ -135,7 +130,6 @@ def test_wecook_analyze_writes_the_trees_and_graph_of_a_session_with_its_correct
     middle = (first.start + first.end) // 2
     session = open_session(folder)
     from wecook_core.pipeline import analyze
-    from wecook_core.recognize import load_knowledge
 
     start = next(s.start for s in analyze(session.load_observations(), load_knowledge()).segmentation.segments
                  if s.start <= middle < s.end)
