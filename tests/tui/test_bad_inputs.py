@@ -4,6 +4,7 @@ workbench opens anyway (or says why not) with a clear notice, never a traceback.
 from __future__ import annotations
 
 import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -33,8 +34,8 @@ def video_of(session: Path) -> Path:
     return session.parent.parent / "inputs" / "video.mp4"
 
 
-async def open_and_collect(session: Path) -> tuple[WecookApp, list[str]]:
-    notices: list[str] = []
+def collecting(notices: list[str]) -> Callable[[object], None]:
+    """A message hook that appends each notice's text to ``notices`` (``FAILED ...`` when the session fails)."""
 
     def hook(message: object) -> None:
         if isinstance(message, Notify):
@@ -42,8 +43,13 @@ async def open_and_collect(session: Path) -> tuple[WecookApp, list[str]]:
         elif isinstance(message, SessionFailed):
             notices.append("FAILED " + message.error)
 
+    return hook
+
+
+async def open_and_collect(session: Path) -> tuple[WecookApp, list[str]]:
+    notices: list[str] = []
     app = WecookApp(session)
-    async with app.run_test(size=SIZE, message_hook=hook) as pilot:
+    async with app.run_test(size=SIZE, message_hook=collecting(notices)) as pilot:
         if "FAILED" not in " ".join(notices):
             await settle(pilot, app)
         await pilot.press("right", "a")  # keys still work (or are harmless) whatever is wrong
@@ -113,12 +119,7 @@ async def test_journal_written_by_another_wecook_is_refused_not_fatal(own_sessio
 
     notices: list[str] = []
     app = WecookApp(own_session)
-
-    def hook(message: object) -> None:
-        if isinstance(message, Notify):
-            notices.append(message.notification.message)
-
-    async with app.run_test(size=SIZE, message_hook=hook) as pilot:
+    async with app.run_test(size=SIZE, message_hook=collecting(notices)) as pilot:
         await settle(pilot, app)
         open_session(own_session).record({"op": "set_status", "segment": 0, "status": "rejected"})
         await pilot.press("a")
@@ -134,12 +135,7 @@ async def test_undo_and_redo_refused_by_the_journal_are_notices_not_tracebacks(o
 
     notices: list[str] = []
     app = WecookApp(own_session)
-
-    def hook(message: object) -> None:
-        if isinstance(message, Notify):
-            notices.append(message.notification.message)
-
-    async with app.run_test(size=SIZE, message_hook=hook) as pilot:
+    async with app.run_test(size=SIZE, message_hook=collecting(notices)) as pilot:
         await settle(pilot, app)
         await pilot.press("a", "z")  # accept, undo: the journal says so
         await settle(pilot, app)
