@@ -61,6 +61,8 @@ class TSRSpec:
     """Two effector axes (``x``/``y``/``z``) and their directions in the frame."""
     bounds: tuple[tuple[float, float], ...] = ((0.0, 0.0),) * 6
     """x y z (metres), roll pitch yaw (radians)."""
+    origin: tuple[Expr, Expr, Expr] = (0.0, 0.0, 0.0)
+    """Metres in the frame: where the TSR frame really sits (rotations of the bounds turn about it)."""
 
     @property
     def role(self) -> str | None:
@@ -83,6 +85,9 @@ class TSRSpec:
         return R
 
     def tsr(self, T0_w: np.ndarray, sizes: Mapping[str, Half]) -> TSR:
+        shift = np.eye(4)
+        shift[:3, 3] = [evaluate(v, sizes) for v in self.origin]
+        T0_w = T0_w @ shift
         Tw_e = np.eye(4)
         Tw_e[:3, :3] = self.rotation()
         Tw_e[:3, 3] = [evaluate(v, sizes) for v in self.at]
@@ -189,8 +194,12 @@ def _tsr_spec(data: Any, path: Path, place: str) -> TSRSpec:
             raise _bad(path, f"{place}.bounds.{key}", f"expected [low, high], got {value!r}")
         scale = 1.0 if keys.index(key) < 3 else math.pi / 180
         bounds[keys.index(key)] = [value[0] * scale, value[1] * scale]
+    origin = data.get("origin", [0, 0, 0])
+    if not isinstance(origin, list) or len(origin) != 3:
+        raise _bad(path, f"{place}.origin", f"expected [x, y, z], got {origin!r}")
     return TSRSpec(frame, tuple(_expr(v, path, f"{place}.at") for v in at),  # type: ignore[arg-type]
-                   pairs, tuple((lo, hi) for lo, hi in bounds))
+                   pairs, tuple((lo, hi) for lo, hi in bounds),
+                   tuple(_expr(v, path, f"{place}.origin") for v in origin))  # type: ignore[arg-type]
 
 
 def _step(data: Any, path: Path, place: str) -> Step:
