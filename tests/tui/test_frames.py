@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 from rich.segment import Segment
-from tui_driving import pilot_test
+from tui_driving import pilot_test, wait_for
 from tui_fake import fake_workspace, make_video
 
 from wecook_tui.app import WecookApp
@@ -141,10 +141,7 @@ async def test_a_slow_decode_never_holds_up_the_keys(tmp_path: Path) -> None:
         assert app.main.frame == 40 and view.index == 40 and view.shown == 0  # old picture while decoding
         assert app.corrections.status  # and the accept went through
         gate.set()
-        for _ in range(200):
-            if view.shown == 40:
-                break
-            await pilot.pause(0.02)
+        await wait_for(pilot, lambda: view.shown == 40, 200)
         assert view.shown == 40
 
 

@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 import yaml
-from tui_driving import pilot_test, settle
+from tui_driving import pilot_test, settle, wait_for
 
 from wecook_tui.app import WecookApp
 from wecook_tui.screens.plan_review import PlanReviewScreen, plan_file
@@ -35,14 +35,6 @@ def fake_execute(plan: Path, mcap: Path) -> list[str]:
     return [sys.executable, "-c", FAKE_EXECUTE, str(plan), str(mcap)]
 
 
-async def wait_for(pilot, predicate, tries: int = 300) -> None:  # type: ignore[no-untyped-def]
-    for _ in range(tries):
-        if predicate():
-            return
-        await pilot.pause(0.02)
-    raise AssertionError("condition never held")
-
-
 @pilot_test
 async def test_plan_review_and_export(session_path: Path) -> None:
     app = WecookApp(session_path)
@@ -51,13 +43,13 @@ async def test_plan_review_and_export(session_path: Path) -> None:
         await pilot.press("e")
         screen = app.screen
         assert isinstance(screen, PlanReviewScreen)
-        await wait_for(pilot, lambda: screen.plan is not None)
+        assert await wait_for(pilot, lambda: screen.plan is not None)
         nodes = {node.id: node for node in app.analysis.graph.nodes}
         ids = [a.id for a in screen.plan.actions]
         assert ids and set(ids) <= set(nodes)  # grasp-only nodes are not robot actions
         assert all(a.frames == (nodes[a.id].span.start, nodes[a.id].span.end) for a in screen.plan.actions)
         await pilot.press("w")
-        await wait_for(pilot, lambda: screen.exported is not None)
+        assert await wait_for(pilot, lambda: screen.exported is not None)
         assert screen.exported == plan_file(session_path)
         data = yaml.safe_load(screen.exported.read_text())
         assert data["wecook_plan"] == 1 and [a["id"] for a in data["actions"]] == ids
@@ -81,7 +73,7 @@ async def test_export_follows_corrections(session_path: Path) -> None:
         await pilot.press("e")
         screen = app.screen
         assert isinstance(screen, PlanReviewScreen)
-        await wait_for(pilot, lambda: screen.plan is not None)
+        assert await wait_for(pilot, lambda: screen.plan is not None)
         assert not [a for a in screen.plan.actions if a.frames and a.frames[0] < end and start < a.frames[1]]
 
 
@@ -94,7 +86,7 @@ async def test_run_screen_shows_progress_summary_and_past_runs(session_path: Pat
         await pilot.press("r")
         screen = app.screen
         assert isinstance(screen, RunScreen)
-        await wait_for(pilot, lambda: screen.result is not None)
+        assert await wait_for(pilot, lambda: screen.result is not None)
         ids = [a["id"] for a in yaml.safe_load(plan_file(session_path).read_text())["actions"]]
         assert ids
         assert screen.states == {aid: ("done" if i == 0 else "failed") for i, aid in enumerate(ids)}

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from tui_driving import journal, pick, pilot_test, settle
+from tui_driving import journal, pick, pilot_test, settle, wait_for
 
 from wecook_core.formats.treefile import read_tree_file
 from wecook_core.model import SegmentStatus
@@ -338,8 +338,5 @@ async def test_command_palette_runs_a_review_command(session_path: Path) -> None
         await pilot.press(*"Reject")
         await pilot.pause(0.5)
         await pilot.press("enter")
-        for _ in range(100):
-            if journal(session_path):
-                break
-            await pilot.pause(0.02)
+        await wait_for(pilot, lambda: bool(journal(session_path)), 100)
         assert ops(session_path) == ["set_status"] and journal(session_path)[0]["status"] == "rejected"

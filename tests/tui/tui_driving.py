@@ -1,4 +1,4 @@
-"""Helpers for Pilot tests: wait for the workers, read the journal, pick in a picker."""
+"""Helpers for Pilot tests: wait for the workers or a condition, read the journal, pick in a picker."""
 
 from __future__ import annotations
 
@@ -27,6 +27,15 @@ async def settle(pilot: Pilot, app: WecookApp) -> None:
             return
         await pilot.pause(0.02)
     raise AssertionError("the workbench never settled")
+
+
+async def wait_for(pilot: Pilot, predicate: Callable[[], bool], tries: int = 300) -> bool:
+    """Pause until ``predicate()`` holds, at most ``tries`` pauses of 20 ms; whether it held."""
+    for _ in range(tries):
+        if predicate():
+            return True
+        await pilot.pause(0.02)
+    return bool(predicate())
 
 
 def journal(session: Path) -> list[dict]:
