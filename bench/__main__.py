@@ -17,7 +17,7 @@ from rich.table import Table
 def main(argv: list[str]) -> int:
     here = Path(__file__).parent
     names = argv or sorted(m.name for m in pkgutil.iter_modules([str(here)]) if not m.name.startswith("_"))
-    console = Console()
+    console = Console(width=None if sys.stdout.isatty() else 200)
     table = Table(title="wecook benchmarks")
     for column in ("module", "benchmark", "value", "unit", "ratio vs baseline", "note"):
         table.add_column(column, overflow="fold")
