@@ -30,7 +30,7 @@ import yaml
 
 from wecook_core import __version__
 from wecook_core.errors import InputError, yaml_error
-from wecook_core.formats.video import probe_video
+from wecook_core.formats.video import probe_video, usable_frames
 from wecook_core.input_files import InputFile, content_hash, input_problem, record_input
 from wecook_core.journal import Journal, JournalEntry, read_journal, replay
 from wecook_core.model import Corrections, Observations, VideoInfo
@@ -155,9 +155,10 @@ class Session:
     def import_observations(self, *, video_optional: bool = False) -> Imported:
         """Import the inputs again (cached): InputError when one is missing or no longer reads.
 
-        ``video_optional``: a video that is missing or does not open is no error when the session recorded
-        its facts: those stand in, and :attr:`Imported.video_problem` says what is wrong with the video (the
-        boxes and hands are checked against the recorded facts as usual).
+        ``video_optional``: a video that is missing, does not open, or no longer holds the frames of the boxes
+        and hands (cut short since) is no error when the session recorded its facts: those stand in, and
+        :attr:`Imported.video_problem` says what is wrong with the video (the boxes and hands are checked
+        against the recorded facts as usual). That import is not cached.
         """
         if self._imported is not None:
             return self._imported
@@ -167,9 +168,18 @@ class Session:
         except InputError as error:
             if not video_optional or self.video is None:
                 raise
-            return replace(self._import(video.path, self.video), video_problem=str(error))
-        self._imported = self._import(video.path, facts)
+            return self._with_recorded_video(video.path, self.video, str(error))
+        try:
+            self._imported = self._import(video.path, facts)
+        except InputError as error:
+            # The video opens, but may have been cut short since: then the recorded facts may still fit.
+            if not video_optional or self.video is None or _same_video(facts, self.video):
+                raise
+            return self._with_recorded_video(video.path, self.video, str(error))
         return self._imported
+
+    def _with_recorded_video(self, video: str, recorded: VideoInfo, problem: str) -> Imported:
+        return replace(self._import(video, recorded), video_problem=problem)
 
     def _import(self, video: str, facts: VideoInfo) -> Imported:
         objects, hands = self._input("objects"), self._input("hands")
@@ -200,6 +210,11 @@ class Session:
         self.meta["params"] = dataclasses.asdict(params)
         _write_yaml(self.path / SESSION_FILE, self.meta)
         self.params = params
+
+
+def _same_video(a: VideoInfo, b: VideoInfo) -> bool:
+    """Whether two probes of a video found the same size, rate and usable frames."""
+    return (a.width, a.height, a.fps, usable_frames(a)) == (b.width, b.height, b.fps, usable_frames(b))
 
 
 def _category_table(extra: Path | None) -> CategoryTable | None:

@@ -42,7 +42,8 @@ def open_workspace(path: Path) -> Opened:
         imported = session.import_observations(video_optional=True)
         obs = imported.observations
         if imported.video_problem:
-            warnings.append(f"{imported.video_problem}: showing boxes and hands without the video")
+            warnings.append(f"{imported.video_problem}: boxes and hands shown against the video facts recorded "
+                            "in the session")
     except (InputError, OSError) as error:
         warnings.append(f"inputs cannot be read: {error}")
     knowledge = None

@@ -157,6 +157,19 @@ def test_video_optional_imports_against_the_recorded_video_facts(tmp_path: Path,
         session.load_observations()  # the stand-in is not cached as the real import
 
 
+def test_video_optional_when_the_video_was_cut_short(tmp_path: Path, inputs: dict[str, Path]) -> None:
+    path = create(tmp_path / "s", inputs)
+    data = inputs["video"].read_bytes()
+    inputs["video"].write_bytes(data[: len(data) * 4 // 5])  # still opens, but the hands run past its end
+    session = open_session(path)
+    with pytest.raises(InputError, match="frame"):
+        session.load_observations()
+    imported = session.import_observations(video_optional=True)
+    assert imported.video_problem is not None and "frame" in imported.video_problem
+    assert imported.observations.video == session.video
+    assert [t.hand for t in imported.observations.hands] == ["LH_P1", "RH_P1"]
+
+
 def test_a_torn_journal_line_is_a_warning_when_opening(tmp_path: Path, inputs: dict[str, Path]) -> None:
     session = open_session(create(tmp_path, inputs))
     session.record({"op": "set_status", "segment": 0, "status": "accepted"})
