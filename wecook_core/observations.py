@@ -7,9 +7,10 @@ Checks, each an :class:`InputError` naming the file and the frame and track, unl
 - an object box may stick out of the image by up to ``box_tolerance`` of the image size (detectors and
   annotators overshoot a little): it is clipped, and the count is a warning; farther out is an error;
 - a hand centre obeys the same rule; hand boxes are only clipped (they are derived from keypoints);
-- gaps inside a hand track are never an error (a hand leaves the picture, a detector misses it; the
+- gaps inside a hand track are by default not an error (a hand leaves the picture, a detector misses it; the
   segmentation interpolates): a gap longer than ``max_gap_seconds`` is reported as a warning and listed in
-  :attr:`Imported.gaps` so the user sees what will be interpolated;
+  :attr:`Imported.gaps` so the user sees what will be interpolated; one longer than ``gap_error_seconds``,
+  when set (`wecook new --max-gap`), is an error;
 - every object label has a category (the shipped table plus the user's additions).
 """
 
@@ -41,6 +42,8 @@ class InputChecks:
     (for x) or height (for y)."""
     max_gap_seconds: float = 2.0
     """A hand missing inside its track for longer than this is reported."""
+    gap_error_seconds: float | None = None
+    """A hand missing inside its track for longer than this is an error (None: gaps are never an error)."""
 
 
 @dataclass(frozen=True)
@@ -120,6 +123,11 @@ def import_observations(
     checked_objects = _check_objects(Path(objects), unique_names(object_tracks), info, checks, warnings)
     checked_hands = _check_hands(Path(hands), hand_tracks, info, checks, warnings)
     gaps, missing = hand_gaps(checked_hands, info.fps, checks.max_gap_seconds)
+    if checks.gap_error_seconds is not None:
+        for gap in hand_gaps(checked_hands, info.fps, checks.gap_error_seconds)[0]:
+            raise InputError(hands, f"{gap.hand} is missing for {gap.seconds:.1f} s, frames {gap.start}-{gap.end - 1}"
+                             f", longer than the {checks.gap_error_seconds:g} s allowed",
+                             place=f"frame {gap.start}")
     for gap in gaps:
         warnings.append(f"{hands}: {gap.hand} is missing for {gap.seconds:.1f} s, frames {gap.start}-{gap.end - 1}"
                         " (interpolated)")

@@ -101,6 +101,25 @@ def test_long_hand_gaps_are_reported_not_fatal(tmp_path: Path) -> None:
     assert [(g.hand, g.start) for g in stricter.gaps] == [("LH_P1", 5), ("RH_P1", 5)]
 
 
+def test_hand_gaps_past_the_allowed_length_are_an_error_when_asked(tmp_path: Path,
+                                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    hands = [f"{f},RH_P1,20,15,15,10,25,20" for f in [*range(5), *range(26, 30)]]  # missing 2.1 s
+    inputs = write_inputs(tmp_path, OBJECTS, hands)
+    with pytest.raises(InputError, match=r"hands\.csv:frame 5: RH_P1 is missing for 2\.1 s, frames 5-25, longer than"):
+        import_observations(*inputs, categories=TABLE, checks=InputChecks(gap_error_seconds=2.0))
+    import_observations(*inputs, categories=TABLE, checks=InputChecks(gap_error_seconds=3.0))  # within the limit
+
+    from wecook_tui.cli import main
+
+    video, objects, hands_csv = inputs
+    args = ["new", "s", "--video", str(video), "--objects", str(objects), "--hands", str(hands_csv),
+            "--root", str(tmp_path / "sessions"), "--max-gap", "1"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "RH_P1 is missing for 2.1 s" in err
+    assert not (tmp_path / "sessions" / "s").exists()
+
+
 def test_uncategorised_labels_are_an_input_error(tmp_path: Path) -> None:
     with pytest.raises(InputError, match=r"objects.csv: cannot categorise 'spatula'"):
         load_observations(*write_inputs(tmp_path, [*OBJECTS, "0,9,spatula,0,0,5,5"], HANDS), categories=TABLE)

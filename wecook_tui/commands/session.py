@@ -42,6 +42,9 @@ def register(sub: Any) -> None:
                           "--video)")
     new.add_argument("--categories", default=None,
                      help="YAML file of extra object categories `objects: {label: tool|container|ingredient}`")
+    new.add_argument("--max-gap", type=float, default=None, metavar="SECONDS",
+                     help="refuse hand tracks missing for longer than this inside the track "
+                          "(default: such gaps are interpolated and reported)")
     new.add_argument("--root", default=None, help=ROOT_HELP)
     new.set_defaults(func=run_new)
 
@@ -65,9 +68,12 @@ def run_new(args: argparse.Namespace) -> int:
         from wecook_core.categories import load_categories
 
         table = load_categories(extra=[Path(args.categories)])
+    from wecook_core.observations import InputChecks
+
+    checks = InputChecks(gap_error_seconds=args.max_gap)
     imported = import_observations(args.video, args.objects, args.hands, objects_format=args.objects_format,
                                    hands_format=args.hands_format, labels=args.labels, select=args.select_video,
-                                   categories=table)
+                                   categories=table, checks=checks)
     path = create_session(root, args.name, args.video, args.objects, args.hands,
                           objects_format=imported.objects_format, hands_format=imported.hands_format,
                           labels=args.labels, categories=args.categories, select=args.select_video,
