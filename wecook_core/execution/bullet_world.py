@@ -99,7 +99,7 @@ class Hand:
 class BulletWorld:
     def __init__(self, plan: Plan, observer: RunObserver | None, *, seed: int = 0, realtime: bool = False,
                  planner: str = "rrtconnect", planning_time: float = 1.0, images: bool = True,
-                 skills: SkillLibrary | None = None, attempts: int = 3, samples: int = 8):
+                 skills: SkillLibrary | None = None, attempts: int = 3, samples: int = 12):
         self.plan = plan
         self.observer = observer
         self.client = p.connect(p.DIRECT)
@@ -131,6 +131,8 @@ class BulletWorld:
         self.zones: dict[str, np.ndarray] = {}
         """Action id -> the table area it works in, while it runs (see :meth:`_claim_zone`)."""
         self.zone_users: dict[str, set[str]] = {}
+        self.picked_from: dict[str, np.ndarray] = {}
+        """Object -> its pose when last grasped (where a failed action puts it back)."""
         self.variants: dict[str, int] = {}
         """Arm -> the axis option of its next actuation, chosen when engaging."""
         """An arm the other one blocked: the other waits at rest until this arm's primitive ends."""
@@ -368,10 +370,11 @@ class BulletWorld:
                                 collision_fn=self.planning.collision_fn(pid, ignore=ignore, arm_margin=self.arm_margin),
                                 resolution=0.03)
         result = plan_motion(problem, planner=self.planner, time_limit=self.planning_time, seed=self._planning_seed())
-        if result.status == "invalid_start":  # touching an object it just let go of: plan clear of arms and table
+        if result.status == "invalid_start":  # touching an object it just let go of, or closer to the other arm
+            # than the margin (after a handover): plan without objects and margins, never through the arm or table
             loose = MotionProblem(start=start, goal=goal, lower=LOWER, upper=UPPER, resolution=0.03,
                                   collision_fn=self.planning.collision_fn(pid, ignore=list(self.bodies.objects),
-                                                                          arm_margin=self.arm_margin))
+                                                                          arm_margin=0.0))
             result = plan_motion(loose, planner=self.planner, time_limit=self.planning_time,
                                  seed=self._planning_seed())
         if not result.ok:
@@ -522,9 +525,10 @@ class BulletWorld:
         if other is not None and self.other_in_the_way:
             self.other_in_the_way = False
             self.right_of_way = pid  # the other arm, once home, waits for this primitive to end
-            for _ in range(int(YIELD_SECONDS * SIM_HZ)):
-                at_home = np.max(np.abs(self.arms[other].q() - REST)) < 1e-2
-                if at_home or self.time - self.moved_at[other] > 3.0:  # home, or itself waiting: go on
+            for i in range(int(YIELD_SECONDS * SIM_HZ)):
+                if np.max(np.abs(self.arms[other].q() - REST)) < 1e-2:
+                    return
+                if i > 2 * SIM_HZ and self.time - self.moved_at[other] > 3.0:  # itself waiting: go on
                     return
                 yield WAIT
             return
@@ -656,6 +660,7 @@ class BulletWorld:
                 continue
             self._set_grip(pid, grip)
             yield from self._hold(0.2)
+            self.picked_from[name] = self.pose(name)
             constraint, T_ee_obj = attach(self.client, self.bodies.arms[pid].body, body.body)
             hand = self.hands[pid]
             hand.carried, hand.constraint = name, constraint
@@ -786,7 +791,8 @@ class BulletWorld:
         scored.sort(key=lambda item: (item[0], item[1]))
         return [T for score, _, T in scored if -score > 0.0]
 
-    def place(self, action: PlanAction, pid: str, target: np.ndarray | list[TSR], free: bool = False) -> Program:
+    def place(self, action: PlanAction | None, pid: str, target: np.ndarray | list[TSR], free: bool = False
+              ) -> Program:
         """Put the carried object down at ``target`` (object pose, or TSRs of object poses): planned move above,
         straight down, release. ``free``: only where it stands clear of the other objects."""
         hand = self.hands[pid]
@@ -984,7 +990,8 @@ class BulletWorld:
 
     def _individual(self, action: PlanAction, pid: str, verb: str, tool: str | None, ingredients: Sequence[str],
                     location: str | None, source: str | None,
-                    after_grasp: Callable[[], Program] | None = None) -> Program:
+                    after_grasp: Callable[[], Program] | None = None,
+                    after_work: Callable[[], None] | None = None) -> Program:
         tool_category = self.bodies.objects[tool].category if tool else None
         skill = self.skills.skills.get(skill_name(verb, tool, tool_category))
         if skill is None:
@@ -1003,16 +1010,36 @@ class BulletWorld:
         yield from self.grasp(action, pid, carried)
         if after_grasp is not None:
             yield from after_grasp()
-        for k, step in enumerate(skill.steps):
+        k, second_tries = 0, 1
+        while k < len(skill.steps):
+            step = skill.steps[k]
             if step.primitive == "engage":
                 assert step.tsr is not None
                 after = skill.steps[k + 1] if k + 1 < len(skill.steps) else None
                 yield from self.engage(action, pid, step.tsr, roles,
                                        then=after if after is not None and after.primitive == "actuate" else None)
             else:
-                yield from self.actuate(action, pid, step, roles)
+                try:
+                    yield from self.actuate(action, pid, step, roles)
+                except ActionFailed as error:  # it failed before moving: engage anew (a new sample), then again
+                    if not (second_tries and k > 0 and skill.steps[k - 1].primitive == "engage"):
+                        raise
+                    second_tries -= 1
+                    self._event("retry", action, pid, f"engage again for the {step.motion} ({error})", "actuate")
+                    yield from self._let_other_move(pid)
+                    k -= 1
+                    continue
+            k += 1
+        if after_work is not None:
+            after_work()
         if self.hands[pid].carried is not None:
-            yield from self.place(action, pid, home)
+            try:
+                yield from self.place(action, pid, home)
+            except ActionFailed as error:  # its spot is out of reach now: any free spot near it will do
+                near = TSR(home, np.eye(4), np.array([[-0.12, 0.12], [-0.12, 0.12], [0.004, 0.004], [0, 0], [0, 0],
+                                                      [-math.pi / 2, math.pi / 2]]))
+                self._event("retry", action, pid, f"place {carried} near its spot ({error})", "place")
+                yield from self.place(action, pid, [near], free=True)
         yield from self.go_home(pid)
 
     def _giver(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
@@ -1048,8 +1075,8 @@ class BulletWorld:
         yield from meeting.wait_for("taken")
         yield from self._hold(0.2)
         yield from self.release(pid)
-        meeting.signal("released")
         yield from self.go_home(pid)
+        meeting.signal("released")  # and out of the way
 
     def _receiver(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
         name = action.tool
@@ -1097,17 +1124,26 @@ class BulletWorld:
         act = action.partner
         if act is None:
             raise ActionFailed("holding without the partner's action")
-        def ready() -> Program:
+        def ready() -> Program:  # tool in hand, wait out of the holder's way
+            with contextlib.suppress(ActionFailed):
+                yield from self.transit(pid, REST.copy(), what="wait at rest")
             meeting.signal("tool_ready")
             yield from meeting.wait_for("held")
 
         location = act.location or action.tool
         yield from self._individual(action, pid, act.verb, act.tool, act.ingredients, location, act.source,
-                                    after_grasp=ready)
-        meeting.signal("acted")
+                                    after_grasp=ready, after_work=lambda: meeting.signal("acted"))
 
     def recover(self, pid: str) -> Program:
+        """After a failure: put what the hand carries down on a free spot near where it was picked up (else let
+        it go where it is), then go home."""
         self.reserved[pid] = None
+        carried = self.hands[pid].carried
+        if carried is not None and self.hands[pid].constraint is not None and carried in self.picked_from:
+            near = TSR(self.picked_from[carried], np.eye(4), np.array(
+                [[-0.12, 0.12], [-0.12, 0.12], [0.004, 0.004], [0, 0], [0, 0], [-math.pi / 2, math.pi / 2]]))
+            with contextlib.suppress(ActionFailed):
+                yield from self.place(None, pid, [near], free=True)
         if self.hands[pid].carried is not None or self.hands[pid].riding:
             hand = self.hands[pid]
             for r in hand.riding:
