@@ -1,11 +1,13 @@
 """The executor in PyBullet (headless): IK, cut contact, handover, no arm collisions, unreachable goals."""
 
+import contextlib
+
 import numpy as np
 import pybullet as p
 import pytest
 
 from wecook_core.execution.bullet_world import BulletWorld
-from wecook_core.execution.executor import execute_plan, run_schedule
+from wecook_core.execution.executor import ActionFailed, execute_plan, run_schedule
 from wecook_core.execution.robot import HOME, LOWER, UPPER, Panda
 from wecook_core.model import Category
 from wecook_core.plan import Plan, PlanAction, Scene, SceneObject, agents_for
@@ -136,10 +138,11 @@ class HandoverWorld(BulletWorld):
                 yield "work"
             self.after_release["knife_to_receiver_later"] = float(
                 np.linalg.norm(self.pose("knife")[:3, 3] - self.arms["P2"].ee()[:3, 3]))
-        if retreat:
+        if retreat:  # as the world's own release does: back off if the way is clear
             back = self.arms[pid].ee()
             back[:3, 3] -= back[:3, 2] * self.skills.approach_distance
-            yield from self.linear(pid, [back], ignore=["knife"], what="retreat")
+            with contextlib.suppress(ActionFailed):
+                yield from self.linear(pid, [back], ignore=["knife"], what="retreat")
 
 
 def test_handover_moves_the_knife_from_one_gripper_to_the_other():
