@@ -108,10 +108,20 @@ def plan_rrtconnect(problem: MotionProblem, *, time_limit: float, seed: int) -> 
     setup = og.SimpleSetup(space)
     buffer = np.empty(n)
 
+    pending: list[BaseException] = []
+
     def valid(state: object) -> bool:
-        for i in range(n):
-            buffer[i] = state[i]  # type: ignore[index]
-        return not collides(buffer.copy())  # a Python bool: ompl 2.0.1 rejects np.bool_
+        """A Python bool (ompl 2.0.1 rejects np.bool_); never raises into C++: an exception (Ctrl-C, SIGTERM
+        turned KeyboardInterrupt) is kept, every state is invalid from then on, and it is raised after solve."""
+        if pending:
+            return False
+        try:
+            for i in range(n):
+                buffer[i] = state[i]  # type: ignore[index]
+            return not collides(buffer.copy())
+        except BaseException as error:
+            pending.append(error)
+            return False
 
     setup.setStateValidityChecker(valid)
     info = setup.getSpaceInformation()
@@ -123,6 +133,8 @@ def plan_rrtconnect(problem: MotionProblem, *, time_limit: float, seed: int) -> 
     setup.setStartAndGoalStates(start, goal)
     setup.setPlanner(og.RRTConnect(info))
     status = setup.solve(float(time_limit))
+    if pending:
+        raise pending[0]
     if status != ob.PlannerStatus.EXACT_SOLUTION:
         return MotionResult("timeout", seconds=time.perf_counter() - began, checks=collides.count)
     path = setup.getSolutionPath()
