@@ -572,8 +572,18 @@ class BulletWorld:
 
     def go_home(self, pid: str) -> Program:
         """Back to :data:`REST`; then, if the other arm asked for the way, wait there until its primitive ends."""
-        if np.max(np.abs(self.arms[pid].q() - REST)) >= 1e-3:
-            yield from self.transit(pid, REST.copy(), what="return home")
+        for attempt in range(self.attempts):
+            if np.max(np.abs(self.arms[pid].q() - REST)) < 1e-3:
+                break
+            try:
+                yield from self.transit(pid, REST.copy(), what="return home")
+            except ActionFailed as error:  # a new seed, once the other arm has moved on
+                if attempt == self.attempts - 1:
+                    raise
+                self._event("retry", None, pid, f"return home: attempt {attempt + 2} ({error})", "home")
+                self.other_in_the_way = "arm " in str(error)
+                yield from self._let_other_move(pid)
+                yield from self._hold(0.1)
         for _ in range(int(YIELD_SECONDS * SIM_HZ)):
             if self.right_of_way in (None, pid):
                 break

@@ -10,14 +10,24 @@ a failure that aborts the partner). The world turns an action and a role into pr
 If every program waits for :data:`DEADLOCK_SECONDS` of simulated time, the waiting actions fail ("deadlock")
 instead of hanging; the whole run is bounded by ``max_sim_time``.
 
-How the arms avoid each other (the PyBullet world, :mod:`wecook_core.execution.bullet_world`): each motion is
-planned against the other arm's current configuration (it is in the planning client), and before it starts
-it reserves the region it sweeps (AABBs of its links and carried objects along the path, padded). A motion
-whose region overlaps the other arm's active reservation waits until that motion ends, then is re-planned.
-An arm at rest holds no reservation but is an obstacle to every plan, so a motion never enters where the
-other arm stands or where it is going. Arms rest at their home configuration between actions. During the run
-the world also queries contacts between the two arms every few steps and reports any touch as a failure
-event (``RunResult.arm_contacts``).
+How the arms avoid each other (the PyBullet world, :mod:`wecook_core.execution.bullet_world`), in three layers:
+
+1. Workspace zones. An action claims the table area around the objects it names (plus the meeting point of a
+   handover), grown by a margin, before its first primitive; an action of the other arm whose zone overlaps
+   waits until that action ends. Arms working on separate parts of the table run at once; arms that would
+   work in the same place take turns. A collaboration's two roles share one zone.
+2. Motion reservations. Every motion (planned transit, straight move, actuation) is planned or checked against
+   the other arm's current configuration (it is in the planning client) and, before it starts, reserves the
+   region it sweeps (AABBs of its links and carried objects along the path, padded). A motion whose region
+   overlaps the other arm's active reservation waits until that motion ends, then is re-planned (a straight
+   move is re-checked against where the other arm stopped). An arm at rest holds no reservation but is an
+   obstacle to every plan, so a motion never enters where the other arm stands or where it is going.
+3. Rest and right of way. Between actions an arm folds back over its base (``robot.REST``), leaving the table.
+   When the other arm blocks every goal of a primitive, the blocked arm waits for it to come to rest, and the
+   other arm, once at rest, waits until the blocked primitive ends.
+
+During the run the world also queries contacts between the two arms every other step and reports any touch
+as a failure event (``RunResult.arm_contacts``; a good run has none).
 """
 
 from __future__ import annotations

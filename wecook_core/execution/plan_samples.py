@@ -18,9 +18,10 @@ import numpy as np
 from wecook_core.model import Category
 from wecook_core.plan import Act, Plan, PlanAction, Scene, SceneObject, agents_for
 
-_SLOTS = [(x, y) for y in (-0.285, -0.095, 0.095, 0.285) for x in (-0.19, 0.0, 0.19)]
-"""Footprint centres (metres) objects are dealt to: 19 cm apart, so that a tool lies at least 4 cm from its
-neighbours (room for the fingers, as :func:`wecook_core.plan.layout_scene` leaves), inside both arms' reach."""
+_SLOTS = [(x, y) for y in (-0.3, -0.1, 0.1, 0.3) for x in (-0.19, 0.0, 0.19)]
+"""Footprint centres (metres) objects are dealt to: 19 cm apart across the table and 20 cm along it, so that a
+tool lies at least 3 cm from its neighbours (room for the fingers, as :func:`wecook_core.plan.layout_scene`
+leaves), on the table and inside both arms' reach."""
 
 
 def _objects(rng: np.random.Generator) -> tuple[list[SceneObject], list[tuple[str, str]]]:
@@ -30,9 +31,9 @@ def _objects(rng: np.random.Generator) -> tuple[list[SceneObject], list[tuple[st
         ("chopping_board", Category.CONTAINER, "box", (0.22, 0.15, 0.02), 0.0),
         ("bowl", Category.CONTAINER, "cylinder", (0.15, 0.15, 0.07), 0.0),
         ("pot", Category.CONTAINER, "cylinder", (0.16, 0.16, 0.1), 0.0),
-        ("knife", Category.TOOL, "box", (0.2, 0.03, 0.025), half_pi),
-        ("spoon", Category.TOOL, "box", (0.18, 0.03, 0.02), half_pi),
-        ("rolling_pin", Category.TOOL, "box", (0.22, 0.035, 0.035), half_pi),
+        ("knife", Category.TOOL, "box", (0.18, 0.03, 0.025), half_pi),
+        ("spoon", Category.TOOL, "box", (0.16, 0.03, 0.02), half_pi),
+        ("rolling_pin", Category.TOOL, "box", (0.18, 0.035, 0.035), half_pi),
         ("oil", Category.INGREDIENT, "cylinder", (0.05, 0.05, 0.14), 0.0),
         ("lemon", Category.INGREDIENT, "sphere", (0.05, 0.05, 0.05), 0.0),
     ]

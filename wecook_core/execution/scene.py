@@ -44,7 +44,7 @@ ride on a hand, and 10 keeps them as still)."""
 RING_SEGMENTS = 12
 """Wall boxes around a cylindrical container."""
 MASS = {Category.TOOL: 0.15, Category.CONTAINER: 0.6, Category.INGREDIENT: 0.1}
-"""Kilograms by category."""
+"""Kilograms by category (tall ingredients, bottles, weigh four times as much: they stay up)."""
 COLORS = {Category.TOOL: (0.55, 0.55, 0.6, 1.0), Category.CONTAINER: (0.85, 0.75, 0.55, 1.0),
           Category.INGREDIENT: (0.85, 0.3, 0.2, 1.0)}
 
@@ -195,7 +195,8 @@ def build_scene(client: int, plan: Plan, *, self_collision: bool = False) -> Sce
         home = _yaw_matrix(obj.x, obj.y, z, obj.yaw)
         col, vis = _collision_and_visual(client, shapes)
         quat = p.getQuaternionFromEuler([0, 0, obj.yaw])
-        body = p.createMultiBody(MASS[obj.category], col, vis, home[:3, 3].tolist(), quat, physicsClientId=client)
+        mass = MASS[obj.category] * (4.0 if obj.size[2] > 0.08 and obj.category is Category.INGREDIENT else 1.0)
+        body = p.createMultiBody(mass, col, vis, home[:3, 3].tolist(), quat, physicsClientId=client)
         p.changeDynamics(body, -1, lateralFriction=1.0, rollingFriction=0.01, spinningFriction=0.01,
                          linearDamping=0.4, angularDamping=0.4, physicsClientId=client)
         objects[obj.name] = Body(obj.name, body, obj.category, tuple(obj.size), shapes, open_top,  # type: ignore[arg-type]
