@@ -571,19 +571,28 @@ class BulletWorld:
         self.arms[pid].set_fingers(width)
 
     def go_home(self, pid: str) -> Program:
-        """Back to :data:`REST`; then, if the other arm asked for the way, wait there until its primitive ends."""
-        for attempt in range(self.attempts):
-            if np.max(np.abs(self.arms[pid].q() - REST)) < 1e-3:
-                break
-            try:
-                yield from self.transit(pid, REST.copy(), what="return home")
-            except ActionFailed as error:  # a new seed, once the other arm has moved on
-                if attempt == self.attempts - 1:
-                    raise
-                self._event("retry", None, pid, f"return home: attempt {attempt + 2} ({error})", "home")
-                self.other_in_the_way = "arm " in str(error)
-                yield from self._let_other_move(pid)
-                yield from self._hold(0.1)
+        """Back to :data:`REST` (a few tries, each with a longer search); then, if the other arm asked for the
+        way, wait there until its primitive ends."""
+        try:
+            for attempt in range(self.attempts):
+                if np.max(np.abs(self.arms[pid].q() - REST)) < 1e-3:
+                    break
+                budget = self.planning_time
+                try:
+                    self.planning_time = budget * (1 + attempt)
+                    yield from self.transit(pid, REST.copy(), what="return home")
+                except ActionFailed as error:  # a new seed, once the other arm has come to rest or stopped
+                    if attempt == self.attempts - 1:
+                        raise
+                    self._event("retry", None, pid, f"return home: attempt {attempt + 2} ({error})", "home")
+                    self.other_in_the_way = True
+                    yield from self._let_other_move(pid)
+                    yield from self._hold(0.1)
+                finally:
+                    self.planning_time = budget
+        finally:
+            if self.right_of_way == pid:
+                self.right_of_way = None
         for _ in range(int(YIELD_SECONDS * SIM_HZ)):
             if self.right_of_way in (None, pid):
                 break
