@@ -81,6 +81,8 @@ HAND_SPAN = 0.22
 """Metres: the Panda hand's length along its finger axis (it lies across an object it takes from above)."""
 HAND_CLEAR_HEIGHT = 0.04
 """Metres above the table from which an object can be in the way of a hand taking something from above."""
+HOLD_YAW = math.radians(35)
+"""Radians: a holder first grips the container within this angle of its own side (the actor works opposite)."""
 FREE_MARGIN = 0.1
 """Metres of clearance around an object put down on a free spot beyond which spots count as equally roomy
 (room for the hand to take it again)."""
@@ -1131,7 +1133,13 @@ class BulletWorld:
         name = action.tool
         assert name is not None
         yield from meeting.wait_for("tool_ready")  # the actor first takes its tool, then the container is held
-        yield from self.grasp(action, pid, name, lift=False, primitive="hold")
+        regions = self._grasp_tsrs(name, pid)
+        narrow = [TSR(r.T0_w, r.Tw_e, np.vstack([r.Bw[:5], np.clip(r.Bw[5], -HOLD_YAW, HOLD_YAW)]))
+                  for r in regions]
+        try:  # on the holder's side first, away from where the actor works
+            yield from self.grasp(action, pid, name, lift=False, primitive="hold", tsrs=narrow)
+        except ActionFailed:
+            yield from self.grasp(action, pid, name, lift=False, primitive="hold", tsrs=regions)
         yield from self._hold(self.skills.hold_time)
         meeting.signal("held")
         yield from meeting.wait_for("acted")
