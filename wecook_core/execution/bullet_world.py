@@ -779,9 +779,16 @@ class BulletWorld:
         roomy; then the spot nearest the region's centre wins."""
         own = {r.name for h in self.hands.values() for r in h.riding if h.carried == name}
         half = np.array(self.bodies.objects[name].size) / 2
-        grasp_x = -0.55 * half[0] if self._kind(name) == "tool" else 0.0
         corners = np.array([[sx * half[0], sy * half[1]] for sx in (-1, 1) for sy in (-1, 1)])
-        hand = np.array([[grasp_x + sx * 0.03, sy * HAND_SPAN / 2] for sx in (-1, 1) for sy in (-1, 1)])
+        holder = next((h for h in self.hands.values() if h.carried == name), None)
+        if holder is not None and holder.riding:  # where the hand holds it now, in the object's frame
+            T_obj_ee = np.linalg.inv(holder.riding[0].T_ee_obj)
+            centre, across, along = T_obj_ee[:2, 3], T_obj_ee[:2, 1], T_obj_ee[:2, 0]
+        else:
+            centre = np.array([-0.55 * half[0] if self._kind(name) == "tool" else 0.0, 0.0])
+            across, along = np.array([0.0, 1.0]), np.array([1.0, 0.0])
+        hand = np.array([centre + sy * HAND_SPAN / 2 * across + sx * 0.03 * along
+                         for sx in (-1, 1) for sy in (-1, 1)])
         others = [(np.array(p.getAABB(b.body, physicsClientId=self.client)), b) for n, b in self.bodies.objects.items()
                   if n not in own and n != name]
         boxes = np.array([box[:, :2] for box, _ in others]).reshape(-1, 2, 2)
@@ -847,7 +854,7 @@ class BulletWorld:
                 if found_above is None:
                     continue
                 try:  # the straight way down must be feasible too
-                    self.cartesian_path(pid, found_above[0], [G], None, f"put down {name}")
+                    self.cartesian_path(pid, found_above[0], [G], [], f"put down {name}")
                 except ActionFailed as error:
                     blocked = str(error)
                     continue
@@ -858,7 +865,7 @@ class BulletWorld:
                 continue
             try:
                 yield from self.transit(pid, chosen[0], what=f"place {name}")
-                yield from self.linear(pid, [chosen[1]], ignore=None, what=f"put down {name}")
+                yield from self.linear(pid, [chosen[1]], ignore=[], what=f"put down {name}")
             except ActionFailed as error:
                 reason = str(error)
                 continue
