@@ -814,10 +814,14 @@ class BulletWorld:
                 for y in ys:
                     T = region.T0_w @ xyzrpy_to_matrix([x, y, (B[2, 0] + B[2, 1]) / 2, 0, 0, yaw]) @ region.Tw_e
                     R, t = T[:2, :2], T[:2, 3]
-                    room = min(clearance(corners @ R.T + t, boxes), clearance(hand @ R.T + t, tall))
-                    scored.append((-min(room, FREE_MARGIN), math.hypot(x, y) + 0.01 * abs(yaw), T))
-        scored.sort(key=lambda item: (item[0], item[1]))
-        return [T for score, _, T in scored if -score > 0.0]
+                    own_room = clearance(corners @ R.T + t, boxes)
+                    room = min(own_room, clearance(hand @ R.T + t, tall))
+                    if own_room > 0.0:  # where the hand has no room either, only after every roomy spot
+                        tier = 0 if room > 0.0 else 1
+                        scored.append((tier, -min(max(room, own_room * tier), FREE_MARGIN),
+                                       math.hypot(x, y) + 0.01 * abs(yaw), T))
+        scored.sort(key=lambda item: item[:3])
+        return [item[3] for item in scored]
 
     def place(self, action: PlanAction | None, pid: str, target: np.ndarray | list[TSR], free: bool = False
               ) -> Program:
@@ -1082,7 +1086,7 @@ class BulletWorld:
         if self._kind(name) != "tool":
             spot = meet.copy()
             spot[2, 3] = self.bodies.table_height + self.half(name).hz
-            region = TSR(spot, np.eye(4), np.array([[-0.04, 0.04], [-0.25, 0.25], [0.002, 0.006], [0, 0], [0, 0],
+            region = TSR(spot, np.eye(4), np.array([[-0.1, 0.1], [-0.25, 0.25], [0.002, 0.006], [0, 0], [0, 0],
                                                     [-math.pi, math.pi]]))
             yield from self.place(action, pid, [region], free=True)
             meeting.signal("at_meet")
