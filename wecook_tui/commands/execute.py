@@ -316,6 +316,12 @@ def run_execute(args: argparse.Namespace) -> int:
     return code
 
 
+class RunStopped(KeyboardInterrupt):
+    """A SIGTERM stopped the run. Handled wherever Ctrl-C is; a subclass, not KeyboardInterrupt itself, because
+    CPython kills a process with SIGINT at exit when a bare KeyboardInterrupt once escaped code that an extension
+    ran (the planner's callbacks), whatever exit code `main` returned afterwards."""
+
+
 def _interrupt_on_sigterm() -> None:
     """SIGTERM (a workbench stopping the run) ends the run like Ctrl-C: the recording is closed properly."""
     import signal
@@ -323,7 +329,8 @@ def _interrupt_on_sigterm() -> None:
 
     if threading.current_thread() is threading.main_thread():
         def interrupt(signum: int, frame: object) -> None:
-            raise KeyboardInterrupt
+            signal.signal(signal.SIGTERM, signal.SIG_IGN)  # one stop is enough
+            raise RunStopped
 
         signal.signal(signal.SIGTERM, interrupt)
 
