@@ -9,6 +9,7 @@ import cv2
 import numpy as np
 import pytest
 
+from wecook_core.execution.plan_samples import ONE_ARM_CUTS
 from wecook_core.execution.recorder import McapRecorder
 from wecook_core.execution.synthetic_run import synthetic_run
 from wecook_core.plan import dump_plan, read_plan
@@ -121,21 +122,7 @@ def test_export_writes_a_valid_plan_into_the_session(tmp_path: Path, capsys: pyt
     assert "no such session" in capsys.readouterr().err
 
 
-ONE_ARM = """\
-wecook_plan: 1
-agents:
-- {pid: P1, robot: franka_panda/panda.urdf, base: {position: [-0.5, 0.0, 0.0], yaw: 0.0}}
-scene:
-  table: {size: [1.0, 0.8], height: 0.0}
-  objects:
-  - {name: knife, category: tool, shape: box, size: [0.2, 0.03, 0.025], pose: {x: -0.1, y: 0.15, yaw: 1.5708}}
-  - {name: tomato, category: ingredient, shape: sphere, size: [0.05, 0.05, 0.05], pose: {x: 0.0, y: 0.0}}
-  - {name: chopping_board, category: container, shape: box, size: [0.25, 0.18, 0.02], pose: {x: 0.0, y: 0.0}}
-  containing: [[tomato, chopping_board]]
-actions:
-- {id: a1, pid: [P1], verb: cut, tool: knife, ingredients: [tomato], location: chopping_board, after: []}
-- {id: a2, pid: [P1], verb: cut, tool: knife, ingredients: [tomato], location: chopping_board, after: [a1]}
-"""
+ONE_ARM = ONE_ARM_CUTS
 
 
 @pytest.mark.sim

@@ -18,6 +18,25 @@ import numpy as np
 from wecook_core.model import Category
 from wecook_core.plan import Act, Plan, PlanAction, Scene, SceneObject, agents_for
 
+ONE_ARM_CUTS = """\
+wecook_plan: 1
+agents:
+- {pid: P1, robot: franka_panda/panda.urdf, base: {position: [-0.5, 0.0, 0.0], yaw: 0.0}}
+scene:
+  table: {size: [1.0, 0.8], height: 0.0}
+  objects:
+  - {name: knife, category: tool, shape: box, size: [0.2, 0.03, 0.025], pose: {x: -0.1, y: 0.15, yaw: 1.5708}}
+  - {name: tomato, category: ingredient, shape: sphere, size: [0.05, 0.05, 0.05], pose: {x: 0.0, y: 0.0}}
+  - {name: chopping_board, category: container, shape: box, size: [0.25, 0.18, 0.02], pose: {x: 0.0, y: 0.0}}
+  containing: [[tomato, chopping_board]]
+actions:
+- {id: a1, pid: [P1], verb: cut, tool: knife, ingredients: [tomato], location: chopping_board, after: []}
+- {id: a2, pid: [P1], verb: cut, tool: knife, ingredients: [tomato], location: chopping_board, after: [a1]}
+"""
+"""Plan YAML: one arm cuts a tomato on a board twice (about 20 s simulated): the smallest real run, for CLI
+tests and the recording benchmark."""
+
+
 _SLOTS = [(x, y) for y in (-0.3, -0.1, 0.1, 0.3) for x in (-0.19, 0.0, 0.19)]
 """Footprint centres (metres) objects are dealt to: 19 cm apart across the table and 20 cm along it, so that a
 tool lies at least 3 cm from its neighbours (room for the fingers, as :func:`wecook_core.plan.layout_scene`
