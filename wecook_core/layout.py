@@ -27,6 +27,11 @@ FIRST_FRAMES = 5
 """How many of an object's first sightings are combined (median box) to place it."""
 GAP = 0.06
 """Metres left free between neighbouring objects (room for the gripper's fingers)."""
+HAND_ROOM = 0.1
+"""Metres from a tool's long edge to any object taller than :data:`LOW`: a gripper taking the tool from above
+lies across it, its palm reaching about 11 cm either side of the tool's axis at the height of a pot's rim."""
+LOW = 0.04
+"""Metres: objects at most this tall (boards, tools, small ingredients) pass under a gripper's palm."""
 ARM_CLEARANCE = 0.28
 """Metres kept free at each end of the table: the arm's base stands there, and a Panda reaches down to the
 table badly closer than about 0.3 m from its base."""
@@ -60,28 +65,48 @@ def _shape_for(name: str, category: Category, width_m: float, depth_m: float) ->
     return "box", (round(_clip(long_side, 0.04, 0.08), 3), d, 0.03), yaw
 
 
-def _push_apart(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, float],
-                iterations: int = 150) -> tuple[np.ndarray, bool]:
-    """Move axis-aligned footprints apart until none overlap (with :data:`GAP`), keeping each inside
-    ``|x| <= bound[0], |y| <= bound[1]`` (an object too big for that keeps its centre within half the bound and
-    sticks out). Each overlapping pair is pushed apart, half each, along the axis where they overlap least
-    (so left stays left of right, top above bottom), then everything is clamped into the bound. Centres
-    first get a deterministic sub-millimetre spiral offset so coincident or aligned objects spread in 2-D.
-    Returns the centres and whether every overlap was resolved."""
+def _gaps(objects: Sequence[SceneObject]) -> np.ndarray:
+    """``(n, n, 2)`` metres to keep free between footprints i and j along x and y: :data:`GAP`, and
+    :data:`HAND_ROOM` across a tool (perpendicular to its long axis) from an object taller than :data:`LOW`."""
+    n = len(objects)
+    gaps = np.full((n, n, 2), GAP)
+    for i, tool in enumerate(objects):
+        if tool.category is not Category.TOOL:
+            continue
+        hx, hy = tool.half_extents()
+        across = 0 if hy >= hx else 1  # its long axis lies along y: the hand spans x
+        for j, other in enumerate(objects):
+            if j != i and other.size[2] > LOW:
+                gaps[i, j, across] = gaps[j, i, across] = max(gaps[i, j, across], HAND_ROOM)
+    return gaps
+
+
+def _push_apart(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, float], gaps: np.ndarray,
+                sides: np.ndarray, iterations: int = 150) -> tuple[np.ndarray, bool]:
+    """Move axis-aligned footprints apart until none overlap (``gaps[i, j]`` apart, see :func:`_gaps`), keeping
+    each inside ``|x| <= bound[0], |y| <= bound[1]`` (an object too big for that keeps its centre within half the
+    bound and sticks out) and on its arm's half (``sides``: -1 ``x <= 0``, +1 ``x >= 0``, 0 anywhere). Each
+    overlapping pair is pushed apart, half each, along the axis where they overlap least (so left stays left of
+    right, top above bottom), then everything is clamped into the bound. Centres first get a deterministic
+    sub-millimetre spiral offset so coincident or aligned objects spread in 2-D. Returns the centres and whether
+    every overlap was resolved."""
     n = len(centres)
     k = np.arange(n)
     angle = k * 2.399963  # golden angle
     c = centres.astype(float) + 1e-4 * np.stack([np.cos(angle), np.sin(angle)], axis=1) * (k[:, None] + 1)
     limit = np.maximum(np.array(bound)[None, :] - halves, np.array(bound)[None, :] / 2)  # big ones stick out
+    low, high = -limit.copy(), limit.copy()
+    high[sides < 0, 0] = np.minimum(high[sides < 0, 0], 0.0)
+    low[sides > 0, 0] = np.maximum(low[sides > 0, 0], 0.0)
     for _ in range(iterations):
         moved = False
         for i in range(n - 1):  # pairs in turn (Gauss-Seidel): keeps the layout's order better than all at once
             d = c[i + 1:] - c[i]
-            pen = halves[i] + halves[i + 1:] + GAP - np.abs(d)
+            pen = halves[i] + halves[i + 1:] + gaps[i, i + 1:] - np.abs(d)
             for m in np.nonzero((pen > 1e-9).all(axis=1))[0]:
                 j = i + 1 + int(m)
                 dj = c[j] - c[i]
-                pj = halves[i] + halves[j] + GAP - np.abs(dj)
+                pj = halves[i] + halves[j] + gaps[i, j] - np.abs(dj)
                 if (pj <= 1e-9).any():
                     continue
                 axis = int(np.argmin(pj))
@@ -89,43 +114,50 @@ def _push_apart(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, flo
                 c[i, axis] -= step
                 c[j, axis] += step
                 moved = True
-        c = np.clip(c, -limit, limit)
+        c = np.clip(c, low, high)
         if not moved:
             return c, True
     return c, False
 
 
-def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[float, float]],
-            step: float = 0.01) -> np.ndarray:
-    """Place objects one by one, biggest first: each stays at its centre if it keeps :data:`GAP` from those
-    already placed inside ``bounds[0]``, else goes to the nearest point of a ``step`` grid that does. On a
-    crowded table the rules loosen in this order: half the gap in ``bounds[0]``, the gap then half of it in
-    ``bounds[1]`` (say, the whole table), 5 mm in each. Always terminates; positions stay near the input."""
+def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[float, float]], gaps: np.ndarray,
+            sides: np.ndarray, step: float = 0.01) -> np.ndarray:
+    """Place objects one by one, biggest first: each stays at its centre if it keeps its gaps (:func:`_gaps`)
+    from those already placed inside ``bounds[0]`` and on its arm's half (``sides``), else goes to the nearest
+    point of a ``step`` grid that does. On a crowded table the rules loosen in this order: half the gaps in
+    ``bounds[0]``, the gaps then half of them in ``bounds[1]`` (say, the whole table), then either half of the
+    table, then 5 mm in each bound. Always terminates; positions stay near the input."""
     order = np.argsort(-(halves[:, 0] * halves[:, 1]), kind="stable")
     out = centres.copy()
     settled: list[int] = []
-    rules = [(0, GAP), (0, GAP / 2), *((k, g) for k in range(1, len(bounds)) for g in (GAP, GAP / 2)),
-             *((k, 0.005) for k in range(len(bounds)))]
+    # (bound, share of the gaps, fixed gap, keep the arm's half)
+    rules = [*((k, share, 0.0, True) for k in range(len(bounds)) for share in (1.0, 0.5)),
+             *((k, 0.5, 0.0, False) for k in range(len(bounds))),
+             *((k, 0.0, 0.005, False) for k in range(len(bounds)))]
     for i in order:
-        def free(points: np.ndarray, gap: float, i: int = i) -> np.ndarray:
+        def free(points: np.ndarray, share: float, fixed: float, i: int = i) -> np.ndarray:
             if not settled:
                 return np.ones(len(points), bool)
             others = out[settled]
-            reach = halves[settled] + halves[i] + gap - 1e-9
-            gaps = np.abs(points[:, None, :] - others[None, :, :]) >= reach[None, :, :]
-            return np.all(gaps.any(axis=2), axis=1)
+            reach = halves[settled] + halves[i] + share * gaps[i, settled] + fixed - 1e-9
+            apart = np.abs(points[:, None, :] - others[None, :, :]) >= reach[None, :, :]
+            return np.all(apart.any(axis=2), axis=1)
+
+        def on_side(points: np.ndarray, i: int = i) -> np.ndarray:
+            return points[:, 0] * sides[i] >= -1e-9
 
         first = np.maximum(np.array(bounds[0]) - halves[i], 0.0)
-        if free(out[i][None, :], GAP)[0] and np.all(np.abs(out[i]) <= first + 1e-9):
+        here = out[i][None, :]
+        if free(here, 1.0, 0.0)[0] and on_side(here)[0] and np.all(np.abs(out[i]) <= first + 1e-9):
             settled.append(int(i))
             continue
-        for k, gap in rules:
+        for k, share, fixed, keep_side in rules:
             limit = np.maximum(np.array(bounds[k]) - halves[i], 0.0)
             xs = np.arange(-limit[0], limit[0] + 1e-9, step)
             ys = np.arange(-limit[1], limit[1] + 1e-9, step)
             grid = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)
             grid = grid[np.argsort(np.hypot(*(grid - out[i]).T), kind="stable")]
-            ok = free(grid, gap)
+            ok = free(grid, share, fixed) & (on_side(grid) if keep_side else True)
             if ok.any():
                 out[i] = grid[int(np.argmax(ok))]
                 break
@@ -195,9 +227,11 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     P2): a robot arm does not reach across the table as a person does.
     Sizes come from the category (containers wide, tools long and thin, ingredients small), scaled from the
     box by the mean of the two axis scales and clipped to sane limits. Objects on the table are then pushed
-    apart until no footprints overlap, :data:`GAP` apart, inside the reach region; when they do not fit there,
-    each object, biggest first, goes to the free spot nearest its mapped place on the table (less
-    :data:`ARM_CLEARANCE` at the arms' ends); ingredients that start in a container sit inside it.
+    apart until no footprints overlap, :data:`GAP` apart (:data:`HAND_ROOM` across a tool from anything tall
+    enough to meet the gripper's palm), inside the reach region and each on its arm's half; when they do not fit
+    there, each object, biggest first, goes to the free spot nearest its mapped place on the table (less
+    :data:`ARM_CLEARANCE` at the arms' ends), the rules loosening only as far as the table needs (see
+    :func:`_settle`); ingredients that start in a container sit inside it.
     """
     first = {t.name: _first_box(t.frames, t.boxes) for t in obs.objects if len(t.frames)}
     if not first:
@@ -217,7 +251,7 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     xy = (centres_px - lo) * scale - reach
     xy[:, 1] = -xy[:, 1]  # image y grows downwards; world +y is the image's top
     users = _users(graph)
-    for k, name in enumerate(names):  # an object only one arm uses stays on that arm's half of the table
+    for k, name in enumerate(names):  # an object only one arm uses goes to that arm's half of the table
         if users.get(name) == {"P1"}:
             xy[k, 0] = min(xy[k, 0], 0.0)
         elif users.get(name) == {"P2"}:
@@ -234,11 +268,14 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     free = [n for n in names if n not in containing]
     centres = np.array([[objects[n].x, objects[n].y] for n in free])
     halves = np.array([objects[n].half_extents() for n in free])
+    gaps = _gaps([objects[n] for n in free])
+    sides = np.array([{frozenset({"P1"}): -1, frozenset({"P2"}): 1}.get(frozenset(users.get(n, ())), 0)
+                      for n in free])
     inner = (table.size[0] / 2 - ARM_CLEARANCE, table.size[1] / 2 - GAP)
     whole = (table.size[0] / 2 - 0.12, table.size[1] / 2 - 0.01)  # all but the arms' bases
-    placed, ok = _push_apart(centres, halves, table.reach)
+    placed, ok = _push_apart(centres, halves, table.reach, gaps, sides)
     if not ok:  # too crowded for the reach region: each object, biggest first, to the free spot nearest its place
-        placed = _settle(centres, halves, (inner, whole))
+        placed = _settle(centres, halves, (inner, whole), gaps, sides)
     for n, (x, y) in zip(free, placed, strict=True):
         o = objects[n]
         objects[n] = SceneObject(o.name, o.category, o.shape, o.size, round(float(x), 4), round(float(y), 4), o.yaw)

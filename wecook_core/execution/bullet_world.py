@@ -1144,7 +1144,7 @@ class BulletWorld:
         name = action.tool
         assert name is not None
         yield from meeting.wait_for("tool_ready")  # the actor first takes its tool, then the container is held
-        regions = self._grasp_tsrs(name, pid)
+        regions = self._grasp_tsrs(name, pid, kinds=["hold_rim"] if self._kind(name) == "open_container" else None)
         narrow = [TSR(r.T0_w, r.Tw_e, np.vstack([r.Bw[:5], np.clip(r.Bw[5], -HOLD_YAW, HOLD_YAW)]))
                   for r in regions]
         try:  # on the holder's side first, away from where the actor works

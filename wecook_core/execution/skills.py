@@ -236,7 +236,7 @@ def load_skills(path: str | Path = SKILLS_PATH) -> SkillLibrary:
     if not isinstance(data, dict):
         raise _bad(path, "top", "expected a mapping")
     grasps = {}
-    for kind in (*KINDS, "handover_side"):
+    for kind in (*KINDS, "hold_rim"):
         specs = (data.get("grasps") or {}).get(kind)
         if not specs:
             raise _bad(path, f"grasps.{kind}", "missing")
