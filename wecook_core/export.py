@@ -34,3 +34,17 @@ def export_session_plan(session_path: str | Path, out: str | Path | None = None,
     validate(plan, path)
     write_plan(plan, path)
     return Exported(plan, path, tuple(session.warnings))
+
+
+def demo_plan(table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT) -> Plan:
+    """The plan of the bundled demo (``assets/demo``) as ``wecook export demo`` writes it for a new demo session:
+    its observations analysed with the default parameters and no corrections, laid out on ``table``."""
+    from wecook_core.observations import load_observations
+    from wecook_core.pipeline import analyze
+    from wecook_core.recognize import load_knowledge
+    from wecook_core.synth import demo_dir
+
+    folder = demo_dir()
+    obs = load_observations(folder / "video.mp4", folder / "objects.csv", folder / "hands.csv")
+    analysis = analyze(obs, load_knowledge())
+    return plan_from_graph(analysis.graph, obs, table=table, robot=robot)

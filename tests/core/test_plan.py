@@ -301,3 +301,56 @@ def test_an_object_one_arm_uses_stays_on_its_half() -> None:
     plan = plan_from_graph(ActionGraph(nodes, {"P1": ("a1",), "P2": ("a2",)}, ()), obs)
     knife, pot = plan.scene.object("knife"), plan.scene.object("pot")
     assert knife.x <= 0.0 < pot.x  # the knife only P1 uses comes to P1's half; the pot stays right
+
+
+def test_one_arm_objects_stay_on_its_half_when_the_table_is_crowded() -> None:
+    """Ten things only P1 uses, all seen in the middle of the image: separating them never moves one across."""
+    names = [f"lemon_{k}" for k in range(10)]
+    objects = tuple(track(k, n, (300 + 2 * k, 200 + k, 330 + 2 * k, 230 + k)) for k, n in enumerate(names))
+    categories = dict.fromkeys(names, Category.INGREDIENT)
+    obs = Observations(VideoInfo("v.mp4", 30.0, 100, W, H), objects, (), categories)
+    nodes = tuple(node(f"a{k}", "P1", 10 * k, 10 * k + 8, f"(HP (H RH_P1) (AP (A squeeze) (O {n})))")
+                  for k, n in enumerate(names))
+    plan = plan_from_graph(ActionGraph(nodes, {"P1": tuple(n.id for n in nodes)}, ()), obs)
+    validate(plan)
+    assert all(o.x <= 1e-9 for o in plan.scene.objects), [(o.name, o.x) for o in plan.scene.objects]
+    for a, b in itertools.combinations(plan.scene.objects, 2):
+        (ax, ay), (bx, by) = a.half_extents(), b.half_extents()
+        assert abs(a.x - b.x) >= ax + bx or abs(a.y - b.y) >= ay + by, (a.name, b.name)
+
+
+def test_the_demo_layout_keeps_each_arm_s_things_on_its_half_and_room_for_the_hand() -> None:
+    """The bundled demo's plan: what one person uses lies on that arm's half, and a gripper lying across a tool
+    to take it has HAND_ROOM from anything tall (the spoon beside the pot, on P2's side, made P1's grasps and
+    scoops fail)."""
+    from wecook_core.export import demo_plan
+    from wecook_core.layout import GAP, HAND_ROOM, LOW
+
+    plan = demo_plan()
+    users: dict[str, set[str]] = {}
+    for a in plan.actions:
+        acts = [(a.pids[0], a.tool, a.ingredients, a.location, a.source)]
+        if a.partner is not None:
+            p = a.partner
+            acts.append((a.pids[1], p.tool, p.ingredients, p.location, p.source))
+        for pid, *names in acts:
+            for name in [names[0], *names[1], names[2], names[3]]:
+                if name is not None:
+                    users.setdefault(name, set()).add(pid)
+    inside = dict(plan.scene.containing)
+    free = [o for o in plan.scene.objects if o.name not in inside]
+    sides = {o.name: o.x for o in free if len(users.get(o.name, ())) == 1}
+    assert len(sides) >= 5
+    for name, x in sides.items():
+        assert x <= 0.0 if users[name] == {"P1"} else x >= 0.0, (name, users[name], x)
+    tools = [o for o in free if o.category is Category.TOOL]
+    assert len(tools) == 4
+    for tool in tools:
+        tx, ty = tool.half_extents()
+        assert ty > tx  # lying along y: the hand spans x
+        for other in free:
+            if other is tool or other.size[2] <= LOW:
+                continue
+            ox, oy = other.half_extents()
+            assert abs(tool.x - other.x) - tx - ox >= HAND_ROOM - 1e-6 or \
+                abs(tool.y - other.y) - ty - oy >= GAP - 1e-6, (tool.name, other.name)

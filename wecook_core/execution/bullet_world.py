@@ -54,6 +54,11 @@ from wecook_core.execution.tsr import TSR, pose_to_matrix, sample, xyzrpy_to_mat
 from wecook_core.model import Category
 from wecook_core.plan import Plan, PlanAction
 
+Accept = Callable[[np.ndarray], bool]
+"""Takes a candidate ee pose (4x4, world) or not."""
+Rank = Callable[[np.ndarray], float]
+"""Orders candidate ee poses: the lowest is tried first."""
+
 JOINT_NAMES = [f"panda_joint{k + 1}" for k in range(7)] + ["panda_finger_joint1", "panda_finger_joint2"]
 STATE_EVERY = SIM_HZ // 30
 """Steps between two ``on_state`` calls (30 Hz)."""
@@ -81,8 +86,9 @@ HAND_SPAN = 0.22
 """Metres: the Panda hand's length along its finger axis (it lies across an object it takes from above)."""
 HAND_CLEAR_HEIGHT = 0.04
 """Metres above the table from which an object can be in the way of a hand taking something from above."""
-HOLD_YAW = math.radians(35)
-"""Radians: a holder first grips the container within this angle of its own side (the actor works opposite)."""
+CROWDED = 0.35
+"""Metres: when the other arm's hand is this close to where a pose is sought, the poses farthest from it come
+first."""
 FREE_MARGIN = 0.1
 """Metres of clearance around an object put down on a free spot beyond which spots count as equally roomy
 (room for the hand to take it again)."""
@@ -353,17 +359,30 @@ class BulletWorld:
             return f"no collision-free {what} in {count} TSR samples (in the way: {', '.join(blockers)})"
         return f"no reachable {what} in {count} TSR samples"
 
-    def _goal_samples(self, tsrs: Sequence[TSR], T_eff_ee: np.ndarray, n: int,
-                      accept: object = None) -> list[np.ndarray]:
+    def _goal_samples(self, tsrs: Sequence[TSR], T_eff_ee: np.ndarray, n: int, accept: Accept | None = None,
+                      rank: Rank | None = None) -> list[np.ndarray]:
+        """Up to ``n`` ee poses drawn from ``tsrs`` (the effector at ``T_eff_ee`` from the ee) that ``accept``
+        takes, lowest ``rank`` first (else in the order drawn)."""
         out: list[np.ndarray] = []
         for _ in range(n * 12):
             if len(out) >= n:
                 break
             region = tsrs[int(self.rng.integers(len(tsrs)))]
             T = sample(region, self.rng) @ T_eff_ee
-            if accept is None or accept(T):  # type: ignore[operator]
+            if accept is None or accept(T):
                 out.append(T)
-        return out
+        return sorted(out, key=rank) if rank is not None else out
+
+    def _away_from_other(self, pid: str, near: np.ndarray) -> Rank | None:
+        """Farthest from the other arm's hand first, when that hand is within :data:`CROWDED` of ``near`` (a world
+        point): the two arms work at one object, so the pose with the most room between them is tried first."""
+        other = self._other(pid)
+        if other is None:
+            return None
+        hand = self.arms[other].ee()[:3, 3]
+        if np.linalg.norm(hand - near) > CROWDED:
+            return None
+        return lambda T: -float(np.linalg.norm(T[:3, 3] - hand))
 
     def _plan(self, pid: str, goal: np.ndarray, ignore: Sequence[str]) -> list[np.ndarray] | str:
         self._sync()
@@ -621,7 +640,8 @@ class BulletWorld:
         return out
 
     def grasp(self, action: PlanAction, pid: str, name: str, *, lift: bool = True, ignore_extra: Sequence[str] = (),
-              tsrs: list[TSR] | None = None, accept: object = None, primitive: str = "grasp") -> Program:
+              tsrs: list[TSR] | None = None, accept: Accept | None = None, rank: Rank | None = None,
+              primitive: str = "grasp") -> Program:
         """Pre-grasp (planned), straight approach, close, attach, lift (straight up)."""
         self._event("primitive_start", action, pid, name, primitive)
         body = self.bodies.objects[name]
@@ -647,7 +667,7 @@ class BulletWorld:
                 yield from self._let_other_move(pid)
                 self._event("retry", action, pid, f"{primitive} {name}: attempt {attempt + 1} ({reason})", primitive)
             self._sync()
-            candidates = self._goal_samples(regions, np.eye(4), self.samples, accept)
+            candidates = self._goal_samples(regions, np.eye(4), self.samples, accept, rank)
             pre_goal = None
             blocked = None
             for G in candidates:
@@ -722,7 +742,8 @@ class BulletWorld:
             self._collide_with_arm(pid, name, enabled=True)
 
     def engage(self, action: PlanAction, pid: str, spec: TSRSpec, roles: dict[str, str | None],
-               meet: tuple[str, str] | None = None, accept: object = None, then: Step | None = None) -> Program:
+               meet: tuple[str, str] | None = None, accept: Accept | None = None, then: Step | None = None
+               ) -> Program:
         """Carry the effector (the carried object, else the gripper) into a TSR, by a planned move. With
         ``then`` (the actuation that follows), only poses from which that actuation is feasible are chosen."""
         self._event("primitive_start", action, pid, spec.frame, "engage")
@@ -736,7 +757,8 @@ class BulletWorld:
             self._sync()
             T0_w, sizes = self.frame(spec, roles, pid, meet)
             region = spec.tsr(T0_w, sizes)
-            candidates = self._goal_samples([region], T_eff_ee, self.samples, accept)
+            rank = self._away_from_other(pid, T0_w[:3, 3]) if meet is None else None
+            candidates = self._goal_samples([region], T_eff_ee, self.samples, accept, rank)
             found = None
             for G in candidates:
                 found = self._ik_goal(pid, [G], [])
@@ -1145,12 +1167,24 @@ class BulletWorld:
         assert name is not None
         yield from meeting.wait_for("tool_ready")  # the actor first takes its tool, then the container is held
         regions = self._grasp_tsrs(name, pid, kinds=["hold_rim"] if self._kind(name) == "open_container" else None)
-        narrow = [TSR(r.T0_w, r.Tw_e, np.vstack([r.Bw[:5], np.clip(r.Bw[5], -HOLD_YAW, HOLD_YAW)]))
-                  for r in regions]
-        try:  # on the holder's side first, away from where the actor works
-            yield from self.grasp(action, pid, name, lift=False, primitive="hold", tsrs=narrow)
-        except ActionFailed:
-            yield from self.grasp(action, pid, name, lift=False, primitive="hold", tsrs=regions)
+        centre = self.pose(name)[:2, 3]
+        actor = next(k for k in action.pids if k != pid)
+        toward = self.bodies.arms[actor].base[:2, 3] - centre
+        toward /= max(float(np.linalg.norm(toward)), 1e-9)
+
+        def far_side(T: np.ndarray) -> float:
+            """Cosine of the angle, about the container, between the grip and the actor's base: the actor works
+            on the side facing its base, so the grip farthest round from there is tried first."""
+            grip = T[:2, 3] - centre
+            return float(grip @ toward / max(float(np.linalg.norm(grip)), 1e-9))
+
+        for k, region in enumerate(regions):  # each grasp in the library's order
+            try:
+                yield from self.grasp(action, pid, name, lift=False, primitive="hold", tsrs=[region], rank=far_side)
+                break
+            except ActionFailed:
+                if k == len(regions) - 1:
+                    raise
         yield from self._hold(self.skills.hold_time)
         meeting.signal("held")
         yield from meeting.wait_for("acted")
