@@ -1,14 +1,10 @@
 """Recording overhead: run time with an MCAP recorder over run time without one (target: ratio < 1.15).
 
-With the real executor (``wecook_core.execution.executor.execute_plan``) on the demo's plan (exported from the
-demo session, else built from the demo's true action graph; the small :data:`BENCH_PLAN` when there is no
-demo), the same plan and seed run twice per repetition, interleaved: once with an
-observer that drops everything, once with :class:`McapRecorder`; the medians of the process CPU times are
-compared (the machine is shared: wall times are noisier), and the time spent inside the recorder's calls is
-reported too. Without the executor, a synthetic run of the same message rates stands
-in (:mod:`wecook_core.execution.synthetic_run`: 30 states/s of simulated time with two 9-link arms and five
-objects, events, logs and images at action boundaries), paced at 20x real time like the simulation; the note
-says which was measured.
+With the real executor (``wecook_core.execution.executor.execute_plan``) on the demo's plan
+(:func:`wecook_core.export.demo_plan`, as ``wecook export demo`` writes it), the same plan and seed run twice
+per repetition, interleaved: once with an observer that drops everything, once with :class:`McapRecorder`; the
+medians of the process CPU times are compared (the machine is shared: wall times are noisier), and the time
+spent inside the recorder's calls is reported too.
 
 Run: ``.venv/bin/python -m bench.recording``.
 """
@@ -25,12 +21,8 @@ from typing import Any
 from wecook_core.execution.observer import FrameInfo, Quat, RunEvent, Vec3
 from wecook_core.execution.plan_samples import ONE_ARM_CUTS
 from wecook_core.execution.recorder import McapRecorder
-from wecook_core.execution.synthetic_run import synthetic_run
-from wecook_core.resources import ASSETS_DIR
 
 REPEATS = 3
-SPEEDUP = 20.0
-"""Simulated seconds per wall second the synthetic stand-in is paced at (the executor's measured rate)."""
 
 
 class Discard:
@@ -59,52 +51,19 @@ class Discard:
         pass
 
 
-BENCH_PLAN = ONE_ARM_CUTS
-"""Stand-in when no demo plan exists yet: two cuts by one arm (about 20 s simulated)."""
+def _runner() -> tuple[str, Callable[[Any], float]]:
+    """(description, run(observer) -> simulated seconds)."""
+    from wecook_core.execution.executor import execute_plan
+    from wecook_core.export import demo_plan
+    from wecook_core.plan import load_plan
 
+    execute_plan(load_plan(ONE_ARM_CUTS), Discard(), seed=0)  # warm up imports and URDF caches
+    plan = demo_plan()
 
-def _demo_plan() -> tuple[Any, str] | None:
-    """The demo's plan: exported from the demo session if it was, else built from the demo's true graph."""
-    from wecook_core.plan import read_plan
+    def run_real(observer: Any) -> float:
+        return float(execute_plan(plan, observer, seed=0).sim_time)
 
-    exported = ASSETS_DIR.parent / "sessions" / "demo" / "plans" / "plan.yaml"
-    if exported.is_file():
-        return read_plan(exported), "the demo session's exported plan"
-    try:
-        from wecook_core.graph import build_graph
-        from wecook_core.plan import plan_from_graph
-        from wecook_core.synth import demo_scenario
-    except ImportError:
-        return None
-    scenario = demo_scenario()
-    return plan_from_graph(build_graph(scenario.actions), scenario.observations), "the demo's plan (true graph)"
-
-
-def _runner() -> tuple[str, Callable[[Any], float], int]:
-    """(description, run(observer) -> simulated seconds, repetitions)."""
-    try:
-        from wecook_core.execution.executor import execute_plan
-        from wecook_core.plan import load_plan
-
-        execute_plan(load_plan(BENCH_PLAN), Discard(), seed=0)  # warm up imports and URDF caches
-        demo = _demo_plan()
-        if demo is not None:
-            plan, what, repeats = demo[0], f"real executor on {demo[1]}", 2
-        else:
-            plan, what, repeats = load_plan(BENCH_PLAN), "real executor on BENCH_PLAN (no demo yet)", REPEATS
-
-        def run_real(observer: Any) -> float:
-            return float(execute_plan(plan, observer, seed=0).sim_time)
-
-        return what, run_real, repeats
-    except ImportError as error:
-        reason = f"executor unavailable: {error}"
-
-    def run_synthetic(observer: Any) -> float:
-        return synthetic_run(observer, actions=6, seconds_per_action=2.0, state_hz=30.0,
-                             wall_per_sim=1.0 / SPEEDUP).sim_seconds
-
-    return f"synthetic stream paced at {SPEEDUP:.0f}x real time ({reason})", run_synthetic, REPEATS
+    return "real executor on the demo's plan", run_real
 
 
 class Timed:
@@ -128,7 +87,8 @@ class Timed:
 
 
 def run() -> list[dict[str, object]]:
-    what, run_once, repeats = _runner()
+    what, run_once = _runner()
+    repeats = REPEATS
     without, with_rec, inside, sizes, counts, sims = [], [], [], [], [], []
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(repeats):  # interleaved, CPU time of this process: less sensitive to other load

@@ -220,3 +220,19 @@ def test_a_synthetic_two_arm_plan_runs_every_action_and_the_arms_never_touch():
         assert any(a0 < b1 and b0 < a1 for a0, a1 in p1 for b0, b1 in p2)  # the arms really worked at once
     finally:
         world.close()
+
+
+def test_the_demo_plan_runs_every_action_and_the_arms_never_touch():
+    """The plan ``wecook export demo`` writes for the bundled demo, as a user would run it (seed 0)."""
+    from wecook_core.export import demo_plan
+
+    plan = demo_plan()
+    assert {"handover", "holding", "transfer", "cut", "stir", "pour"} <= {a.verb for a in plan.actions}
+    world = DistanceWorld(plan, Recorder(), seed=0, images=False)
+    try:
+        results = run_schedule(plan, world)
+        assert [r.status for r in results] == ["done"] * len(plan.actions), [r for r in results if r.status != "done"]
+        assert world.arm_contacts == 0
+        assert world.closest > -0.0005
+    finally:
+        world.close()
