@@ -6,9 +6,9 @@ import numpy as np
 import pybullet as p
 import pytest
 
-from wecook_core.execution.bullet_world import BulletWorld
 from wecook_core.execution.executor import ActionFailed, execute_plan, run_schedule
 from wecook_core.execution.robot import HOME, LOWER, UPPER, Panda
+from wecook_core.execution.world import BulletWorld
 from wecook_core.model import Category
 from wecook_core.plan import Plan, PlanAction, Scene, SceneObject, agents_for
 

@@ -10,7 +10,7 @@ a failure that aborts the partner). The world turns an action and a role into pr
 If every program waits for :data:`DEADLOCK_SECONDS` of simulated time, the waiting actions fail ("deadlock")
 instead of hanging; the whole run is bounded by ``max_sim_time``.
 
-How the arms avoid each other (the PyBullet world, :mod:`wecook_core.execution.bullet_world`), in three layers:
+How the arms avoid each other (the PyBullet world, :mod:`wecook_core.execution.world`), in three layers:
 
 1. Workspace zones. An action claims the table area around the objects it names (plus the meeting point of a
    handover), grown by a margin, before its first primitive; an action of the other arm whose zone overlaps
@@ -244,7 +244,7 @@ def execute_plan(plan: Plan, observer: RunObserver, *, seed: int = 0, realtime: 
     """
     import yaml
 
-    from wecook_core.execution.bullet_world import BulletWorld
+    from wecook_core.execution.world import BulletWorld
     from wecook_core.plan import plan_to_dict
 
     began = time.perf_counter()

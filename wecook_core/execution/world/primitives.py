@@ -1,0 +1,392 @@
+"""The third layer of the PyBullet world (:mod:`wecook_core.execution.world`): the primitives grasp, engage,
+actuate and place (and release), each a program of :mod:`wecook_core.execution.executor`. A primitive whose
+goals fail is retried with new samples, up to ``attempts`` rounds of ``samples`` samples; then it fails with its
+reason.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from collections.abc import Sequence
+
+import numpy as np
+import pybullet as p
+
+from wecook_core.execution.executor import WAIT, ActionFailed, Program
+from wecook_core.execution.planning_scene import Riding
+from wecook_core.execution.robot import attach, detach
+from wecook_core.execution.scene import SIM_HZ
+from wecook_core.execution.skills import Step, TSRSpec, Waypoint, actuation_path, evaluate
+from wecook_core.execution.tsr import TSR, xyzrpy_to_matrix
+from wecook_core.execution.world.moves import YIELD_SECONDS, Accept, ArmMotion, Rank
+from wecook_core.plan import PlanAction
+
+APPROACH_OPENING = 0.008
+"""Metres per finger beyond the grip width the fingers open to approach an object."""
+HAND_SPAN = 0.22
+"""Metres: the Panda hand's length along its finger axis (it lies across an object it takes from above)."""
+HAND_CLEAR_HEIGHT = 0.04
+"""Metres above the table from which an object can be in the way of a hand taking something from above."""
+FREE_MARGIN = 0.1
+"""Metres of clearance around an object put down on a free spot beyond which spots count as equally roomy
+(room for the hand to take it again)."""
+
+
+class Primitives(ArmMotion):
+    def _grasp_tsrs(self, name: str, pid: str, kinds: Sequence[str] | None = None,
+                    flip: bool = False) -> list[TSR]:
+        out = []
+        for kind in kinds or [self._kind(name)]:
+            for spec in self.skills.grasps[kind]:
+                T0_w, sizes = self.frame(spec, {"object": name}, pid)
+                if spec.frame.startswith("object") and flip:
+                    T0_w = T0_w @ np.diag([-1.0, -1.0, 1.0, 1.0])
+                sizes["f"] = self.half(name)
+                out.append(spec.tsr(T0_w, sizes))
+                if flip and spec.frame.startswith("object"):
+                    out.append(spec.tsr(self.pose(name), sizes))
+        return out
+
+    def grasp(self, action: PlanAction, pid: str, name: str, *, lift: bool = True, ignore_extra: Sequence[str] = (),
+              tsrs: list[TSR] | None = None, accept: Accept | None = None, rank: Rank | None = None,
+              primitive: str = "grasp") -> Program:
+        """Pre-grasp (planned), straight approach, close, attach, lift (straight up)."""
+        self._event("primitive_start", action, pid, name, primitive)
+        body = self.bodies.objects[name]
+        holder = self._holder_of(name, pid)
+        if holder is not None and primitive != "take":  # in the other hand: wait until it is let go
+            for _ in range(int(YIELD_SECONDS * SIM_HZ)):
+                if self._holder_of(name, pid) is None:
+                    break
+                yield WAIT
+            else:
+                raise ActionFailed(f"{primitive} {name}: {holder} kept holding it")
+        kind = self._kind(name)
+        regions = tsrs or self._grasp_tsrs(name, pid)
+        grip = min(max(evaluate(self.skills.grip[kind], {"f": self.half(name)}), 0.0), 0.04)
+        self._set_grip(pid, min(grip + APPROACH_OPENING, 0.04))  # open just enough: neighbours stay clear
+        support = [n for n, c in self.plan.scene.containing if n == name] + \
+            [c for n, c in self.plan.scene.containing if n == name]
+        ignore = [name, *support, *ignore_extra]
+        approach = self.skills.approach_distance
+        reason = "no reachable collision-free grasp"
+        for attempt in range(self.attempts):
+            if attempt:
+                yield from self._let_other_move(pid)
+                self._event("retry", action, pid, f"{primitive} {name}: attempt {attempt + 1} ({reason})", primitive)
+            self._sync()
+            candidates = self._goal_samples(regions, np.eye(4), self.samples, accept, rank)
+            pre_goal = None
+            blocked = None
+            for G in candidates:
+                found = self._ik_goal(pid, [G], ignore)
+                if found is None:
+                    continue
+                pre = G.copy()
+                pre[:3, 3] -= G[:3, 2] * approach
+                found_pre = self._ik_goal(pid, [pre], ignore_extra)
+                if found_pre is None:
+                    continue
+                try:  # the straight approach (and the lift) must be feasible from there
+                    moves = [G, G @ _lifted(self.skills.lift, G)] if lift else [G]
+                    self.cartesian_path(pid, found_pre[0], moves, ignore, f"approach {name}")
+                except ActionFailed as error:
+                    blocked = str(error)
+                    continue
+                pre_goal = (found_pre[0], pre, G)
+                break
+            if pre_goal is None:
+                reason = blocked or self._no_goal(f"grasp of {name}", len(candidates))
+                continue
+            try:
+                yield from self.transit(pid, pre_goal[0], ignore_extra, what=f"{primitive} {name}")
+                # the fingers close into the object without pushing it about: the constraint will hold it
+                self._collide_with_arm(pid, name, enabled=False)
+                yield from self.linear(pid, [pre_goal[2]], ignore=ignore, what=f"approach {name}")
+            except ActionFailed as error:
+                self._collide_with_arm(pid, name, enabled=True)
+                reason = str(error)
+                continue
+            self._set_grip(pid, grip)
+            yield from self._hold(0.2)
+            self.picked_from[name] = self.pose(name)
+            constraint, T_ee_obj = attach(self.client, self.bodies.arms[pid].body, body.body)
+            hand = self.hands[pid]
+            hand.carried, hand.constraint = name, constraint
+            hand.riding = [Riding(name, T_ee_obj)]
+            for content in self._contents(name):  # what lies in a container moves with it
+                self._ride(pid, content)
+            if lift:
+                up = self.arms[pid].ee()
+                up[2, 3] += self.skills.lift
+                try:
+                    yield from self.linear(pid, [up], ignore=[*ignore], what=f"lift {name}")
+                except ActionFailed as error:  # let go, back off, try another grasp
+                    reason = str(error)
+                    yield from self.release(pid)
+                    continue
+            self._event("primitive_end", action, pid, name, primitive)
+            return
+        self._event("primitive_failed", action, pid, reason, primitive)
+        raise ActionFailed(f"{primitive} {name}: {reason}")
+
+    def release(self, pid: str, retreat: bool = True) -> Program:
+        """Open, detach, move straight back along the approach."""
+        hand = self.hands[pid]
+        name = hand.carried
+        self._set_grip(pid, 0.04)
+        if hand.constraint is not None:
+            detach(self.client, hand.constraint)
+        for r in hand.riding[1:]:
+            self._collide_with_arm(pid, r.name, enabled=True)
+        hand.carried, hand.constraint, hand.riding = None, None, []
+        yield from self._hold(0.15)
+        if retreat:
+            back = self.arms[pid].ee()
+            back[:3, 3] -= back[:3, 2] * self.skills.approach_distance
+            with contextlib.suppress(ActionFailed):
+                yield from self.linear(pid, [back], ignore=[name] if name else [], what="retreat")
+        if name is not None:
+            self._collide_with_arm(pid, name, enabled=True)
+
+    def engage(self, action: PlanAction, pid: str, spec: TSRSpec, roles: dict[str, str | None],
+               meet: tuple[str, str] | None = None, accept: Accept | None = None, then: Step | None = None
+               ) -> Program:
+        """Carry the effector (the carried object, else the gripper) into a TSR, by a planned move. With
+        ``then`` (the actuation that follows), only poses from which that actuation is feasible are chosen."""
+        self._event("primitive_start", action, pid, spec.frame, "engage")
+        hand = self.hands[pid]
+        T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
+        reason = "no reachable collision-free pose"
+        for attempt in range(self.attempts):
+            if attempt:
+                yield from self._let_other_move(pid)
+                self._event("retry", action, pid, f"engage: attempt {attempt + 1} ({reason})", "engage")
+            self._sync()
+            T0_w, sizes = self.frame(spec, roles, pid, meet)
+            region = spec.tsr(T0_w, sizes)
+            rank = self._away_from_other(pid, T0_w[:3, 3]) if meet is None else None
+            candidates = self._goal_samples([region], T_eff_ee, self.samples, accept, rank)
+            found = None
+            for G in candidates:
+                found = self._ik_goal(pid, [G], [])
+                if found is None or then is None:
+                    if found is not None:
+                        break
+                    continue
+                options = len(str(then.params.get("axis", "")).split(","))
+                for variant in range(options):
+                    try:
+                        waypoints = self._actuation_waypoints(pid, then, roles, G, variant)
+                        self.cartesian_path(pid, found[0], [w.pose @ T_eff_ee for w in waypoints], None, "actuate")
+                        self.variants[pid] = variant
+                        break
+                    except ActionFailed as error:
+                        reason = f"the {then.motion} from there: {error}"
+                else:
+                    found = None
+                if found is not None:
+                    break
+            if found is None:
+                reason = self._no_goal(f"pose at {spec.frame}", len(candidates)) \
+                    if then is None or not candidates or reason.startswith("no ") else reason
+                continue
+            try:
+                yield from self.transit(pid, found[0], what="engage")
+            except ActionFailed as error:
+                reason = str(error)
+                continue
+            self._event("primitive_end", action, pid, spec.frame, "engage")
+            return
+        self._event("primitive_failed", action, pid, reason, "engage")
+        raise ActionFailed(f"engage {spec.frame}: {reason}")
+
+    def _free_poses(self, name: str, region: TSR) -> list[np.ndarray]:
+        """Object poses of ``region`` on a 2 cm grid (yaw in 45-degree steps within the bounds), the roomiest
+        first. Room is the smaller of two clearances: the object's footprint to every other object, and the
+        footprint of a hand taking it again (:data:`HAND_SPAN` across the object at its grasp point) to every
+        object taller than :data:`HAND_CLEAR_HEIGHT`. Clearances beyond :data:`FREE_MARGIN` count as equally
+        roomy; then the spot nearest the region's centre wins."""
+        own = {r.name for h in self.hands.values() for r in h.riding if h.carried == name}
+        half = np.array(self.bodies.objects[name].size) / 2
+        corners = np.array([[sx * half[0], sy * half[1]] for sx in (-1, 1) for sy in (-1, 1)])
+        holder = next((h for h in self.hands.values() if h.carried == name), None)
+        if holder is not None and holder.riding:  # where the hand holds it now, in the object's frame
+            T_obj_ee = np.linalg.inv(holder.riding[0].T_ee_obj)
+            centre, across, along = T_obj_ee[:2, 3], T_obj_ee[:2, 1], T_obj_ee[:2, 0]
+        else:
+            centre = np.array([-0.55 * half[0] if self._kind(name) == "tool" else 0.0, 0.0])
+            across, along = np.array([0.0, 1.0]), np.array([1.0, 0.0])
+        hand = np.array([centre + sy * HAND_SPAN / 2 * across + sx * 0.03 * along
+                         for sx in (-1, 1) for sy in (-1, 1)])
+        others = [(np.array(p.getAABB(b.body, physicsClientId=self.client)), b) for n, b in self.bodies.objects.items()
+                  if n not in own and n != name]
+        boxes = np.array([box[:, :2] for box, _ in others]).reshape(-1, 2, 2)
+        tall = np.array([box[:, :2] for box, _ in others if box[1, 2] - self.bodies.table_height > HAND_CLEAR_HEIGHT]
+                        ).reshape(-1, 2, 2)
+
+        def clearance(pts: np.ndarray, against: np.ndarray) -> float:
+            if not len(against):
+                return 1.0
+            lo, hi = pts.min(axis=0), pts.max(axis=0)
+            sep = np.maximum(against[:, 0] - hi, lo - against[:, 1])
+            overlap = np.all(sep < 0, axis=1)
+            gap = np.maximum(sep, 0.0)
+            return float(np.min(np.where(overlap, -1.0, np.hypot(gap[:, 0], gap[:, 1]))))
+
+        B = region.Bw
+        xs = np.arange(B[0, 0], B[0, 1] + 1e-9, 0.02)
+        ys = np.arange(B[1, 0], B[1, 1] + 1e-9, 0.02)
+        yaws = [y for y in np.radians([-90, -45, 0, 45, 90]) if B[5, 0] - 1e-9 <= y <= B[5, 1] + 1e-9] or [0.0]
+        scored = []
+        for yaw in yaws:
+            for x in xs:
+                for y in ys:
+                    T = region.T0_w @ xyzrpy_to_matrix([x, y, (B[2, 0] + B[2, 1]) / 2, 0, 0, yaw]) @ region.Tw_e
+                    R, t = T[:2, :2], T[:2, 3]
+                    own_room = clearance(corners @ R.T + t, boxes)
+                    room = min(own_room, clearance(hand @ R.T + t, tall))
+                    if own_room > 0.0:  # where the hand has no room either, only after every roomy spot
+                        tier = 0 if room > 0.0 else 1
+                        scored.append((tier, -min(max(room, own_room * tier), FREE_MARGIN),
+                                       math.hypot(x, y) + 0.01 * abs(yaw), T))
+        scored.sort(key=lambda item: item[:3])
+        return [item[3] for item in scored]
+
+    def place(self, action: PlanAction | None, pid: str, target: np.ndarray | list[TSR], free: bool = False
+              ) -> Program:
+        """Put the carried object down at ``target`` (object pose, or TSRs of object poses): planned move above,
+        straight down, release. ``free``: only where it stands clear of the other objects."""
+        hand = self.hands[pid]
+        name = hand.carried
+        if name is None:
+            return
+        self._event("primitive_start", action, pid, name, "place")
+        T_obj_ee = np.linalg.inv(hand.riding[0].T_ee_obj)
+        regions = target if isinstance(target, list) else [TSR(target, np.eye(4), np.array(
+            [[-0.01, 0.01], [-0.01, 0.01], [0.002, 0.006], [0, 0], [0, 0], [-0.1, 0.1]]))]
+        reason = "no reachable place pose"
+        for attempt in range(self.attempts):
+            if attempt:
+                yield from self._let_other_move(pid)
+                self._event("retry", action, pid, f"place {name}: attempt {attempt + 1} ({reason})", "place")
+            self._sync()
+            if free:
+                spots = self._free_poses(name, regions[0])
+                goals = [T @ T_obj_ee for T in spots[attempt * self.samples:(attempt + 1) * self.samples]]
+            else:
+                goals = self._goal_samples(regions, T_obj_ee, self.samples)
+            chosen = None
+            blocked = None
+            for G in goals:
+                found = self._ik_goal(pid, [G], [], check=False)
+                if found is None:
+                    continue
+                above = G.copy()
+                above[2, 3] += self.skills.lift
+                found_above = self._ik_goal(pid, [above], [])
+                if found_above is None:
+                    continue
+                try:  # the straight way down must be feasible too
+                    self.cartesian_path(pid, found_above[0], [G], [], f"put down {name}")
+                except ActionFailed as error:
+                    blocked = str(error)
+                    continue
+                chosen = (found_above[0], G)
+                break
+            if chosen is None:
+                reason = blocked or self._no_goal(f"place pose for {name}", len(goals))
+                continue
+            try:
+                yield from self.transit(pid, chosen[0], what=f"place {name}")
+                yield from self.linear(pid, [chosen[1]], ignore=[], what=f"put down {name}")
+            except ActionFailed as error:
+                reason = str(error)
+                continue
+            yield from self.release(pid)
+            self._event("primitive_end", action, pid, name, "place")
+            return
+        self._event("primitive_failed", action, pid, reason, "place")
+        raise ActionFailed(f"place {name}: {reason}")
+
+    def _actuation_waypoints(self, pid: str, step: Step, roles: dict[str, str | None], ee: np.ndarray,
+                             variant: int | None = None) -> list[Waypoint]:
+        """The effector waypoints of ``step`` starting with the hand at ``ee``; ``variant`` picks one of the
+        step's axis options (default: the one the last engage chose)."""
+        assert step.motion is not None
+        hand = self.hands[pid]
+        T_ee_eff = hand.riding[0].T_ee_obj if hand.riding else np.eye(4)
+        E = ee @ T_ee_eff
+        sizes = {"t": self.half(roles.get("tool")), "i": self.half(roles.get("ingredient")),
+                 "l": self.half(roles.get("location"))}
+        if step.contact is not None:
+            sizes["f"] = self.half(roles.get(step.contact[1]))
+        params = {k: (v if k == "axis" else evaluate(v, sizes)) for k, v in step.params.items()}
+        if "axis" in params:
+            options = str(params["axis"]).split(",")
+            chosen = self.variants.get(pid, 0) if variant is None else variant
+            params["axis"] = options[min(chosen, len(options) - 1)]
+        contact_target = roles.get(step.contact[1]) if step.contact else None
+        Rw = self._facing(contact_target, pid)[:3, :3] if contact_target is not None \
+            else np.eye(3)
+        if not step.contact:
+            target = roles.get("location") or roles.get("ingredient")
+            if target is not None:
+                Rw = self._facing(target, pid)[:3, :3]
+        return actuation_path(step.motion, params, E, Rw, grip=hand.grip, hand=ee[:3, 3])  # type: ignore[arg-type]
+
+    def actuate(self, action: PlanAction, pid: str, step: Step, roles: dict[str, str | None]) -> Program:
+        assert step.motion is not None
+        self._event("primitive_start", action, pid, step.motion, "actuate")
+        hand = self.hands[pid]
+        T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
+        waypoints = self._actuation_waypoints(pid, step, roles, self.arms[pid].ee())
+        pair = None
+        if step.contact is not None:
+            a, b = roles.get(step.contact[0]), roles.get(step.contact[1])
+            if a is not None and b is not None and a != b:
+                pair = (self.bodies.objects[a].body, self.bodies.objects[b].body)
+                p.setCollisionFilterPair(pair[0], pair[1], -1, -1, 0, physicsClientId=self.client)
+        try:
+            yield from self.linear(pid, [w.pose @ T_eff_ee for w in waypoints], ignore=None,
+                                   holds=[w.hold for w in waypoints], fingers=[w.fingers for w in waypoints],
+                                   what=f"actuate {step.motion}")
+        except ActionFailed as error:
+            self._event("primitive_failed", action, pid, str(error), "actuate")
+            raise
+        finally:
+            if pair is not None:
+                p.setCollisionFilterPair(pair[0], pair[1], -1, -1, 1, physicsClientId=self.client)
+        for role in step.attach:
+            name = roles.get(role)
+            if name is not None and hand.riding:
+                carrier = hand.riding[0]
+                tool = self.half(carrier.name)
+                ing = self.half(name)
+                T_tool_ing = np.eye(4)
+                T_tool_ing[:3, 3] = [0.6 * tool.hx, 0.0, tool.hz + ing.hz + 0.002]
+                self._ride(pid, name, carrier.T_ee_obj @ T_tool_ing)
+                p.setCollisionFilterPair(self.bodies.objects[carrier.name].body, self.bodies.objects[name].body,
+                                         -1, -1, 0, physicsClientId=self.client)
+        for role in step.release:
+            name = roles.get(role)
+            if name is None:
+                continue
+            if name == hand.carried:
+                yield from self.release(pid)
+            else:
+                hand.riding = [r for r in hand.riding if r.name != name]
+                yield from self._hold(0.6)  # let it fall
+                self._collide_with_arm(pid, name, enabled=True)
+                if hand.riding:
+                    p.setCollisionFilterPair(self.bodies.objects[hand.riding[0].name].body,
+                                             self.bodies.objects[name].body, -1, -1, 1, physicsClientId=self.client)
+        self._event("primitive_end", action, pid, step.motion, "actuate")
+
+
+def _lifted(height: float, T: np.ndarray) -> np.ndarray:
+    """The transform that, right-multiplied onto ``T``, raises it by ``height`` along world z."""
+    up = np.eye(4)
+    up[:3, 3] = T[:3, :3].T @ np.array([0.0, 0.0, height])
+    return up

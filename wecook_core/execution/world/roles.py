@@ -1,0 +1,276 @@
+"""The top layer of the PyBullet world (:mod:`wecook_core.execution.world`): an action's roles as primitives.
+An individual action grasps its tool (or ingredient), engages and actuates through its skill's steps, and puts
+the tool back; a handover's giver and receiver, and a holding's holder and actor, meet through the action's
+:class:`~wecook_core.execution.executor.Meeting`. Each action first claims the table area it works in.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from collections.abc import Callable, Sequence
+
+import numpy as np
+import pybullet as p
+
+from wecook_core.execution.executor import WAIT, ActionFailed, Meeting, Program
+from wecook_core.execution.planning_scene import ARM_MARGIN
+from wecook_core.execution.robot import REST, detach, set_arm_collisions
+from wecook_core.execution.scene import SIM_HZ
+from wecook_core.execution.skills import skill_name
+from wecook_core.execution.tsr import TSR
+from wecook_core.execution.world.primitives import Primitives
+from wecook_core.plan import PlanAction
+
+ZONE_MARGIN = 0.08
+"""Metres around the objects of an action that its arm may sweep over while working."""
+ZONE_WAIT_SECONDS = 120.0
+"""Longest wait for the other arm to leave an overlapping zone (then the action goes ahead, reservations still
+keep the arms apart)."""
+
+
+class BulletWorld(Primitives):
+    """The executor's :class:`~wecook_core.execution.executor.World` in PyBullet."""
+
+    def _zone(self, action: PlanAction) -> np.ndarray:
+        """The table area an action works in: ``[[x0, y0], [x1, y1]]`` around the objects it names (and the
+        meeting point of a handover), grown by :data:`ZONE_MARGIN`."""
+        names = {action.tool, action.location, action.source, *action.ingredients}
+        if action.partner is not None:
+            act = action.partner
+            names |= {act.tool, act.location, act.source, *act.ingredients}
+        boxes = [np.array(p.getAABB(self.bodies.objects[n].body, physicsClientId=self.client))[:, :2]
+                 for n in names if n is not None]
+        if action.verb == "handover":
+            meet = self._meet(*action.pids[:2])[:2, 3]
+            boxes.append(np.array([meet - 0.1, meet + 0.1]))
+        if not boxes:
+            return np.zeros((2, 2))
+        stacked = np.stack(boxes)
+        return np.array([stacked[:, 0].min(axis=0) - ZONE_MARGIN, stacked[:, 1].max(axis=0) + ZONE_MARGIN])
+
+    def _claim_zone(self, action: PlanAction, pid: str) -> Program:
+        """Wait until no action of the other arm works in an overlapping zone, then hold this action's zone."""
+        if action.id in self.zones:
+            return
+        zone = self._zone(action)
+        for _ in range(int(ZONE_WAIT_SECONDS * SIM_HZ)):
+            busy = [z for owner, z in self.zones.items() if owner != action.id
+                    and np.all(zone[0] < z[1]) and np.all(z[0] < zone[1])]
+            if not busy:
+                break
+            yield WAIT
+        self.zones[action.id] = zone
+
+    def program(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        """The role of ``pid`` in ``action``, inside the action's workspace zone (held until every role ends)."""
+        yield from self._claim_zone(action, pid)
+        self.zone_users.setdefault(action.id, set()).add(pid)
+        try:
+            yield from self._role(action, pid, meeting)
+        finally:
+            users = self.zone_users.get(action.id, set())
+            users.discard(pid)
+            if not users:
+                self.zones.pop(action.id, None)
+
+    def _role(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        if action.verb == "handover":
+            giver, _receiver = action.pids
+            yield from (self._giver(action, pid, meeting) if pid == giver else self._receiver(action, pid, meeting))
+        elif action.verb == "holding":
+            holder = action.pids[0]
+            yield from (self._holder(action, pid, meeting) if pid == holder else self._actor(action, pid, meeting))
+        else:
+            yield from self._individual(action, pid, action.verb, action.tool, action.ingredients, action.location,
+                                        action.source)
+
+    def _individual(self, action: PlanAction, pid: str, verb: str, tool: str | None, ingredients: Sequence[str],
+                    location: str | None, source: str | None,
+                    after_grasp: Callable[[], Program] | None = None,
+                    after_work: Callable[[], None] | None = None) -> Program:
+        tool_category = self.bodies.objects[tool].category if tool else None
+        skill = self.skills.skills.get(skill_name(verb, tool, tool_category))
+        if skill is None:
+            raise ActionFailed(f"no skill for {verb!r}")
+        carried = tool if (skill.carry == "tool" or tool is not None) else None
+        carried = carried or (ingredients[0] if ingredients else None)
+        if carried is None:
+            raise ActionFailed(f"{verb} needs an object to hold (a tool or an ingredient)")
+        ingredient = ingredients[0] if ingredients else None
+        if ingredient is None and carried != tool:
+            ingredient = carried
+        loc = location or (self._container_of(ingredient) if ingredient else None) or ingredient
+        roles: dict[str, str | None] = {"tool": carried, "ingredient": ingredient or loc, "location": loc,
+                                        "source": source or (self._container_of(ingredient) if ingredient else None)}
+        home = self.pose(carried)
+        yield from self.grasp(action, pid, carried)
+        if after_grasp is not None:
+            yield from after_grasp()
+        k, second_tries = 0, 1
+        while k < len(skill.steps):
+            step = skill.steps[k]
+            if step.primitive == "engage":
+                assert step.tsr is not None
+                after = skill.steps[k + 1] if k + 1 < len(skill.steps) else None
+                yield from self.engage(action, pid, step.tsr, roles,
+                                       then=after if after is not None and after.primitive == "actuate" else None)
+            else:
+                try:
+                    yield from self.actuate(action, pid, step, roles)
+                except ActionFailed as error:  # it failed before moving: engage anew (a new sample), then again
+                    if not (second_tries and k > 0 and skill.steps[k - 1].primitive == "engage"):
+                        raise
+                    second_tries -= 1
+                    self._event("retry", action, pid, f"engage again for the {step.motion} ({error})", "actuate")
+                    yield from self._let_other_move(pid)
+                    k -= 1
+                    continue
+            k += 1
+        if after_work is not None:
+            after_work()
+        if self.hands[pid].carried is not None:
+            try:
+                yield from self.place(action, pid, home)
+            except ActionFailed as error:  # its spot is out of reach now: any free spot near it will do
+                near = TSR(home, np.eye(4), np.array([[-0.12, 0.12], [-0.12, 0.12], [0.004, 0.004], [0, 0], [0, 0],
+                                                      [-math.pi / 2, math.pi / 2]]))
+                self._event("retry", action, pid, f"place {carried} near its spot ({error})", "place")
+                yield from self.place(action, pid, [near], free=True)
+        yield from self.go_home(pid)
+
+    def _giver(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        """Mid-air for long objects (tools): carry it to the meeting pose, wait until the receiver holds it, let
+        go. Small objects (both grippers would not fit on them) are handed over on the table between the arms:
+        put down at the meeting spot, then the receiver picks them up."""
+        name = action.tool
+        assert name is not None
+        giver, receiver = action.pids
+        yield from self.grasp(action, pid, name)
+        meet = self._meet(giver, receiver)
+        if self._kind(name) != "tool":
+            spot = meet.copy()
+            spot[2, 3] = self.bodies.table_height + self.half(name).hz
+            region = TSR(spot, np.eye(4), np.array([[-0.1, 0.1], [-0.25, 0.25], [0.002, 0.006], [0, 0], [0, 0],
+                                                    [-math.pi, math.pi]]))
+            yield from self.place(action, pid, [region], free=True)
+            meeting.signal("at_meet")
+            yield from self.go_home(pid)
+            meeting.signal("released")  # out of the way
+            return
+
+        reach = float(np.linalg.norm(self.hands[pid].riding[0].T_ee_obj[:2, 3]))  # hand to object centre
+
+        def on_giver_side(T_ee: np.ndarray) -> bool:
+            """The tool along the giver-receiver line, the giver's hand on its own end."""
+            local = np.linalg.inv(meet) @ T_ee
+            return bool(local[0, 3] < -0.8 * reach)
+
+        yield from self.engage(action, pid, self.skills.meet, {"tool": name}, meet=(giver, receiver),
+                               accept=on_giver_side)
+        meeting.signal("at_meet")
+        yield from meeting.wait_for("taken")
+        yield from self._hold(0.2)
+        yield from self.release(pid)
+        yield from self.go_home(pid)
+        meeting.signal("released")  # and out of the way
+
+    def _receiver(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        name = action.tool
+        assert name is not None
+        giver = action.pids[0]
+        yield from meeting.wait_for("at_meet")
+        if self._kind(name) != "tool":  # on the table: an ordinary grasp once the giver has let go
+            yield from meeting.wait_for("released")
+            yield from self.grasp(action, pid, name, primitive="take")
+        else:
+            giver_ee = self.arms[giver].ee()
+            clearance = self.skills.receiver_clearance
+            regions = self._grasp_tsrs(name, pid, flip=True)
+
+            def clear_of_giver(T: np.ndarray) -> bool:
+                return bool(np.linalg.norm(T[:3, 3] - giver_ee[:3, 3]) >= clearance)
+
+            self.arm_margin = 0.0
+            try:
+                yield from self.grasp(action, pid, name, lift=False, tsrs=regions, accept=clear_of_giver,
+                                      primitive="take")
+            finally:
+                self.arm_margin = ARM_MARGIN
+            self.hands[giver].riding = []
+            meeting.signal("taken")
+            yield from meeting.wait_for("released")
+        drop = self.skills.drop
+        T0_w, sizes = self.frame(drop, {"tool": name}, pid)
+        yield from self.place(action, pid, [drop.tsr(T0_w, sizes)], free=True)
+        yield from self.go_home(pid)
+
+    def _holder(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        name = action.tool
+        assert name is not None
+        yield from meeting.wait_for("tool_ready")  # the actor first takes its tool, then the container is held
+        regions = self._grasp_tsrs(name, pid, kinds=["hold_rim"] if self._kind(name) == "open_container" else None)
+        centre = self.pose(name)[:2, 3]
+        actor = next(k for k in action.pids if k != pid)
+        toward = self.bodies.arms[actor].base[:2, 3] - centre
+        toward /= max(float(np.linalg.norm(toward)), 1e-9)
+
+        def far_side(T: np.ndarray) -> float:
+            """Cosine of the angle, about the container, between the grip and the actor's base: the actor works
+            on the side facing its base, so the grip farthest round from there is tried first."""
+            grip = T[:2, 3] - centre
+            return float(grip @ toward / max(float(np.linalg.norm(grip)), 1e-9))
+
+        for k, region in enumerate(regions):  # each grasp in the library's order
+            try:
+                yield from self.grasp(action, pid, name, lift=False, primitive="hold", tsrs=[region], rank=far_side)
+                break
+            except ActionFailed:
+                if k == len(regions) - 1:
+                    raise
+        yield from self._hold(self.skills.hold_time)
+        meeting.signal("held")
+        yield from meeting.wait_for("acted")
+        yield from self._hold(self.skills.hold_time)
+        yield from self.release(pid)
+        yield from self.go_home(pid)
+
+    def _actor(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+        act = action.partner
+        if act is None:
+            raise ActionFailed("holding without the partner's action")
+        def ready() -> Program:  # tool in hand, wait out of the holder's way
+            with contextlib.suppress(ActionFailed):
+                yield from self.transit(pid, REST.copy(), what="wait at rest")
+            meeting.signal("tool_ready")
+            yield from meeting.wait_for("held")
+
+        location = act.location or action.tool
+        yield from self._individual(action, pid, act.verb, act.tool, act.ingredients, location, act.source,
+                                    after_grasp=ready, after_work=lambda: meeting.signal("acted"))
+
+    def recover(self, pid: str) -> Program:
+        """After a failure: put what the hand carries down on a free spot near where it was picked up (else let
+        it go where it is), then go home."""
+        self.reserved[pid] = None
+        carried = self.hands[pid].carried
+        if carried is not None and self.hands[pid].constraint is not None and carried in self.picked_from:
+            near = TSR(self.picked_from[carried], np.eye(4), np.array(
+                [[-0.12, 0.12], [-0.12, 0.12], [0.004, 0.004], [0, 0], [0, 0], [-math.pi / 2, math.pi / 2]]))
+            with contextlib.suppress(ActionFailed):
+                yield from self.place(None, pid, [near], free=True)
+        if self.hands[pid].carried is not None or self.hands[pid].riding:
+            hand = self.hands[pid]
+            for r in hand.riding:
+                set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[r.name].body,
+                                   enabled=True)
+            if hand.constraint is not None:
+                detach(self.client, hand.constraint)
+            hand.carried, hand.constraint, hand.riding = None, None, []
+            self._set_grip(pid, 0.04)
+        try:
+            yield from self.go_home(pid)
+        except ActionFailed as error:
+            if self.observer is not None:
+                self.observer.on_log(self.time, "warning", f"{pid} could not return home: {error}")
+        self.reserved[pid] = None

@@ -1,0 +1,288 @@
+"""The first layer of the PyBullet world (:mod:`wecook_core.execution.world`): the simulating and the planning
+client with the plan's scene, what each hand holds, the clock and its steps, what the observer is told (states
+at 30 Hz, arm contacts, events, camera images at action boundaries), and where things are (object poses, the
+frames TSRs are expressed in)."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import pybullet as p
+
+from wecook_core.execution.executor import ActionFailed
+from wecook_core.execution.observer import FrameInfo, RunEvent, RunObserver
+from wecook_core.execution.planning_scene import ARM_MARGIN, PlanningScene, Riding
+from wecook_core.execution.robot import EE_LINK, REST, Panda, set_arm_collisions
+from wecook_core.execution.scene import SIM_HZ, SceneBodies, build_scene, link_frames, world_poses
+from wecook_core.execution.skills import Half, SkillLibrary, TSRSpec, load_skills, object_kind
+from wecook_core.execution.tsr import pose_to_matrix
+from wecook_core.model import Category
+from wecook_core.plan import Plan, PlanAction
+
+JOINT_NAMES = [f"panda_joint{k + 1}" for k in range(7)] + ["panda_finger_joint1", "panda_finger_joint2"]
+STATE_EVERY = SIM_HZ // 30
+"""Steps between two ``on_state`` calls (30 Hz)."""
+CONTACT_EVERY = 2
+"""Steps between two arm-arm contact queries."""
+TOUCH_DEPTH = 0.0005
+"""Metres of penetration from which two arms count as touching (contact points closer than zero)."""
+IMAGE_SIZE = (320, 240)
+"""Pixels of the camera images taken at action boundaries."""
+
+
+@dataclass
+class Hand:
+    """What one arm holds now."""
+
+    carried: str | None = None
+    constraint: int | None = None
+    riding: list[Riding] = field(default_factory=list)
+    grip: float = 0.04
+
+
+class WorldState:
+    """The scene in two PyBullet clients and the run's state; the layers above add motion, primitives, roles."""
+
+    def __init__(self, plan: Plan, observer: RunObserver | None, *, seed: int = 0, realtime: bool = False,
+                 planner: str = "rrtconnect", planning_time: float = 1.0, images: bool = True,
+                 skills: SkillLibrary | None = None, attempts: int = 3, samples: int = 12):
+        self.plan = plan
+        self.observer = observer
+        self.client = p.connect(p.DIRECT)
+        self.bodies: SceneBodies = build_scene(self.client, plan)
+        self.planning = PlanningScene(plan)
+        self.arms = {pid: Panda(self.client, arm.body) for pid, arm in self.bodies.arms.items()}
+        self.skills = skills or load_skills()
+        self.rng = np.random.default_rng(seed)
+        self.seed = seed
+        self.realtime = realtime
+        self.planner = planner
+        self.planning_time = planning_time
+        self.images = images
+        self.attempts = attempts
+        self.samples = samples
+        self.steps = 0
+        self.queries = 0
+        self.wall_start = time.perf_counter()
+        self.hands = {pid: Hand() for pid in self.arms}
+        self.commands: dict[str, np.ndarray] = {}
+        self.reserved: dict[str, np.ndarray | None] = {pid: None for pid in self.arms}
+        self.arm_contacts = 0
+        self.arm_margin = ARM_MARGIN
+        """Metres kept between the arms when planning (lowered while the receiver of a handover takes)."""
+        self.goal_blockers: set[str] = set()
+        """What blocked the goal candidates since the last failure report."""
+        self.other_in_the_way = False
+        """The other arm blocked the last goals or straight path (the next retry waits for it to go home)."""
+        self.right_of_way: str | None = None
+        """An arm the other one blocked: the other waits at rest until this arm's primitive ends."""
+        self.zones: dict[str, np.ndarray] = {}
+        """Action id -> the table area it works in, while it runs (see :meth:`_claim_zone`)."""
+        self.zone_users: dict[str, set[str]] = {}
+        self.picked_from: dict[str, np.ndarray] = {}
+        """Object -> its pose when last grasped (where a failed action puts it back)."""
+        self.variants: dict[str, int] = {}
+        """Arm -> the axis option of its next actuation, chosen when engaging."""
+        self.moved_at = {pid: 0.0 for pid in self.arms}
+        """Simulated time each arm last moved."""
+        self._touching = False
+        for pid, arm in self.arms.items():
+            arm.set_q(REST, 0.04)
+            self.commands[pid] = REST.copy()
+        for _ in range(60):  # let the objects settle before the clock starts
+            p.stepSimulation(physicsClientId=self.client)
+        self._frames = link_frames(self.bodies)
+
+    # ------------------------------------------------------------------------------------ world API
+
+    @property
+    def time(self) -> float:
+        return self.steps / SIM_HZ
+
+    @property
+    def dt(self) -> float:
+        return 1 / SIM_HZ
+
+    def close(self) -> None:
+        self.planning.close()
+        if p.isConnected(self.client):
+            p.disconnect(self.client)
+
+    def frames(self) -> list[FrameInfo]:
+        return self._frames
+
+    def step(self) -> None:
+        c = self.client
+        for pid, arm in self.arms.items():  # kinematic arms: exactly where commanded, every step
+            arm.set_q(self.commands[pid])
+        for pid, hand in self.hands.items():
+            if hand.riding:
+                state = p.getLinkState(self.bodies.arms[pid].body, EE_LINK, computeForwardKinematics=True,
+                                       physicsClientId=c)
+                for r in hand.riding:
+                    body = self.bodies.objects[r.name].body
+                    local = r.local
+                    pos, orn = p.multiplyTransforms(state[4], state[5], local[0], local[1])
+                    p.resetBasePositionAndOrientation(body, pos, orn, physicsClientId=c)
+                    p.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0], physicsClientId=c)
+        p.stepSimulation(physicsClientId=c)
+        self.steps += 1
+        if self.steps % CONTACT_EVERY == 0:
+            self._check_arm_contact()
+        if self.steps % STATE_EVERY == 0:
+            self.publish_state()
+        if self.realtime:
+            ahead = self.time - (time.perf_counter() - self.wall_start)
+            if ahead > 0:
+                time.sleep(ahead)
+
+    def publish_state(self) -> None:
+        if self.observer is None:
+            return
+        joints = {pid: (JOINT_NAMES, [*arm.q(), arm.fingers(), arm.fingers()]) for pid, arm in self.arms.items()}
+        self.observer.on_state(self.time, world_poses(self.bodies), joints)
+
+    def _check_arm_contact(self) -> None:
+        """Count each new touch (penetration deeper than :data:`TOUCH_DEPTH`) between the two arms' links."""
+        c = self.client
+        pids = sorted(self.arms)
+        if len(pids) < 2:
+            return
+        a, b = (self.bodies.arms[pid].body for pid in pids[:2])
+        points = [x for x in p.getContactPoints(a, b, physicsClientId=c) if x[8] < -TOUCH_DEPTH]
+        touching = bool(points)
+        if touching and not self._touching:
+            self.arm_contacts += 1
+            names_a, names_b = self.bodies.arms[pids[0]].links, self.bodies.arms[pids[1]].links
+            x = min(points, key=lambda q: q[8])
+            detail = (f"the two arms touched: {pids[0]} {names_a[x[3] + 1]} and {pids[1]} {names_b[x[4] + 1]} "
+                      f"({-x[8] * 1000:.1f} mm deep)")
+            self._event("primitive_failed", None, None, detail)
+            if self.observer is not None:
+                self.observer.on_log(self.time, "error", detail)
+        self._touching = touching
+
+    def _event(self, kind: str, action: PlanAction | None, pid: str | None, detail: str = "",
+               primitive: str | None = None) -> None:
+        if kind in ("primitive_end", "primitive_failed") and pid is not None and pid == self.right_of_way:
+            self.right_of_way = None
+        if self.observer is not None:
+            self.observer.on_event(self.time, RunEvent(kind, action.id if action else None, primitive, pid, detail))  # type: ignore[arg-type]
+
+    def action_boundary(self, action: PlanAction, kind: str) -> None:
+        if not self.images or self.observer is None:
+            return
+        import cv2
+
+        w, h = IMAGE_SIZE
+        view = p.computeViewMatrix([0.0, -1.1, 0.9], [0.0, 0.0, 0.1], [0, 0, 1])
+        proj = p.computeProjectionMatrixFOV(55, w / h, 0.05, 5.0)
+        image = p.getCameraImage(w, h, view, proj, renderer=p.ER_TINY_RENDERER, physicsClientId=self.client)
+        rgb = np.reshape(np.asarray(image[2], dtype=np.uint8), (h, w, 4))[:, :, :3]
+        ok, jpeg = cv2.imencode(".jpg", cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR), [cv2.IMWRITE_JPEG_QUALITY, 80])
+        if ok:
+            self.observer.on_image(self.time, jpeg.tobytes(), w, h)
+
+    # ------------------------------------------------------------------------------------ geometry
+
+    def pose(self, name: str) -> np.ndarray:
+        pos, orn = p.getBasePositionAndOrientation(self.bodies.objects[name].body, physicsClientId=self.client)
+        return pose_to_matrix((pos, orn))
+
+    def half(self, name: str | None) -> Half:
+        if name is None:
+            return Half()
+        s = self.bodies.objects[name].size
+        return Half(s[0] / 2, s[1] / 2, s[2] / 2)
+
+    def _facing(self, name: str, pid: str) -> np.ndarray:
+        T = self.pose(name)
+        base = self.bodies.arms[pid].base[:3, 3]
+        yaw = math.atan2(base[1] - T[1, 3], base[0] - T[0, 3])
+        out = np.eye(4)
+        out[:3, :3] = np.array([[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]])
+        out[:3, 3] = T[:3, 3]
+        return out
+
+    def _meet(self, giver: str, receiver: str) -> np.ndarray:
+        a, b = self.bodies.arms[giver].base[:3, 3], self.bodies.arms[receiver].base[:3, 3]
+        yaw = math.atan2(b[1] - a[1], b[0] - a[0])
+        out = np.eye(4)
+        out[:3, :3] = np.array([[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]])
+        out[:3, 3] = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, self.bodies.table_height + self.skills.meet_height]
+        return out
+
+    def _drop(self, pid: str) -> np.ndarray:
+        base = self.bodies.arms[pid].base
+        out = base.copy()
+        out[:3, 3] = base[:3, 3] + base[:3, 0] * self.skills.drop_distance
+        out[2, 3] = self.bodies.table_height
+        out[:3, :3] = base[:3, :3] @ np.diag([-1.0, -1.0, 1.0])  # x toward the arm
+        return out
+
+    def frame(self, spec: TSRSpec, roles: dict[str, str | None], pid: str, meet: tuple[str, str] | None = None
+              ) -> tuple[np.ndarray, dict[str, Half]]:
+        """The TSR frame (4x4) and the half-extent table for expressions."""
+        sizes = {"t": self.half(roles.get("tool")), "i": self.half(roles.get("ingredient")),
+                 "l": self.half(roles.get("location"))}
+        if spec.frame == "meet":
+            assert meet is not None
+            return self._meet(*meet), sizes
+        if spec.frame == "drop":
+            return self._drop(pid), sizes
+        kind, role = spec.frame.split(":", 1)
+        name = roles.get(role)
+        if name is None:
+            raise ActionFailed(f"the skill needs a {role} and the action names none")
+        sizes["f"] = self.half(name)
+        return (self.pose(name) if kind == "object" else self._facing(name, pid)), sizes
+
+    def _kind(self, name: str) -> str:
+        b = self.bodies.objects[name]
+        return object_kind(b.category, b.size, b.open_top)
+
+    def _container_of(self, name: str) -> str | None:
+        """The container an object is in now: the one whose footprint holds its centre, above its floor."""
+        T = self.pose(name)
+        for other, body in self.bodies.objects.items():
+            if other == name or body.category is not Category.CONTAINER:
+                continue
+            local = np.linalg.inv(self.pose(other)) @ T
+            h = self.half(other)
+            if abs(local[0, 3]) <= h.hx and abs(local[1, 3]) <= h.hy and -h.hz <= local[2, 3] <= h.hz + 0.1:
+                return other
+        return None
+
+    def _contents(self, name: str) -> list[str]:
+        if self.bodies.objects[name].category is not Category.CONTAINER:
+            return []
+        return [n for n, b in self.bodies.objects.items()
+                if b.category is Category.INGREDIENT and n != name and self._container_of(n) == name]
+
+    def _other(self, pid: str) -> str | None:
+        return next((k for k in self.arms if k != pid), None)
+
+    # ------------------------------------------------------------------------------- hands
+
+    def _ride(self, pid: str, name: str, T_ee_obj: np.ndarray | None = None) -> None:
+        """``name`` moves with ``pid``'s hand from now on (and with no other hand)."""
+        for other, hand in self.hands.items():
+            if other != pid:
+                hand.riding = [r for r in hand.riding if r.name != name]
+        T = np.linalg.inv(self.arms[pid].ee()) @ self.pose(name) if T_ee_obj is None else T_ee_obj
+        self.hands[pid].riding.append(Riding(name, T))
+        self._collide_with_arm(pid, name, enabled=False)
+
+    def _holder_of(self, name: str, pid: str) -> str | None:
+        """The other arm whose hand carries ``name`` (or has it riding), if any."""
+        return next((k for k, h in self.hands.items() if k != pid and any(r.name == name for r in h.riding)), None)
+
+    def _collide_with_arm(self, pid: str, name: str, *, enabled: bool) -> None:
+        set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body, enabled=enabled)
+
+    def _set_grip(self, pid: str, width: float) -> None:
+        self.hands[pid].grip = width
+        self.arms[pid].set_fingers(width)
