@@ -236,3 +236,16 @@ def test_the_demo_plan_runs_every_action_and_the_arms_never_touch():
         assert world.closest > -0.0005
     finally:
         world.close()
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_ten_synthetic_two_arm_plans_run_every_action(seed):
+    """Every verb, a handover and a holding in each (the issue's ten synthetic plans; bench.motion reports them)."""
+    from wecook_core.execution.plan_samples import synthetic_plan
+
+    plan = synthetic_plan(seed)
+    assert {"handover", "holding"} <= {a.verb for a in plan.actions}
+    result = execute_plan(plan, Recorder(), seed=0, images=False)
+    assert [r.status for r in result.actions] == ["done"] * len(plan.actions), \
+        [r for r in result.actions if r.status != "done"]
+    assert result.arm_contacts == 0
