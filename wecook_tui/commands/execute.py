@@ -127,8 +127,9 @@ class Progress:
             self._bar = RichProgress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
                                      TimeElapsedColumn(), console=console, transient=False)
             self._overall = self._bar.add_task("actions", total=len(self.rows))
-            for pid in sorted({a.pids[0] for a in plan.actions} | {p for a in plan.actions for p in a.pids}):
-                self._agents[pid] = self._bar.add_task(f"{pid}: waiting", total=None)
+            for pid in sorted({p for a in plan.actions for p in a.pids}):  # each arm: its actions, its step now
+                mine = sum(pid in a.pids for a in plan.actions)
+                self._agents[pid] = self._bar.add_task(f"{pid}: waiting", total=mine)
 
     def _say(self, text: str) -> None:
         if self.jsonl:
@@ -149,6 +150,8 @@ class Progress:
 
     def on_state(self, t: float, poses: Mapping[str, tuple[Vec3, Quat]],
                  joints: Mapping[str, tuple[Sequence[str], Sequence[float]]]) -> None:
+        if self._bar is not None and int(t) != int(self.sim_time):
+            self._bar.update(self._overall, description=f"actions ({int(t)} s simulated)")
         self.sim_time = t
 
     def on_event(self, t: float, event: RunEvent) -> None:
@@ -173,9 +176,12 @@ class Progress:
             if row.status != "done":
                 mark += f": {row.reason or 'no reason given'}"
             self._say(f"[{t:7.2f}s] {row.id} {row.agents} {row.verb}: {mark}")
-            if self._overall is not None:
+            if self._bar is not None:
                 self._bar.advance(self._overall)
-            self._agent(agent, "idle")
+                for pid in row.agents.split(","):
+                    if pid in self._agents:
+                        self._bar.advance(self._agents[pid])
+                    self._agent(pid, "idle")
         elif event.kind in ("primitive_start", "retry", "wait") and row is not None:
             what = event.primitive or event.kind
             if event.kind == "retry":
@@ -197,10 +203,13 @@ class Progress:
 
     def on_end(self, t: float) -> None:
         self.sim_time = max(self.sim_time, t)
-        self.stop()
+        self.stop(finished=True)
 
-    def stop(self) -> None:
+    def stop(self, finished: bool = False) -> None:
         if self._bar is not None:
+            self._bar.update(self._overall, description=f"actions ({self.sim_time:.1f} s simulated)")
+            for pid in self._agents:
+                self._agent(pid, "finished" if finished else "stopped")
             self._bar.stop()
             self._bar = None
 
