@@ -249,3 +249,23 @@ def test_ten_synthetic_two_arm_plans_run_every_action(seed):
     assert [r.status for r in result.actions] == ["done"] * len(plan.actions), \
         [r for r in result.actions if r.status != "done"]
     assert result.arm_contacts == 0
+
+
+def test_a_spoon_scoops_from_a_deep_cup_into_the_pot_without_shoving_the_cup():
+    """The scoop comes down into the cup tip first (its walls higher than a level spoon could pass) and the rice
+    ends in the pot."""
+    objects = (SceneObject("cup", Category.CONTAINER, "cylinder", (0.1, 0.1, 0.09), -0.12, 0.15),
+               SceneObject("rice", Category.INGREDIENT, "box", (0.04, 0.04, 0.03), -0.12, 0.15),
+               SceneObject("pot", Category.CONTAINER, "cylinder", (0.16, 0.16, 0.12), 0.0, -0.12),
+               SceneObject("spoon", Category.TOOL, "box", (0.14, 0.03, 0.025), -0.2, -0.12, np.pi / 2))
+    plan = Plan(agents=agents_for(["P1", "P2"]), scene=Scene(objects=objects, containing=(("rice", "cup"),)),
+                actions=(PlanAction("a1", ("P1",), "transfer", "spoon", ("rice",), "pot", "cup"),))
+    world = BulletWorld(plan, Recorder(), seed=0, images=False)
+    try:
+        cup_before = world.pose("cup")[:3, 3]
+        results = run_schedule(plan, world)
+        assert results[0].status == "done", results
+        assert world._container_of("rice") == "pot"
+        assert np.linalg.norm(world.pose("cup")[:3, 3] - cup_before) < 0.005
+    finally:
+        world.close()

@@ -79,3 +79,15 @@ def test_bad_library_names_the_place(tmp_path, library):
     bad.write_text(text)
     with pytest.raises(InputError, match=r"verbs.cut.steps\[1\].motion"):
         load_skills(bad)
+
+
+def test_contact_pairs_are_read_and_checked(library, tmp_path):
+    scoop = library.skills["transfer"].steps[1]
+    assert scoop.contacts == (("tool", "source"), ("tool", "ingredient")) and scoop.contact == ("tool", "source")
+    assert library.skills["cut"].steps[1].contacts == (("tool", "ingredient"),)
+    text = (load_skills.__globals__["SKILLS_PATH"]).read_text().replace("[[tool, source], [tool, ingredient]]",
+                                                                       "[[tool, source], [tool, lid]]")
+    bad = tmp_path / "skills.yaml"
+    bad.write_text(text)
+    with pytest.raises(InputError, match=r"verbs.transfer.steps\[1\].contact\[1\].*'lid'"):
+        load_skills(bad)

@@ -29,6 +29,8 @@ KINDS: tuple[str, ...] = ("tool", "ingredient", "tall", "open_container", "flat_
 FRAME_RE = re.compile(r"^(object|facing):(tool|ingredient|location|source|object)$|^(meet|drop)$")
 EXPR_RE = re.compile(r"^[0-9a-z_.+\-*/(), ]*$")
 AXIS_NAMES = {"x": 0, "y": 1, "z": 2}
+ROLES: tuple[str, ...] = ("tool", "ingredient", "location", "source")
+"""The objects an action names, as skills refer to them."""
 Expr = float | str
 """A number, or an arithmetic expression over half extents (``"0.5*t.hx + 0.01"``)."""
 
@@ -101,10 +103,16 @@ class Step:
     tsr: TSRSpec | None = None
     motion: str | None = None
     params: Mapping[str, Expr] = field(default_factory=dict)
-    contact: tuple[str, str] | None = None
-    """Roles that touch during the actuation (their collisions are switched off meanwhile)."""
+    contacts: tuple[tuple[str, str], ...] = ()
+    """Pairs of roles that touch during the actuation (their collisions are switched off meanwhile); the first
+    is the motion's own: its second role is ``f`` in the parameters and the frame the motion's axes face."""
     attach: tuple[str, ...] = ()
     release: tuple[str, ...] = ()
+
+    @property
+    def contact(self) -> tuple[str, str] | None:
+        """The motion's own contact pair (the first), if any."""
+        return self.contacts[0] if self.contacts else None
 
 
 @dataclass(frozen=True)
@@ -219,10 +227,13 @@ def _step(data: Any, path: Path, place: str) -> Step:
             params[k] = options[0] if len(options) == 1 else ",".join(options)
         else:
             params[str(k)] = _expr(v, path, f"{place}.params.{k}")
-    contact = data.get("contact")
-    if contact is not None and not (isinstance(contact, list) and len(contact) == 2):
-        raise _bad(path, f"{place}.contact", "expected two roles")
-    return Step("actuate", motion=motion, params=params, contact=tuple(contact) if contact else None,
+    contact = data.get("contact") or []
+    pairs = contact if contact and all(isinstance(c, list) for c in contact) else [contact] if contact else []
+    for k, pair in enumerate(pairs):
+        if not (isinstance(pair, list) and len(pair) == 2 and all(r in ROLES for r in pair)):
+            raise _bad(path, f"{place}.contact" + (f"[{k}]" if len(pairs) > 1 else ""),
+                       f"expected two roles of {', '.join(ROLES)} (or a list of such pairs), got {pair!r}")
+    return Step("actuate", motion=motion, params=params, contacts=tuple((a, b) for a, b in pairs),
                 attach=tuple(data.get("attach") or ()), release=tuple(data.get("release") or ()))
 
 

@@ -342,12 +342,13 @@ class Primitives(ArmMotion):
         hand = self.hands[pid]
         T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
         waypoints = self._actuation_waypoints(pid, step, roles, self.arms[pid].ee())
-        pair = None
-        if step.contact is not None:
-            a, b = roles.get(step.contact[0]), roles.get(step.contact[1])
+        pairs = []
+        for first, second in step.contacts:
+            a, b = roles.get(first), roles.get(second)
             if a is not None and b is not None and a != b:
-                pair = (self.bodies.objects[a].body, self.bodies.objects[b].body)
-                p.setCollisionFilterPair(pair[0], pair[1], -1, -1, 0, physicsClientId=self.client)
+                pairs.append((self.bodies.objects[a].body, self.bodies.objects[b].body))
+        for a_body, b_body in pairs:
+            p.setCollisionFilterPair(a_body, b_body, -1, -1, 0, physicsClientId=self.client)
         try:
             yield from self.linear(pid, [w.pose @ T_eff_ee for w in waypoints], ignore=None,
                                    holds=[w.hold for w in waypoints], fingers=[w.fingers for w in waypoints],
@@ -356,8 +357,8 @@ class Primitives(ArmMotion):
             self._event("primitive_failed", action, pid, str(error), "actuate")
             raise
         finally:
-            if pair is not None:
-                p.setCollisionFilterPair(pair[0], pair[1], -1, -1, 1, physicsClientId=self.client)
+            for a_body, b_body in pairs:
+                p.setCollisionFilterPair(a_body, b_body, -1, -1, 1, physicsClientId=self.client)
         for role in step.attach:
             name = roles.get(role)
             if name is not None and hand.riding:

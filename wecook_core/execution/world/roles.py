@@ -102,7 +102,8 @@ class BulletWorld(Primitives):
             ingredient = carried
         loc = location or (self._container_of(ingredient) if ingredient else None) or ingredient
         roles: dict[str, str | None] = {"tool": carried, "ingredient": ingredient or loc, "location": loc,
-                                        "source": source or (self._container_of(ingredient) if ingredient else None)}
+                                        "source": source or (self._container_of(ingredient) or ingredient
+                                                             if ingredient else None)}
         home = self.pose(carried)
         yield from self.grasp(action, pid, carried)
         if after_grasp is not None:
