@@ -247,7 +247,7 @@ def load_skills(path: str | Path = SKILLS_PATH) -> SkillLibrary:
     if not isinstance(data, dict):
         raise _bad(path, "top", "expected a mapping")
     grasps = {}
-    for kind in (*KINDS, "hold_rim"):
+    for kind in (*KINDS, "hold_rim", "hold_flat"):
         specs = (data.get("grasps") or {}).get(kind)
         if not specs:
             raise _bad(path, f"grasps.{kind}", "missing")

@@ -210,7 +210,11 @@ class BulletWorld(Primitives):
         name = action.tool
         assert name is not None
         yield from meeting.wait_for("tool_ready")  # the actor first takes its tool, then the container is held
-        regions = self._grasp_tsrs(name, pid, kinds=["hold_rim"] if self._kind(name) == "open_container" else None)
+        kind = self._kind(name)
+        hold = {"open_container": "hold_rim", "flat_container": "hold_flat"}.get(kind)
+        regions = self._grasp_tsrs(name, pid, kinds=[hold] if hold else None)
+        # rims: each grasp in the library's order; boards: either end, sampled together
+        groups = [regions] if kind == "flat_container" else [[r] for r in regions]
         centre = self.pose(name)[:2, 3]
         actor = next(k for k in action.pids if k != pid)
         toward = self.bodies.arms[actor].base[:2, 3] - centre
@@ -222,12 +226,12 @@ class BulletWorld(Primitives):
             grip = T[:2, 3] - centre
             return float(grip @ toward / max(float(np.linalg.norm(grip)), 1e-9))
 
-        for k, region in enumerate(regions):  # each grasp in the library's order
+        for k, group in enumerate(groups):
             try:
-                yield from self.grasp(action, pid, name, lift=False, primitive="hold", tsrs=[region], rank=far_side)
+                yield from self.grasp(action, pid, name, lift=False, primitive="hold", tsrs=group, rank=far_side)
                 break
             except ActionFailed:
-                if k == len(regions) - 1:
+                if k == len(groups) - 1:
                     raise
         yield from self._hold(self.skills.hold_time)
         meeting.signal("held")
