@@ -269,3 +269,35 @@ def test_a_spoon_scoops_from_a_deep_cup_into_the_pot_without_shoving_the_cup():
         assert np.linalg.norm(world.pose("cup")[:3, 3] - cup_before) < 0.005
     finally:
         world.close()
+
+
+def _tipping_plan(destination_size):
+    objects = (SceneObject("bowl", Category.CONTAINER, "cylinder", (0.12, 0.12, 0.07), -0.15, 0.12),
+               SceneObject("onion", Category.INGREDIENT, "sphere", (0.04, 0.04, 0.04), -0.15, 0.12),
+               SceneObject("pot", Category.CONTAINER, "cylinder", destination_size, 0.0, -0.12))
+    return Plan(agents=agents_for(["P1", "P2"]), scene=Scene(objects=objects, containing=(("onion", "bowl"),)),
+                actions=(PlanAction("a1", ("P1",), "transfer", "bowl", ("onion",), "pot", "bowl"),))
+
+
+def test_tipping_a_bowl_drops_the_onion_into_the_pot_without_moving_the_pot():
+    """The onion is let go at the tilt, falls into the pot and stays there; the tipping bowl never shoves the pot
+    (actuations avoid every object but the ones they work on)."""
+    plan = _tipping_plan((0.16, 0.16, 0.12))
+    for seed in (0, 1):
+        world = BulletWorld(plan, Recorder(), seed=seed, images=False)
+        try:
+            pot = world.pose("pot")[:3, 3]
+            results = run_schedule(plan, world)
+            assert results[0].status == "done", results
+            assert world._container_of("onion") == "pot"
+            assert np.linalg.norm(world.pose("pot")[:3, 3] - pot) < 0.005
+            assert world.pose("bowl")[2, 2] > 0.99  # put back upright
+        finally:
+            world.close()
+
+
+def test_a_transfer_into_a_too_small_container_fails_saying_so():
+    """Nothing is counted done that did not happen: no pose tips the onion into a 5 cm cup."""
+    result = execute_plan(_tipping_plan((0.05, 0.05, 0.12)), Recorder(), seed=0, images=False)
+    assert result.actions[0].status == "failed"
+    assert "onion would fall outside the pot" in result.actions[0].reason

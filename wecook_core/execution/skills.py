@@ -307,6 +307,9 @@ class Waypoint:
     """Finger opening to command at this waypoint (metres per finger), None to keep."""
     hold: float = 0.0
     """Seconds to stay at this waypoint."""
+    lets_go: bool = False
+    """What the step releases riding on the carried object is let go here (at a tilt: it falls out), not at the
+    end of the motion."""
 
 
 def _moved(E: np.ndarray, Rw: np.ndarray, dp: Sequence[float] | np.ndarray = (0, 0, 0), axis: str | None = None,
@@ -363,7 +366,7 @@ def actuation_path(motion: str, params: Mapping[str, float], E: np.ndarray, Rw: 
         if axis.startswith("-"):
             axis, direction = axis[1:], -direction
         tilted = _moved(E, Rw, axis=axis, angle=direction * angle, pivot=hand)
-        out.append(Waypoint(tilted, hold=g("hold", 0.5)))
+        out.append(Waypoint(tilted, hold=g("hold", 0.5), lets_go=True))
         for _ in range(int(g("shakes", 0))):
             out.append(Waypoint(_moved(E, Rw, axis=axis, angle=direction * (angle + g("shake", 0.15)), pivot=hand)))
             out.append(Waypoint(tilted))

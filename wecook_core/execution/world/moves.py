@@ -247,8 +247,10 @@ class ArmMotion(WorldState):
 
     def linear(self, pid: str, poses: Sequence[np.ndarray], ignore: Sequence[str] | None = None,
                holds: Sequence[float] | None = None, fingers: Sequence[float | None] | None = None,
-               what: str = "straight move", margin: float = -0.01) -> Program:
-        """Follow :meth:`cartesian_path` from where the arm is, holding and setting the fingers at each pose."""
+               what: str = "straight move", margin: float = -0.01,
+               reached: Callable[[int], None] | None = None) -> Program:
+        """Follow :meth:`cartesian_path` from where the arm is: at each pose ``j``, call ``reached(j)``, set the
+        fingers, hold."""
         self._sync()
         path, durations, marks = self.cartesian_path(pid, self.arms[pid].q(), poses, ignore, what, margin)
         try:
@@ -266,6 +268,8 @@ class ArmMotion(WorldState):
             for j, end in enumerate(marks):
                 yield from self._follow(pid, path[k:end + 1], durations[k:end])
                 k = end
+                if reached is not None:
+                    reached(j)
                 if fingers is not None and fingers[j] is not None:
                     self._set_grip(pid, float(fingers[j]))  # type: ignore[arg-type]
                     yield from self._hold(0.15)

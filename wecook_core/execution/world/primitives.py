@@ -20,6 +20,7 @@ from wecook_core.execution.scene import SIM_HZ
 from wecook_core.execution.skills import Step, TSRSpec, Waypoint, actuation_path, evaluate
 from wecook_core.execution.tsr import TSR, xyzrpy_to_matrix
 from wecook_core.execution.world.moves import YIELD_SECONDS, Accept, ArmMotion, Rank
+from wecook_core.model import Category
 from wecook_core.plan import PlanAction
 
 APPROACH_OPENING = 0.008
@@ -28,6 +29,8 @@ HAND_SPAN = 0.22
 """Metres: the Panda hand's length along its finger axis (it lies across an object it takes from above)."""
 HAND_CLEAR_HEIGHT = 0.04
 """Metres above the table from which an object can be in the way of a hand taking something from above."""
+DROP_INSIDE = 0.6
+"""Share of a destination's half extents, about its middle, that what is tipped into it must fall within."""
 FREE_MARGIN = 0.1
 """Metres of clearance around an object put down on a free spot beyond which spots count as equally roomy
 (room for the hand to take it again)."""
@@ -179,7 +182,11 @@ class Primitives(ArmMotion):
                 for variant in range(options):
                     try:
                         waypoints = self._actuation_waypoints(pid, then, roles, G, variant)
-                        self.cartesian_path(pid, found[0], [w.pose @ T_eff_ee for w in waypoints], None, "actuate")
+                        self.cartesian_path(pid, found[0], [w.pose @ T_eff_ee for w in waypoints],
+                                            self._touched(then, roles), "actuate")
+                        missing = self._falls_outside(pid, then, roles, waypoints)
+                        if missing is not None:
+                            raise ActionFailed(missing)
                         self.variants[pid] = variant
                         break
                     except ActionFailed as error:
@@ -201,6 +208,40 @@ class Primitives(ArmMotion):
             return
         self._event("primitive_failed", action, pid, reason, "engage")
         raise ActionFailed(f"engage {spec.frame}: {reason}")
+
+    def _touched(self, step: Step, roles: dict[str, str | None]) -> list[str]:
+        """The objects an actuation may touch: those of its contact pairs and what lies in them (the rice in the
+        pot being stirred); every other object is an obstacle."""
+        names = [name for pair in step.contacts for name in (roles.get(r) for r in pair) if name is not None]
+        return [*names, *(c for name in names for c in self._contents(name))]
+
+    def _falls_outside(self, pid: str, step: Step, roles: dict[str, str | None],
+                       waypoints: Sequence[Waypoint]) -> str | None:
+        """Why what ``step`` lets go of (riding on the carried object) would miss the location, or None. It falls
+        from where it is at the waypoint that lets go (from a carried container: from the middle of its
+        opening), and must drop inside the middle of the location's footprint (:data:`DROP_INSIDE`)."""
+        hand = self.hands[pid]
+        target = roles.get("location")
+        names = [roles.get(r) for r in step.release]
+        riding = {r.name: r for r in hand.riding[1:] if r.name in names}
+        if target is None or not riding or not hand.riding:
+            return None
+        at = next((w for w in waypoints if w.lets_go), waypoints[-1])
+        carrier = hand.riding[0]
+        T_eff_ee = np.linalg.inv(carrier.T_ee_obj)
+        if self.bodies.objects[carrier.name].category is Category.CONTAINER:
+            opening = np.eye(4)
+            opening[2, 3] = self.half(carrier.name).hz
+            drops = {name: at.pose @ opening for name in riding}
+        else:
+            drops = {name: at.pose @ T_eff_ee @ r.T_ee_obj for name, r in riding.items()}
+        T_target = self.pose(target)
+        h = self.half(target)
+        for name, T in drops.items():
+            local = np.linalg.inv(T_target) @ T[:, 3]
+            if abs(local[0]) > DROP_INSIDE * h.hx or abs(local[1]) > DROP_INSIDE * h.hy or local[2] < h.hz:
+                return f"the {name} would fall outside the {target}"
+        return None
 
     def _free_poses(self, name: str, region: TSR) -> list[np.ndarray]:
         """Object poses of ``region`` on a 2 cm grid (yaw in 45-degree steps within the bounds), the roomiest
@@ -343,16 +384,25 @@ class Primitives(ArmMotion):
         T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
         waypoints = self._actuation_waypoints(pid, step, roles, self.arms[pid].ee())
         pairs = []
-        for first, second in step.contacts:
+        for first, second in step.contacts:  # and what lies in a container the tool works in
             a, b = roles.get(first), roles.get(second)
             if a is not None and b is not None and a != b:
-                pairs.append((self.bodies.objects[a].body, self.bodies.objects[b].body))
+                for other in (b, *(c for c in self._contents(b) if c != a)):
+                    pairs.append((self.bodies.objects[a].body, self.bodies.objects[other].body))
         for a_body, b_body in pairs:
             p.setCollisionFilterPair(a_body, b_body, -1, -1, 0, physicsClientId=self.client)
+        riding = [name for name in (roles.get(r) for r in step.release)
+                  if name is not None and name != hand.carried and any(x.name == name for x in hand.riding)]
+        let_go_at = next((j for j, w in enumerate(waypoints) if w.lets_go), len(waypoints) - 1)
+
+        def let_go(j: int) -> None:  # what rides on the tool falls from here on
+            if j == let_go_at:
+                hand.riding = [r for r in hand.riding if r.name not in riding]
+
         try:
-            yield from self.linear(pid, [w.pose @ T_eff_ee for w in waypoints], ignore=None,
+            yield from self.linear(pid, [w.pose @ T_eff_ee for w in waypoints], ignore=self._touched(step, roles),
                                    holds=[w.hold for w in waypoints], fingers=[w.fingers for w in waypoints],
-                                   what=f"actuate {step.motion}")
+                                   what=f"actuate {step.motion}", reached=let_go if riding else None)
         except ActionFailed as error:
             self._event("primitive_failed", action, pid, str(error), "actuate")
             raise
@@ -370,20 +420,32 @@ class Primitives(ArmMotion):
                 self._ride(pid, name, carrier.T_ee_obj @ T_tool_ing)
                 p.setCollisionFilterPair(self.bodies.objects[carrier.name].body, self.bodies.objects[name].body,
                                          -1, -1, 0, physicsClientId=self.client)
-        for role in step.release:
-            name = roles.get(role)
-            if name is None:
-                continue
-            if name == hand.carried:
-                yield from self.release(pid)
-            else:
-                hand.riding = [r for r in hand.riding if r.name != name]
-                yield from self._hold(0.6)  # let it fall
-                self._collide_with_arm(pid, name, enabled=True)
-                if hand.riding:
-                    p.setCollisionFilterPair(self.bodies.objects[hand.riding[0].name].body,
-                                             self.bodies.objects[name].body, -1, -1, 1, physicsClientId=self.client)
+        if riding:
+            yield from self._hold(0.6)  # let it land
+        for name in riding:
+            self._collide_with_arm(pid, name, enabled=True)
+            if hand.riding:
+                p.setCollisionFilterPair(self.bodies.objects[hand.riding[0].name].body,
+                                         self.bodies.objects[name].body, -1, -1, 1, physicsClientId=self.client)
+        if hand.carried is not None and hand.carried in (roles.get(r) for r in step.release):
+            yield from self.release(pid)
+            yield from self._hold(0.6)
+            riding.append(roles["tool"])  # type: ignore[arg-type]
+        target = roles.get("location")
+        for name in riding:  # a transfer is done when the ingredient is in its destination
+            where = self._container_of(name)
+            if target is not None and where != target:
+                at = np.round(self.pose(name)[:2, 3], 2).tolist()
+                missed = f"the {name} fell " + (f"into the {where}" if where else f"on the table at {at}") + \
+                    f", not into the {target}"
+                self._event("primitive_failed", action, pid, missed, "actuate")
+                raise Missed(f"actuate {step.motion}: {missed}")
         self._event("primitive_end", action, pid, step.motion, "actuate")
+
+
+class Missed(ActionFailed):
+    """The motion ran but did not do its work (an ingredient missed its destination): trying it again from a new
+    engage cannot help."""
 
 
 def _lifted(height: float, T: np.ndarray) -> np.ndarray:

@@ -19,7 +19,7 @@ from wecook_core.execution.robot import REST, detach, set_arm_collisions
 from wecook_core.execution.scene import SIM_HZ
 from wecook_core.execution.skills import skill_name
 from wecook_core.execution.tsr import TSR
-from wecook_core.execution.world.primitives import Primitives
+from wecook_core.execution.world.primitives import Missed, Primitives
 from wecook_core.plan import PlanAction
 
 ZONE_MARGIN = 0.08
@@ -120,7 +120,8 @@ class BulletWorld(Primitives):
                 try:
                     yield from self.actuate(action, pid, step, roles)
                 except ActionFailed as error:  # it failed before moving: engage anew (a new sample), then again
-                    if not (second_tries and k > 0 and skill.steps[k - 1].primitive == "engage"):
+                    if isinstance(error, Missed) or not (second_tries and k > 0
+                                                         and skill.steps[k - 1].primitive == "engage"):
                         raise
                     second_tries -= 1
                     self._event("retry", action, pid, f"engage again for the {step.motion} ({error})", "actuate")
