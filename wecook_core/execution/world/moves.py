@@ -21,7 +21,7 @@ from wecook_core.execution.motion import MotionProblem, path_free, plan_motion
 from wecook_core.execution.planning_scene import boxes_overlap
 from wecook_core.execution.robot import HOME, LOWER, MAX_SPEED, REST, UPPER
 from wecook_core.execution.scene import SIM_HZ
-from wecook_core.execution.tsr import TSR, sample
+from wecook_core.execution.tsr import TSR, sample, xyzrpy_to_matrix
 from wecook_core.execution.world.state import WorldState
 
 Accept = Callable[[np.ndarray], bool]
@@ -99,15 +99,20 @@ class ArmMotion(WorldState):
         return f"no reachable {what} in {count} TSR samples"
 
     def _goal_samples(self, tsrs: Sequence[TSR], T_eff_ee: np.ndarray, n: int, accept: Accept | None = None,
-                      rank: Rank | None = None) -> list[np.ndarray]:
+                      rank: Rank | None = None, spin: bool = False) -> list[np.ndarray]:
         """Up to ``n`` ee poses drawn from ``tsrs`` (the effector at ``T_eff_ee`` from the ee) that ``accept``
-        takes, lowest ``rank`` first (else in the order drawn)."""
+        takes, lowest ``rank`` first (else in the order drawn). ``spin``: the effector looks the same turned
+        about its own z (a carried bowl or bottle), so each sample is turned by a random angle about it: the
+        hand may hold it from any side."""
         out: list[np.ndarray] = []
         for _ in range(n * 12):
             if len(out) >= n:
                 break
             region = tsrs[int(self.rng.integers(len(tsrs)))]
-            T = sample(region, self.rng) @ T_eff_ee
+            T = sample(region, self.rng)
+            if spin:
+                T = T @ xyzrpy_to_matrix([0, 0, 0, 0, 0, self.rng.uniform(-math.pi, math.pi)])
+            T = T @ T_eff_ee
             if accept is None or accept(T):
                 out.append(T)
         return sorted(out, key=rank) if rank is not None else out

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+from collections import Counter
 from collections.abc import Sequence
 
 import numpy as np
@@ -159,48 +160,17 @@ class Primitives(ArmMotion):
         """Carry the effector (the carried object, else the gripper) into a TSR, by a planned move. With
         ``then`` (the actuation that follows), only poses from which that actuation is feasible are chosen."""
         self._event("primitive_start", action, pid, spec.frame, "engage")
-        hand = self.hands[pid]
-        T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
         reason = "no reachable collision-free pose"
         for attempt in range(self.attempts):
             if attempt:
                 yield from self._let_other_move(pid)
                 self._event("retry", action, pid, f"engage: attempt {attempt + 1} ({reason})", "engage")
             self._sync()
-            T0_w, sizes = self.frame(spec, roles, pid, meet)
-            region = spec.tsr(T0_w, sizes)
-            rank = self._away_from_other(pid, T0_w[:3, 3]) if meet is None else None
-            candidates = self._goal_samples([region], T_eff_ee, self.samples, accept, rank)
-            found = None
-            for G in candidates:
-                found = self._ik_goal(pid, [G], [])
-                if found is None or then is None:
-                    if found is not None:
-                        break
-                    continue
-                options = len(str(then.params.get("axis", "")).split(","))
-                for variant in range(options):
-                    try:
-                        waypoints = self._actuation_waypoints(pid, then, roles, G, variant)
-                        self.cartesian_path(pid, found[0], [w.pose @ T_eff_ee for w in waypoints],
-                                            self._touched(then, roles), "actuate")
-                        missing = self._falls_outside(pid, then, roles, waypoints)
-                        if missing is not None:
-                            raise ActionFailed(missing)
-                        self.variants[pid] = variant
-                        break
-                    except ActionFailed as error:
-                        reason = f"the {then.motion} from there: {error}"
-                else:
-                    found = None
-                if found is not None:
-                    break
-            if found is None:
-                reason = self._no_goal(f"pose at {spec.frame}", len(candidates)) \
-                    if then is None or not candidates or reason.startswith("no ") else reason
+            q, reason = self._engage_goal(pid, spec, roles, meet, accept, then)
+            if q is None:
                 continue
             try:
-                yield from self.transit(pid, found[0], what="engage")
+                yield from self.transit(pid, q, what="engage")
             except ActionFailed as error:
                 reason = str(error)
                 continue
@@ -208,6 +178,46 @@ class Primitives(ArmMotion):
             return
         self._event("primitive_failed", action, pid, reason, "engage")
         raise ActionFailed(f"engage {spec.frame}: {reason}")
+
+    def _engage_goal(self, pid: str, spec: TSRSpec, roles: dict[str, str | None], meet: tuple[str, str] | None,
+                     accept: Accept | None, then: Step | None) -> tuple[np.ndarray | None, str]:
+        """Joints of a collision-free pose of the TSR from which ``then`` is feasible (its straight path, and
+        what it tips falling into the destination), choosing the actuation's axis option; else None and why
+        (the commonest reason over the samples)."""
+        hand = self.hands[pid]
+        T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
+        T0_w, sizes = self.frame(spec, roles, pid, meet)
+        region = spec.tsr(T0_w, sizes)
+        rank = self._away_from_other(pid, T0_w[:3, 3]) if meet is None else None
+        spin = bool(hand.riding) and self.plan.scene.object(hand.riding[0].name).shape in ("cylinder", "sphere")
+        candidates = self._goal_samples([region], T_eff_ee, self.samples, accept, rank, spin)
+        why: Counter[str] = Counter()
+        unreached = 0
+        for G in candidates:
+            found = self._ik_goal(pid, [G], [])
+            if found is None:
+                unreached += 1
+                continue
+            if then is None:
+                return found[0], ""
+            for variant in range(len(str(then.params.get("axis", "")).split(","))):
+                try:
+                    waypoints = self._actuation_waypoints(pid, then, roles, G, variant)
+                    self.cartesian_path(pid, found[0], [w.pose @ T_eff_ee for w in waypoints],
+                                        self._touched(then, roles), "actuate")
+                    missing = self._falls_outside(pid, then, roles, waypoints)
+                    if missing is not None:
+                        raise ActionFailed(missing)
+                except ActionFailed as error:
+                    why[str(error)] += 1
+                    continue
+                self.variants[pid] = variant
+                return found[0], ""
+        if then is None or unreached >= why.total():  # most samples were unreachable or in collision
+            return None, self._no_goal(f"pose at {spec.frame}", len(candidates))
+        self.goal_blockers = set()
+        text, count = why.most_common(1)[0]
+        return None, f"the {then.motion} from there: {text} ({count} of {why.total()} tries)"
 
     def _touched(self, step: Step, roles: dict[str, str | None]) -> list[str]:
         """The objects an actuation may touch: those of its contact pairs and what lies in them (the rice in the
@@ -399,10 +409,24 @@ class Primitives(ArmMotion):
             if j == let_go_at:
                 hand.riding = [r for r in hand.riding if r.name not in riding]
 
+        vessel = hand.riding[0].name if hand.riding else None
         try:
-            yield from self.linear(pid, [w.pose @ T_eff_ee for w in waypoints], ignore=self._touched(step, roles),
-                                   holds=[w.hold for w in waypoints], fingers=[w.fingers for w in waypoints],
-                                   what=f"actuate {step.motion}", reached=let_go if riding else None)
+            for again in (False, True):  # what sticks in a tipped container: tip it once more
+                if again:
+                    stuck = [n for n in riding if self._container_of(n) == vessel]
+                    if not stuck:
+                        break
+                    self._event("retry", action, pid, f"{', '.join(stuck)} still in the {vessel}: tip again",
+                                "actuate")
+                    for n in stuck:
+                        self._ride(pid, n)
+                yield from self.linear(pid, [w.pose @ T_eff_ee for w in waypoints],
+                                       ignore=self._touched(step, roles), holds=[w.hold for w in waypoints],
+                                       fingers=[w.fingers for w in waypoints], what=f"actuate {step.motion}",
+                                       reached=let_go if riding else None)
+                if not riding:
+                    break
+                yield from self._hold(0.6)  # let it land
         except ActionFailed as error:
             self._event("primitive_failed", action, pid, str(error), "actuate")
             raise
@@ -420,8 +444,6 @@ class Primitives(ArmMotion):
                 self._ride(pid, name, carrier.T_ee_obj @ T_tool_ing)
                 p.setCollisionFilterPair(self.bodies.objects[carrier.name].body, self.bodies.objects[name].body,
                                          -1, -1, 0, physicsClientId=self.client)
-        if riding:
-            yield from self._hold(0.6)  # let it land
         for name in riding:
             self._collide_with_arm(pid, name, enabled=True)
             if hand.riding:
