@@ -296,8 +296,27 @@ def test_tipping_a_bowl_drops_the_onion_into_the_pot_without_moving_the_pot():
             world.close()
 
 
-def test_a_transfer_into_a_too_small_container_fails_saying_so():
-    """Nothing is counted done that did not happen: no pose tips the onion into a 5 cm cup."""
-    result = execute_plan(_tipping_plan((0.05, 0.05, 0.12)), Recorder(), seed=0, images=False)
-    assert result.actions[0].status == "failed"
-    assert "onion would fall outside the pot" in result.actions[0].reason
+class CarelessWorld(BulletWorld):
+    """Takes any engage pose, whether or not what it tips would fall into the destination."""
+
+    def _falls_outside(self, pid, step, roles, waypoints):
+        return None
+
+
+def test_an_ingredient_that_misses_its_destination_fails_the_transfer_saying_where_it_fell(tmp_path):
+    """Nothing is counted done that did not happen: a bowl tipped 25 cm beside the pot drops the onion on the table."""
+    from wecook_core.execution.skills import SKILLS_PATH, load_skills
+
+    text, over = SKILLS_PATH.read_text(), 'at: ["-t.hx - 0.01", 0, "f.hz + t.hz + 0.1"]'
+    assert over in text
+    beside = tmp_path / "skills.yaml"
+    beside.write_text(text.replace(over, 'at: [0.25, 0, "f.hz + t.hz + 0.1"]'))
+    plan = _tipping_plan((0.16, 0.16, 0.12))
+    world = CarelessWorld(plan, Recorder(), seed=0, images=False, skills=load_skills(beside))
+    try:
+        result = run_schedule(plan, world)[0]
+        assert result.status == "failed"
+        assert "the onion fell on the table" in result.reason and "not into the pot" in result.reason
+        assert world._container_of("onion") is None
+    finally:
+        world.close()

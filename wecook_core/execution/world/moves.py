@@ -90,7 +90,10 @@ class ArmMotion(WorldState):
                 if x[2] == body and x[8] < 0.0 and (min(x[3], x[4]), max(x[3], x[4])) not in self.planning.allowed_self}
         return out
 
-    def _no_goal(self, what: str, count: int) -> str:
+    def _no_goal(self, what: str, count: int, accept: Accept | None = None) -> str:
+        """Why no goal was found among ``count`` samples (what was in the way), for a failure report."""
+        if count == 0 and accept is not None:  # the role's own condition ruled every sample out
+            return f"no {what} {(accept.__doc__ or 'that the role accepts').strip()} among the TSR's samples"
         blockers = sorted(self.goal_blockers)
         self.other_in_the_way = any(b.startswith("arm ") for b in blockers)
         self.goal_blockers = set()

@@ -101,7 +101,7 @@ class Primitives(ArmMotion):
                 pre_goal = (found_pre[0], pre, G)
                 break
             if pre_goal is None:
-                reason = blocked or self._no_goal(f"grasp of {name}", len(candidates))
+                reason = blocked or self._no_goal(f"grasp of {name}", len(candidates), accept)
                 continue
             try:
                 yield from self.transit(pid, pre_goal[0], ignore_extra, what=f"{primitive} {name}")
@@ -190,7 +190,21 @@ class Primitives(ArmMotion):
         region = spec.tsr(T0_w, sizes)
         rank = self._away_from_other(pid, T0_w[:3, 3]) if meet is None else None
         spin = bool(hand.riding) and self.plan.scene.object(hand.riding[0].name).shape in ("cylinder", "sphere")
-        candidates = self._goal_samples([region], T_eff_ee, self.samples, accept, rank, spin)
+        options = range(len(str(then.params.get("axis", "")).split(","))) if then is not None else range(0)
+
+        def lands(G: np.ndarray) -> list[int]:
+            """The actuation's axis options from ``G`` that tip what it lets go of into the destination (pure
+            geometry, so it is checked on many samples before any IK)."""
+            assert then is not None
+            return [v for v in options
+                    if self._falls_outside(pid, then, roles, self._actuation_waypoints(pid, then, roles, G, v)) is None]
+
+        tips = then is not None and roles.get("location") is not None and bool(self._tipped(pid, then, roles))
+        keep = accept if not tips else (lambda G: (accept is None or accept(G)) and bool(lands(G)))
+        candidates = self._goal_samples([region], T_eff_ee, self.samples, keep, rank, spin)
+        if tips and not candidates:
+            assert then is not None
+            return None, f"no pose at {spec.frame} from which the {then.motion} tips into the {roles['location']}"
         why: Counter[str] = Counter()
         unreached = 0
         for G in candidates:
@@ -200,14 +214,11 @@ class Primitives(ArmMotion):
                 continue
             if then is None:
                 return found[0], ""
-            for variant in range(len(str(then.params.get("axis", "")).split(","))):
+            for variant in (lands(G) if tips else options):
                 try:
                     waypoints = self._actuation_waypoints(pid, then, roles, G, variant)
                     self.cartesian_path(pid, found[0], [w.pose @ T_eff_ee for w in waypoints],
                                         self._touched(then, roles), "actuate")
-                    missing = self._falls_outside(pid, then, roles, waypoints)
-                    if missing is not None:
-                        raise ActionFailed(missing)
                 except ActionFailed as error:
                     why[str(error)] += 1
                     continue
@@ -225,6 +236,11 @@ class Primitives(ArmMotion):
         names = [name for pair in step.contacts for name in (roles.get(r) for r in pair) if name is not None]
         return [*names, *(c for name in names for c in self._contents(name))]
 
+    def _tipped(self, pid: str, step: Step, roles: dict[str, str | None]) -> dict[str, Riding]:
+        """What ``step`` lets go of that rides on the carried object (not the carried object itself)."""
+        names = [roles.get(r) for r in step.release]
+        return {r.name: r for r in self.hands[pid].riding[1:] if r.name in names}
+
     def _falls_outside(self, pid: str, step: Step, roles: dict[str, str | None],
                        waypoints: Sequence[Waypoint]) -> str | None:
         """Why what ``step`` lets go of (riding on the carried object) would miss the location, or None. It falls
@@ -232,9 +248,8 @@ class Primitives(ArmMotion):
         opening), and must drop inside the middle of the location's footprint (:data:`DROP_INSIDE`)."""
         hand = self.hands[pid]
         target = roles.get("location")
-        names = [roles.get(r) for r in step.release]
-        riding = {r.name: r for r in hand.riding[1:] if r.name in names}
-        if target is None or not riding or not hand.riding:
+        riding = self._tipped(pid, step, roles)
+        if target is None or not riding:
             return None
         at = next((w for w in waypoints if w.lets_go), waypoints[-1])
         carrier = hand.riding[0]

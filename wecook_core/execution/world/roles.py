@@ -191,6 +191,7 @@ class BulletWorld(Primitives):
             regions = self._grasp_tsrs(name, pid, flip=True)
 
             def clear_of_giver(T: np.ndarray) -> bool:
+                """clear of the giver's hand"""
                 return bool(np.linalg.norm(T[:3, 3] - giver_ee[:3, 3]) >= clearance)
 
             self.arm_margin = 0.0
