@@ -9,7 +9,9 @@
 - ``demo_plan_done``: share of the demo plan's actions done over the run seeds :data:`DEMO_SEEDS`.
 - ``synthetic_plans_done``: share of the actions done over 10 synthetic two-arm plans
   (:func:`wecook_core.execution.plan_samples.synthetic_plan`, seeds 0-9; every verb, handovers and holdings).
-  For both shares the note lists the failures.
+- ``video_plans_done``: share of the actions done over the plans of synthetic videos :data:`VIDEO_SEEDS`, each
+  through the whole pipeline (segmentation, recognition, graph, layout), as a user's own video would be.
+  For the shares the note lists the failures.
 
 Run: ``.venv/bin/python -m bench.motion``.
 """
@@ -35,6 +37,8 @@ from wecook_core.plan import Plan
 
 DEMO_SEEDS = tuple(range(5))
 """Run seeds of the demo's plan whose share of actions done is reported."""
+VIDEO_SEEDS = tuple(range(10))
+"""Synthetic videos (``wecook synth --seed``) whose exported plans are run."""
 
 def planning_queries(n: int = 15) -> tuple[list[float], list[float], int]:
     scene = PlanningScene(demo_plan())  # the demo's table: 16 objects
@@ -85,7 +89,21 @@ def run() -> list[dict[str, object]]:
                             f"the demo's plan at run seeds {DEMO_SEEDS[0]}-{DEMO_SEEDS[-1]}"))
     rows.append(_done_share("synthetic_plans_done", [(synthetic_plan(k), 0) for k in range(10)],
                             "10 synthetic plans (seeds 0-9), run seed 0"))
+    rows.append(_done_share("video_plans_done", [(_video_plan(k), 0) for k in VIDEO_SEEDS],
+                            f"plans of synthetic videos {VIDEO_SEEDS[0]}-{VIDEO_SEEDS[-1]} (analysed, laid out, "
+                            "exported as a user would), run seed 0"))
     return rows
+
+
+def _video_plan(seed: int) -> Plan:
+    """The plan ``wecook synth``, ``new``, ``analyze`` and ``export`` give for the synthetic video of ``seed``."""
+    from wecook_core.pipeline import analyze
+    from wecook_core.plan import plan_from_graph
+    from wecook_core.recognize import load_knowledge
+    from wecook_core.synth import synthesize
+
+    scenario = synthesize(seed)
+    return plan_from_graph(analyze(scenario.observations, load_knowledge()).graph, scenario.observations)
 
 
 def _done_share(name: str, runs: list[tuple[Plan, int]], what: str) -> dict[str, object]:
