@@ -403,32 +403,28 @@ class Primitives(ArmMotion):
         return actuation_path(step.motion, params, E, Rw, grip=hand.grip, hand=ee[:3, 3])  # type: ignore[arg-type]
 
     def actuate(self, action: PlanAction, pid: str, step: Step, roles: dict[str, str | None]) -> Program:
+        """The step's motion from where the hand is, its contact pairs passing through each other; then what it
+        attaches rides on the tool, and what it lets go of must land in the location (else :class:`Missed`)."""
         assert step.motion is not None
         self._event("primitive_start", action, pid, step.motion, "actuate")
         hand = self.hands[pid]
         T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
         waypoints = self._actuation_waypoints(pid, step, roles, self.arms[pid].ee())
-        pairs = []
-        for first, second in step.contacts:  # and what lies in a container the tool works in
-            a, b = roles.get(first), roles.get(second)
-            if a is not None and b is not None and a != b:
-                for other in (b, *(c for c in self._contents(b) if c != a)):
-                    pairs.append((self.bodies.objects[a].body, self.bodies.objects[other].body))
-        for a_body, b_body in pairs:
-            p.setCollisionFilterPair(a_body, b_body, -1, -1, 0, physicsClientId=self.client)
-        riding = [name for name in (roles.get(r) for r in step.release)
-                  if name is not None and name != hand.carried and any(x.name == name for x in hand.riding)]
+        tipped = list(self._tipped(pid, step, roles))
         let_go_at = next((j for j, w in enumerate(waypoints) if w.lets_go), len(waypoints) - 1)
 
         def let_go(j: int) -> None:  # what rides on the tool falls from here on
             if j == let_go_at:
-                hand.riding = [r for r in hand.riding if r.name not in riding]
+                hand.riding = [r for r in hand.riding if r.name not in tipped]
 
         vessel = hand.riding[0].name if hand.riding else None
+        pairs = self._contact_pairs(step, roles)
+        for a, b in pairs:
+            p.setCollisionFilterPair(a, b, -1, -1, 0, physicsClientId=self.client)
         try:
             for again in (False, True):  # what sticks in a tipped container: tip it once more
                 if again:
-                    stuck = [n for n in riding if self._container_of(n) == vessel]
+                    stuck = [n for n in tipped if self._container_of(n) == vessel]
                     if not stuck:
                         break
                     self._event("retry", action, pid, f"{', '.join(stuck)} still in the {vessel}: tip again",
@@ -438,16 +434,46 @@ class Primitives(ArmMotion):
                 yield from self.linear(pid, [w.pose @ T_eff_ee for w in waypoints],
                                        ignore=self._touched(step, roles), holds=[w.hold for w in waypoints],
                                        fingers=[w.fingers for w in waypoints], what=f"actuate {step.motion}",
-                                       reached=let_go if riding else None)
-                if not riding:
+                                       reached=let_go if tipped else None)
+                if not tipped:
                     break
                 yield from self._hold(0.6)  # let it land
         except ActionFailed as error:
             self._event("primitive_failed", action, pid, str(error), "actuate")
             raise
         finally:
-            for a_body, b_body in pairs:
-                p.setCollisionFilterPair(a_body, b_body, -1, -1, 1, physicsClientId=self.client)
+            for a, b in pairs:
+                p.setCollisionFilterPair(a, b, -1, -1, 1, physicsClientId=self.client)
+        self._attach(pid, step, roles)
+        for name in tipped:
+            self._collide_with_arm(pid, name, enabled=True)
+            if hand.riding:
+                p.setCollisionFilterPair(self.bodies.objects[hand.riding[0].name].body,
+                                         self.bodies.objects[name].body, -1, -1, 1, physicsClientId=self.client)
+        if hand.carried is not None and hand.carried in (roles.get(r) for r in step.release):
+            dropped = hand.carried  # carried by hand into the location
+            yield from self.release(pid)
+            yield from self._hold(0.6)
+            tipped.append(dropped)
+        missed = self._missed(tipped, roles.get("location"))
+        if missed is not None:
+            self._event("primitive_failed", action, pid, missed, "actuate")
+            raise Missed(f"actuate {step.motion}: {missed}")
+        self._event("primitive_end", action, pid, step.motion, "actuate")
+
+    def _contact_pairs(self, step: Step, roles: dict[str, str | None]) -> list[tuple[int, int]]:
+        """Bodies of the step's contact pairs, and of the tool with what lies in a container it works in."""
+        pairs = []
+        for first, second in step.contacts:
+            a, b = roles.get(first), roles.get(second)
+            if a is not None and b is not None and a != b:
+                for other in (b, *(c for c in self._contents(b) if c != a)):
+                    pairs.append((self.bodies.objects[a].body, self.bodies.objects[other].body))
+        return pairs
+
+    def _attach(self, pid: str, step: Step, roles: dict[str, str | None]) -> None:
+        """What the step attaches (a scooped ingredient) rides on the carried tool from now on, on its tip."""
+        hand = self.hands[pid]
         for role in step.attach:
             name = roles.get(role)
             if name is not None and hand.riding:
@@ -459,25 +485,17 @@ class Primitives(ArmMotion):
                 self._ride(pid, name, carrier.T_ee_obj @ T_tool_ing)
                 p.setCollisionFilterPair(self.bodies.objects[carrier.name].body, self.bodies.objects[name].body,
                                          -1, -1, 0, physicsClientId=self.client)
-        for name in riding:
-            self._collide_with_arm(pid, name, enabled=True)
-            if hand.riding:
-                p.setCollisionFilterPair(self.bodies.objects[hand.riding[0].name].body,
-                                         self.bodies.objects[name].body, -1, -1, 1, physicsClientId=self.client)
-        if hand.carried is not None and hand.carried in (roles.get(r) for r in step.release):
-            yield from self.release(pid)
-            yield from self._hold(0.6)
-            riding.append(roles["tool"])  # type: ignore[arg-type]
-        target = roles.get("location")
-        for name in riding:  # a transfer is done when the ingredient is in its destination
+
+    def _missed(self, names: Sequence[str], target: str | None) -> str | None:
+        """Where the first of ``names`` that is not in ``target`` lies, or None (a transfer is done only when its
+        ingredient is in its destination)."""
+        for name in names:
             where = self._container_of(name)
             if target is not None and where != target:
                 at = np.round(self.pose(name)[:2, 3], 2).tolist()
-                missed = f"the {name} fell " + (f"into the {where}" if where else f"on the table at {at}") + \
+                return f"the {name} fell " + (f"into the {where}" if where else f"on the table at {at}") + \
                     f", not into the {target}"
-                self._event("primitive_failed", action, pid, missed, "actuate")
-                raise Missed(f"actuate {step.motion}: {missed}")
-        self._event("primitive_end", action, pid, step.motion, "actuate")
+        return None
 
 
 class Missed(ActionFailed):
