@@ -192,12 +192,19 @@ class Primitives(ArmMotion):
         spin = bool(hand.riding) and self.plan.scene.object(hand.riding[0].name).shape in ("cylinder", "sphere")
         options = range(len(str(then.params.get("axis", "")).split(","))) if then is not None else range(0)
 
+        landing: dict[int, list[int]] = {}
+
         def lands(G: np.ndarray) -> list[int]:
             """The actuation's axis options from ``G`` that tip what it lets go of into the destination (pure
-            geometry, so it is checked on many samples before any IK)."""
+            geometry, so it is checked on many samples before any IK; kept for the samples that pass)."""
             assert then is not None
-            return [v for v in options
+            if id(G) in landing:  # only kept samples are stored: they stay alive, so their ids are not reused
+                return landing[id(G)]
+            good = [v for v in options
                     if self._falls_outside(pid, then, roles, self._actuation_waypoints(pid, then, roles, G, v)) is None]
+            if good:
+                landing[id(G)] = good
+            return good
 
         tips = then is not None and roles.get("location") is not None and bool(self._tipped(pid, then, roles))
         keep = accept if not tips else (lambda G: (accept is None or accept(G)) and bool(lands(G)))
