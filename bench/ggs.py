@@ -21,10 +21,10 @@ from typing import Any
 import numpy as np
 
 from wecook_core.model import HANDS, HandTrack, Observations, VideoInfo
-from wecook_core.pipeline import Params
+from wecook_core.perception.params import Params
+from wecook_core.perception.segmentation import ggs, segment_hands
+from wecook_core.perception.segmentation.synthetic import hand_trajectory
 from wecook_core.resources import shared_dir
-from wecook_core.segment import ggs, segment_hands
-from wecook_core.segmentation.synthetic import hand_trajectory
 
 NAIVE_K = 3
 LAMB = 1e-4

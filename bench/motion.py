@@ -32,8 +32,8 @@ from wecook_core.execution.plan_samples import synthetic_plan
 from wecook_core.execution.planning_scene import PlanningScene
 from wecook_core.execution.recorder import McapRecorder
 from wecook_core.execution.robot import HOME, LOWER, UPPER
-from wecook_core.export import demo_plan
 from wecook_core.plan import Plan
+from wecook_core.workflows import demo_plan
 
 DEMO_SEEDS = tuple(range(5))
 """Run seeds of the demo's plan whose share of actions done is reported."""
@@ -97,9 +97,9 @@ def run() -> list[dict[str, object]]:
 
 def _video_plan(seed: int) -> Plan:
     """The plan ``wecook synth``, ``new``, ``analyze`` and ``export`` give for the synthetic video of ``seed``."""
-    from wecook_core.pipeline import analyze
+    from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.perception.pipeline import analyze
     from wecook_core.plan import plan_from_graph
-    from wecook_core.recognize import load_knowledge
     from wecook_core.synth import synthesize
 
     scenario = synthesize(seed)

@@ -32,8 +32,9 @@ def _scenario(duration_s: float):
 
 
 def _time_analyze(duration_s: float, repeats: int = 3) -> tuple[float, dict[str, float], int, int]:
-    from wecook_core.pipeline import Params, analyze
-    from wecook_core.recognize import load_knowledge
+    from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.perception.params import Params
+    from wecook_core.perception.pipeline import analyze
 
     scenario = _scenario(duration_s)
     knowledge = load_knowledge()
@@ -56,9 +57,10 @@ def _memory_child(duration_s: float) -> dict[str, float]:
     import resource
     import tracemalloc
 
-    from wecook_core.pipeline import Params, analyze, segmentation_params
-    from wecook_core.recognize import load_knowledge
-    from wecook_core.segment import segment_hands
+    from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.perception.params import Params
+    from wecook_core.perception.pipeline import analyze, segmentation_params
+    from wecook_core.perception.segmentation import segment_hands
 
     knowledge = load_knowledge()
     scenario = _scenario(duration_s)

@@ -46,12 +46,13 @@ def score(seeds: Iterable[int], persons: int = 2, tally: Tally | None = None) ->
     """Analyse each seed's scenario and count trees per case."""
     import time
 
-    from wecook_core.evaluate import match
-    from wecook_core.graph import case_of
-    from wecook_core.pipeline import Params, analyze
-    from wecook_core.recognize import load_knowledge
+    from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.perception.evaluation import match
+    from wecook_core.perception.params import Params
+    from wecook_core.perception.pipeline import analyze
     from wecook_core.synth import synthesize
-    from wecook_core.trees import action_of, format_tree, has_action
+    from wecook_core.trees.graph import case_of
+    from wecook_core.trees.notation import action_of, format_tree, has_action
 
     tally = tally or Tally()
     knowledge = load_knowledge()

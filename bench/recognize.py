@@ -14,7 +14,7 @@ import time
 import numpy as np
 
 from wecook_core.knowledge.nouns import match
-from wecook_core.recognize import KNOWLEDGE_PATH, Knowledge, knowledge_from_json, load_knowledge, rank_batch
+from wecook_core.knowledge.recognize import KNOWLEDGE_PATH, Knowledge, knowledge_from_json, load_knowledge, rank_batch
 
 LABELS = ("knife", "tomato", "chopping board", "spoon", "pot", "pan", "oil", "salt", "lemon", "dough",
           "rolling pin", "peeler", "potato", "bread", "butter", "bowl_2", "cherry_tomato", "onion", "carrot",

@@ -54,8 +54,8 @@ class Discard:
 def _runner() -> tuple[str, Callable[[Any], float]]:
     """(description, run(observer) -> simulated seconds)."""
     from wecook_core.execution.executor import execute_plan
-    from wecook_core.export import demo_plan
     from wecook_core.plan import load_plan
+    from wecook_core.workflows import demo_plan
 
     execute_plan(load_plan(ONE_ARM_CUTS), Discard(), seed=0)  # warm up imports and URDF caches
     plan = demo_plan()

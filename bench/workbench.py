@@ -69,7 +69,7 @@ def write_scenario(folder: Path, frames: int = FRAMES, size: tuple[int, int] = S
 
 
 def make_session(folder: Path) -> Path:
-    from wecook_core.session import create_session
+    from wecook_core.session.store import create_session
 
     inputs = folder / "inputs"
     inputs.mkdir(parents=True, exist_ok=True)

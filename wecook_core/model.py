@@ -272,6 +272,30 @@ class GraphNode:
     action: Action
 
 
+Ranking = tuple[tuple[str, float], ...]
+"""Verbs with their probabilities, most likely first."""
+
+
+@dataclass(frozen=True)
+class SegmentActions:
+    """What every hand does during one segment."""
+
+    segment: Segment
+    actions: tuple[Action, ...]
+    """One per acting hand (GRASP included), in :data:`HANDS` order of ``Action.hand``. A hand whose action
+    is the partner of a collaboration appears only inside it."""
+    rankings: Mapping[str, Ranking] = field(default_factory=dict)
+    """Hand -> the commonsense ranking of its individual action (empty when nothing was ranked)."""
+    partners: tuple[str, ...] = ()
+    """Hands whose action is the partner inside a collaboration of this segment."""
+
+    def action_of(self, hand: str) -> Action | None:
+        for action in self.actions:
+            if action.hand == hand:
+                return action
+        return None
+
+
 @dataclass(frozen=True)
 class GraphEdge:
     source: str

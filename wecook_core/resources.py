@@ -1,4 +1,4 @@
-"""Where shipped data lives: `assets/` beside the packages, and the team's `../shared` data (read in place)."""
+"""Where shipped data lives: ``wecook_core/assets/`` (package data), and the team's ``../shared`` (read in place)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,8 @@ import os
 from pathlib import Path
 
 REPO_DIR = Path(__file__).resolve().parents[1]
-ASSETS_DIR = REPO_DIR / "assets"
+"""The checkout (or, once installed, the folder holding the package)."""
+ASSETS_DIR = Path(__file__).resolve().parent / "assets"
 """Shipped data: knowledge tables, object categories, skills, the demo scenario."""
 
 

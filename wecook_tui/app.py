@@ -85,7 +85,7 @@ class WecookApp(App[None]):
         knowledge = self.opened.knowledge if self.opened else None
         if knowledge is None:
             return []
-        from wecook_core.recognize import rank
+        from wecook_core.knowledge.recognize import rank
 
         return list(rank(knowledge, objects))
 
@@ -204,8 +204,8 @@ class WecookApp(App[None]):
     @work(thread=True, exclusive=True, group="results", exit_on_error=False)
     def _write_results(self, analysis: Any) -> None:
         """Keep the session's ``trees.yaml`` and ``graph.yaml`` in step with the corrections."""
-        from wecook_core.formats.treefile import write_tree_file
-        from wecook_core.graph import write_graph_file
+        from wecook_core.trees.graph import write_graph_file
+        from wecook_core.trees.treefile import write_tree_file
 
         try:
             write_tree_file(self.session.trees_path, analysis.trees)

@@ -32,8 +32,8 @@ class Opened:
 
 def open_workspace(path: Path) -> Opened:
     """Open the session, read its observations and the commonsense tables, open the video."""
-    from wecook_core.recognize import load_knowledge
-    from wecook_core.session import open_session
+    from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.session.store import open_session
 
     session = open_session(path)
     warnings = [str(w) for w in getattr(session, "warnings", ())]
@@ -59,8 +59,8 @@ def open_workspace(path: Path) -> Opened:
 
 def analyze_workspace(opened: Opened, corrections: Any) -> Any:
     """``pipeline.analyze`` with the corrections; GGS runs once per session (corrections never change it)."""
-    from wecook_core.pipeline import analyze
-    from wecook_core.segment import segment_hands
+    from wecook_core.perception.pipeline import analyze
+    from wecook_core.perception.segmentation import segment_hands
 
     if opened.segmentation is None:
         opened.segmentation = segment_hands(opened.observations, opened.session.params)

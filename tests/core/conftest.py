@@ -2,7 +2,7 @@ from __future__ import annotations
 
 import pytest
 
-from wecook_core.recognize import Knowledge, load_knowledge
+from wecook_core.knowledge.recognize import Knowledge, load_knowledge
 
 
 @pytest.fixture(scope="session")

@@ -4,10 +4,10 @@ import itertools
 
 from handmade_scenes import cutting, handing_over, holding, observations, pouring, squeezing, still, transferring
 
-from wecook_core.actions import handover_events, hold_spans, recognize_actions, transfer_events
-from wecook_core.associate import associate_segments
 from wecook_core.model import ActionKind, Category, Corrections, Segment, Segmentation
-from wecook_core.pipeline import Params
+from wecook_core.perception.actions import handover_events, hold_spans, recognize_actions, transfer_events
+from wecook_core.perception.associate import associate_segments
+from wecook_core.perception.params import Params
 
 
 def recognise(obs, cuts, knowledge, corrections=None):

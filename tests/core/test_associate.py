@@ -3,7 +3,8 @@ from __future__ import annotations
 import numpy as np
 from handmade_scenes import BOARD, TOMATO, at, cutting, observations, still
 
-from wecook_core.associate import (
+from wecook_core.model import Category, Corrections, Segment, Segmentation
+from wecook_core.perception.associate import (
     NONE,
     associate,
     associate_segments,
@@ -12,8 +13,7 @@ from wecook_core.associate import (
     longest_runs,
     runs,
 )
-from wecook_core.model import Category, Corrections, Segment, Segmentation
-from wecook_core.pipeline import Params
+from wecook_core.perception.params import Params
 
 
 def one_segment(obs, end=None):

@@ -6,7 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from wecook_core.categories import (
+from wecook_core.errors import InputError
+from wecook_core.knowledge.categories import (
     ENV_VAR,
     CategoryTable,
     categorize_all,
@@ -15,7 +16,6 @@ from wecook_core.categories import (
     load_categories,
     parse_categories,
 )
-from wecook_core.errors import InputError
 from wecook_core.model import Category
 
 T, C, ING = Category.TOOL, Category.CONTAINER, Category.INGREDIENT

@@ -5,10 +5,10 @@ from pathlib import Path
 import pytest
 
 from wecook_core.errors import InputError
-from wecook_core.evaluate import evaluate
-from wecook_core.formats.treefile import read_tree_file, write_tree_file
 from wecook_core.model import TreeSpan
-from wecook_core.trees import parse_tree
+from wecook_core.perception.evaluation import evaluate
+from wecook_core.trees.notation import parse_tree
+from wecook_core.trees.treefile import read_tree_file, write_tree_file
 from wecook_tui.cli import main
 
 CUT = parse_tree("(HP (HP (H RH_P1) (O knife)) (AP (A cut) (O tomato)))")

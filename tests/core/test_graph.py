@@ -3,7 +3,8 @@ from __future__ import annotations
 import pytest
 
 from wecook_core.errors import InputError
-from wecook_core.graph import (
+from wecook_core.model import Action, ActionKind, Category
+from wecook_core.trees.graph import (
     PARTNER,
     build_graph,
     case_of,
@@ -14,8 +15,7 @@ from wecook_core.graph import (
     tree_spans,
     write_graph_file,
 )
-from wecook_core.model import Action, ActionKind, Category
-from wecook_core.trees import format_tree, parse_tree
+from wecook_core.trees.notation import format_tree, parse_tree
 
 CATEGORIES = {"knife": Category.TOOL, "spoon": Category.TOOL, "tomato": Category.INGREDIENT,
               "onion": Category.INGREDIENT, "lemon": Category.INGREDIENT, "chopping_board": Category.CONTAINER,

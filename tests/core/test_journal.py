@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from wecook_core.journal import Journal, JournalChangedError, check_correction
 from wecook_core.model import SegmentStatus
+from wecook_core.session.journal import Journal, JournalChangedError, check_correction
 
 
 def verb(segment: int, word: str, hand: str = "RH_P1") -> dict[str, object]:

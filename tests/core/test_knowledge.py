@@ -14,8 +14,9 @@ from wecook_core.knowledge.corpus import Corpus, Record, merge, read_csv, read_e
 from wecook_core.knowledge.evaluation import Example, evaluate, score, split
 from wecook_core.knowledge.learning import fold, learn
 from wecook_core.knowledge.nouns import epic_name, match, normalise, singular
+from wecook_core.knowledge.recognize import load_knowledge, rank
 from wecook_core.knowledge.synonyms import RECOGNISED, VerbFolder, load_synonyms
-from wecook_core.recognize import load_knowledge, rank
+from wecook_core.resources import ASSETS_DIR
 
 CSV = """action,objects
 chop,knife;tomato
@@ -259,10 +260,10 @@ def test_build_from_a_csv_writes_tables_and_source(tmp_path: Path) -> None:
 
 def test_shipped_tables_are_what_the_shared_corpus_teaches(shared: Path) -> None:
     """The shipped counts are reproducible from the corpus read in place (same defaults as `learn`)."""
-    shipped = json.loads((Path(__file__).parents[2] / "assets" / "knowledge" / "commonsense.json").read_text())
+    shipped = json.loads((ASSETS_DIR / "knowledge" / "commonsense.json").read_text())
     knowledge = learn(read_epic(default_corpus()))
     assert list(knowledge.verbs) == shipped["verbs"]
     assert list(knowledge.objects) == shipped["objects"]
     assert knowledge.action_counts.tolist() == shipped["action_counts"]
     assert knowledge.pair_counts.tolist() == shipped["pair_counts"]
-    assert "CC BY-NC 4.0" in (Path(__file__).parents[2] / "assets" / "knowledge" / "SOURCE.md").read_text()
+    assert "CC BY-NC 4.0" in (ASSETS_DIR / "knowledge" / "SOURCE.md").read_text()

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 from grey_video import write_grey_video
 
-from wecook_core.categories import CategoryTable, parse_categories
 from wecook_core.errors import InputError
+from wecook_core.knowledge.categories import CategoryTable, parse_categories
 from wecook_core.model import Category, ObjectTrack
-from wecook_core.observations import InputChecks, import_observations, load_observations, unique_names
+from wecook_core.observations.importer import InputChecks, import_observations, load_observations, unique_names
 
 W, H, FRAMES, FPS = 160, 120, 30, 10.0
 TABLE: CategoryTable = parse_categories("objects:\n  knife: tool\n  bowl: container\n  tomato: ingredient\n",

@@ -5,10 +5,11 @@ import itertools
 import pytest
 from handmade_scenes import cutting, handing_over, holding, pouring, squeezing, transferring
 
+from wecook_core.knowledge.recognize import load_knowledge
 from wecook_core.model import Corrections, Segment, Segmentation, SegmentStatus
-from wecook_core.pipeline import Params, analyze, apply_cuts
-from wecook_core.recognize import load_knowledge
-from wecook_core.trees import format_tree, parse_tree
+from wecook_core.perception.params import Params
+from wecook_core.perception.pipeline import analyze, apply_cuts
+from wecook_core.trees.notation import format_tree, parse_tree
 
 CUT_TREE = "(HP (HP (H RH_P1) (O knife)) (AP (A cut) (OP (O tomato) (O chopping_board))))"
 
@@ -98,11 +99,11 @@ def test_wecook_analyze_writes_the_trees_and_graph_of_a_session_with_its_correct
     import cv2
     import numpy as np
 
-    from wecook_core.evaluate import evaluate
-    from wecook_core.formats.treefile import read_tree_file
-    from wecook_core.graph import read_graph_file
-    from wecook_core.session import create_session, open_session
+    from wecook_core.perception.evaluation import evaluate
+    from wecook_core.session.store import create_session, open_session
     from wecook_core.synth import synthesize, write_scenario
+    from wecook_core.trees.graph import read_graph_file
+    from wecook_core.trees.treefile import read_tree_file
     from wecook_tui.cli import main
 
     scenario = synthesize(3)
@@ -129,7 +130,7 @@ def test_wecook_analyze_writes_the_trees_and_graph_of_a_session_with_its_correct
     first = next(t for t in trees if "(A " in str(t.tree) or "AP" in str(t.tree))
     middle = (first.start + first.end) // 2
     session = open_session(folder)
-    from wecook_core.pipeline import analyze
+    from wecook_core.perception.pipeline import analyze
 
     start = next(s.start for s in analyze(session.load_observations(), load_knowledge()).segmentation.segments
                  if s.start <= middle < s.end)

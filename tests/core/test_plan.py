@@ -37,7 +37,7 @@ from wecook_core.plan import (
     validate,
     write_plan,
 )
-from wecook_core.trees import action_of, parse_tree
+from wecook_core.trees.notation import action_of, parse_tree
 
 TABLE = Table()
 
@@ -262,9 +262,9 @@ def test_generated_plan_round_trips(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize(("seed", "persons"), [(0, 2), (1, 2), (2, 2), (3, 1)])
 def test_plans_of_synthetic_videos_are_valid_and_uncluttered(seed: int, persons: int) -> None:
-    from wecook_core.graph import build_graph
     from wecook_core.model import ActionKind
     from wecook_core.synth.scenario import synthesize
+    from wecook_core.trees.graph import build_graph
 
     scenario = synthesize(seed, persons)
     graph = build_graph(scenario.actions)
@@ -323,8 +323,8 @@ def test_the_demo_layout_keeps_each_arm_s_things_on_its_half_and_room_for_the_ha
     """The bundled demo's plan: what one person uses lies on that arm's half, and a gripper lying across a tool
     to take it has HAND_ROOM from anything tall (the spoon beside the pot, on P2's side, made P1's grasps and
     scoops fail)."""
-    from wecook_core.export import demo_plan
-    from wecook_core.layout import GAP, HAND_ROOM, LOW
+    from wecook_core.plan.layout import GAP, HAND_ROOM, LOW
+    from wecook_core.workflows import demo_plan
 
     plan = demo_plan()
     users: dict[str, set[str]] = {}

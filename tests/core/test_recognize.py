@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from wecook_core.errors import InputError
-from wecook_core.recognize import (
+from wecook_core.knowledge.recognize import (
     Knowledge,
     knowledge_from_json,
     load_knowledge,
@@ -145,7 +145,7 @@ def test_missing_knowledge_file(tmp_path: Path) -> None:
 
 
 def test_shipped_tables_load_fast() -> None:
-    from wecook_core.recognize import KNOWLEDGE_PATH
+    from wecook_core.knowledge.recognize import KNOWLEDGE_PATH
 
     data = json.loads(KNOWLEDGE_PATH.read_text())
     best = math.inf

@@ -14,10 +14,17 @@ import yaml
 
 from wecook_core.errors import InputError
 from wecook_core.model import HANDS, HandTrack, Observations, VideoInfo
-from wecook_core.pipeline import Params
-from wecook_core.segment import choose_k, ggs, load_series, refine_breakpoints, segment_hands, segment_objective
-from wecook_core.segmentation.hands import running_median, union_breakpoints
-from wecook_core.segmentation.synthetic import hand_trajectory
+from wecook_core.perception.params import Params
+from wecook_core.perception.segmentation import (
+    choose_k,
+    ggs,
+    load_series,
+    refine_breakpoints,
+    segment_hands,
+    segment_objective,
+)
+from wecook_core.perception.segmentation.hands import running_median, union_breakpoints
+from wecook_core.perception.segmentation.synthetic import hand_trajectory
 from wecook_tui.cli import main
 
 
@@ -101,7 +108,7 @@ def test_adjustment_leaves_no_breakpoint_with_a_better_place():
 
 
 def test_adjustment_order_is_pythons_seeded_shuffle():
-    from wecook_core.segmentation.ggs import _shuffle
+    from wecook_core.perception.segmentation.ggs import _shuffle
 
     for size in (2, 3, 17, 64, 300):
         ours, theirs = list(range(size)), list(range(size))

@@ -11,8 +11,8 @@ from session_inputs import FPS, FRAMES, W, make_inputs
 
 from wecook_core import __version__
 from wecook_core.errors import InputError
-from wecook_core.pipeline import Params
-from wecook_core.session import (
+from wecook_core.perception.params import Params
+from wecook_core.session.store import (
     JOURNAL_FILE,
     SESSION_FILE,
     check_name,

@@ -16,12 +16,12 @@ import pytest
 
 from wecook_core.formats.native import read_hands_csv, read_objects_csv
 from wecook_core.formats.openpose import read_openpose
-from wecook_core.formats.treefile import dump_tree_spans, read_tree_file
 from wecook_core.model import HANDS, Action, ActionKind, Category
 from wecook_core.synth import DEMO_SEED, demo_dir, synthesize, write_scenario
 from wecook_core.synth.motion import Move, minimum_jerk, phase_positions
 from wecook_core.synth.scenario import Scenario
-from wecook_core.trees import action_of, format_tree, has_action, parse_tree
+from wecook_core.trees.notation import action_of, format_tree, has_action, parse_tree
+from wecook_core.trees.treefile import dump_tree_spans, read_tree_file
 
 SEEDS = (1, 2, 3)
 
@@ -125,8 +125,8 @@ def test_held_objects_overlap_the_hand_and_are_its_nearest_overlap(seed: int) ->
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_the_pipelines_associations_find_the_held_object(seed: int) -> None:
-    from wecook_core.associate import frame_links
-    from wecook_core.pipeline import Params
+    from wecook_core.perception.associate import frame_links
+    from wecook_core.perception.params import Params
 
     s = scenario(seed)
     links = frame_links(s.observations, 0, s.frames, Params())
@@ -139,8 +139,8 @@ def test_the_pipelines_associations_find_the_held_object(seed: int) -> None:
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_a_hand_does_one_thing_at_a_time_and_holds_nothing_in_between(seed: int) -> None:
-    from wecook_core.associate import NONE, frame_links
-    from wecook_core.pipeline import Params
+    from wecook_core.perception.associate import NONE, frame_links
+    from wecook_core.perception.params import Params
 
     s = scenario(seed)
     spans: dict[str, list[tuple[int, int]]] = {hand: [] for hand in HANDS}

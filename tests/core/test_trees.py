@@ -3,7 +3,7 @@ from __future__ import annotations
 import pytest
 
 from wecook_core.model import Action, ActionKind
-from wecook_core.trees import TreeSyntaxError, action_of, format_tree, has_action, parse_tree, tree_of
+from wecook_core.trees.notation import TreeSyntaxError, action_of, format_tree, has_action, parse_tree, tree_of
 
 DESIGN_TABLE = [
     "(HP (H RH_P1) (O knife))",

@@ -104,7 +104,7 @@ def _write_inputs(folder: Path) -> tuple[Path, Path, Path]:
 
 @pytest.mark.slow
 def test_export_writes_a_valid_plan_into_the_session(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    from wecook_core.session import create_session
+    from wecook_core.session.store import create_session
 
     root = tmp_path / "sessions"
     video, objects, hands = _write_inputs(tmp_path / "inputs")

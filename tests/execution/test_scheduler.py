@@ -1,6 +1,7 @@
 """The scheduler with a fake world: no simulator, scripted primitives."""
 
-from wecook_core.execution.executor import WAIT, WORK, ActionFailed, Meeting, run_schedule
+from wecook_core.execution.executor import run_schedule
+from wecook_core.execution.program import WAIT, WORK, ActionFailed, Meeting
 from wecook_core.plan import Act, Plan, PlanAction, Scene, agents_for
 
 

@@ -6,7 +6,8 @@ import numpy as np
 import pybullet as p
 import pytest
 
-from wecook_core.execution.executor import ActionFailed, execute_plan, run_schedule
+from wecook_core.execution.executor import execute_plan, run_schedule
+from wecook_core.execution.program import ActionFailed
 from wecook_core.execution.robot import HOME, LOWER, UPPER, Panda
 from wecook_core.execution.world import BulletWorld
 from wecook_core.model import Category
@@ -224,7 +225,7 @@ def test_a_synthetic_two_arm_plan_runs_every_action_and_the_arms_never_touch():
 
 def test_the_demo_plan_runs_every_action_and_the_arms_never_touch():
     """The plan ``wecook export demo`` writes for the bundled demo, as a user would run it (seed 0)."""
-    from wecook_core.export import demo_plan
+    from wecook_core.workflows import demo_plan
 
     plan = demo_plan()
     assert {"handover", "holding", "transfer", "cut", "stir", "pour"} <= {a.verb for a in plan.actions}

@@ -16,7 +16,7 @@ def scenario_inputs(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Pat
 def session_path(request: pytest.FixtureRequest, tmp_path: Path, scenario_inputs: tuple[Path, Path, Path]) -> Path:
     """A fresh session (real `create_session`): the small kitchen scenario, or the bundled demo
     (`wecook demo`'s own code path, two persons, 1459 frames, every tree case)."""
-    from wecook_core.session import create_session
+    from wecook_core.session.store import create_session
     from wecook_tui.commands.workbench import demo_session
 
     if request.param == "demo":

@@ -22,7 +22,7 @@ SIZE = (150, 45)
 @pytest.fixture
 def own_session(tmp_path: Path, scenario_inputs: tuple[Path, Path, Path]) -> Path:
     """A session over private copies of the inputs, so a test may damage them."""
-    from wecook_core.session import create_session
+    from wecook_core.session.store import create_session
 
     folder = tmp_path / "inputs"
     folder.mkdir()
@@ -88,7 +88,7 @@ async def test_changed_input_file_is_reported(own_session: Path) -> None:
 
 @pilot_test
 async def test_torn_journal_line_is_reported_and_skipped(own_session: Path) -> None:
-    from wecook_core.session import open_session
+    from wecook_core.session.store import open_session
 
     open_session(own_session).record({"op": "set_status", "segment": 0, "status": "accepted"})
     with (own_session / "journal.jsonl").open("a") as f:
@@ -115,7 +115,7 @@ async def test_not_a_session_says_so(tmp_path: Path) -> None:
 
 @pilot_test
 async def test_journal_written_by_another_wecook_is_refused_not_fatal(own_session: Path) -> None:
-    from wecook_core.session import open_session
+    from wecook_core.session.store import open_session
 
     notices: list[str] = []
     app = WecookApp(own_session)
@@ -131,7 +131,7 @@ async def test_journal_written_by_another_wecook_is_refused_not_fatal(own_sessio
 
 @pilot_test
 async def test_undo_and_redo_refused_by_the_journal_are_notices_not_tracebacks(own_session: Path) -> None:
-    from wecook_core.session import open_session
+    from wecook_core.session.store import open_session
 
     notices: list[str] = []
     app = WecookApp(own_session)

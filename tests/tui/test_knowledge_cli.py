@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from wecook_core.recognize import load_knowledge, rank
+from wecook_core.knowledge.recognize import load_knowledge, rank
 from wecook_tui.cli import main
 
 CSV = "action,objects,group\nchop,knife;tomato,a\ncut,knife;onion,b\nstir,spoon;pot,a\nstir,spoon;sauce,c\n" \

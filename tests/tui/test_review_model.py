@@ -65,7 +65,7 @@ def test_lanes_and_overlay_follow_the_analysis(tmp_path: Path) -> None:
 
 
 def test_corrections_are_what_the_session_journals() -> None:
-    from wecook_core.journal import check_correction
+    from wecook_core.session.journal import check_correction
 
     records = [review.set_status(SEGS[1], SegmentStatus.ACCEPTED), review.set_verb(SEGS[0], "RH_P1", "peel"),
                review.set_hand_object(SEGS[0], "LH_P1", None), review.set_hand_object(SEGS[0], "LH_P1", "bowl"),

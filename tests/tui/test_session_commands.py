@@ -58,8 +58,8 @@ def test_gaps_and_warnings_are_shown(tmp_path: Path, capsys: pytest.CaptureFixtu
     assert new(root, inputs, "gappy") == 0
     out = capsys.readouterr().out
     assert "18 missing inside" in out and "\ngaps" not in out
-    from wecook_core.categories import load_categories
-    from wecook_core.observations import InputChecks, import_observations
+    from wecook_core.knowledge.categories import load_categories
+    from wecook_core.observations.importer import InputChecks, import_observations
 
     strict = import_observations(inputs["video"], inputs["objects"], inputs["hands"],
                                  categories=load_categories([inputs["categories"]]),
@@ -111,7 +111,7 @@ def test_new_with_mot_boxes_a_labels_file_and_a_forced_format(tmp_path: Path, ca
     assert new(root, inputs, "mot", "--objects-format", "mot", "--labels", str(labels)) == 0
     out = capsys.readouterr().out
     assert "(mot): 1 tracks" in out and "whisk  tool        frames 0-1, 2 boxes (label 'Whisk')" in out
-    from wecook_core.session import open_session
+    from wecook_core.session.store import open_session
 
     session = open_session(root / "mot")
     assert session.inputs["labels"].path == str(labels.resolve())

@@ -6,8 +6,8 @@ from pathlib import Path
 
 from tui_driving import journal, pick, pilot_test, settle, wait_for
 
-from wecook_core.formats.treefile import read_tree_file
 from wecook_core.model import SegmentStatus
+from wecook_core.trees.treefile import read_tree_file
 from wecook_tui import review
 from wecook_tui.app import WecookApp
 from wecook_tui.screens.help import HelpScreen

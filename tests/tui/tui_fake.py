@@ -27,8 +27,8 @@ from wecook_core.model import (
     TreeSpan,
     VideoInfo,
 )
-from wecook_core.pipeline import Analysis
-from wecook_core.trees import tree_of
+from wecook_core.perception.pipeline import Analysis
+from wecook_core.trees.notation import tree_of
 from wecook_tui.frames import FrameSource
 from wecook_tui.workspace import Opened
 

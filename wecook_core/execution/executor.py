@@ -33,23 +33,16 @@ as a failure event (``RunResult.arm_contacts``; a good run has none).
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Generator, Iterator, Mapping
-from dataclasses import dataclass, field
-from typing import Literal, Protocol
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Literal
 
 from wecook_core.execution.observer import RunEvent, RunObserver
+from wecook_core.execution.program import WAIT, WORK, ActionFailed, Meeting, Program, World
 from wecook_core.plan import Plan, PlanAction
 
-Tick = Literal["work", "wait"]
-WORK: Tick = "work"
-WAIT: Tick = "wait"
-Program = Generator[Tick, None, None]
 DEADLOCK_SECONDS = 20.0
 """Simulated seconds of every program waiting before the waiting actions fail as deadlocked."""
-
-
-class ActionFailed(Exception):
-    """A role of an action cannot go on; the message is the reason shown to the user."""
 
 
 @dataclass(frozen=True)
@@ -82,57 +75,6 @@ class RunResult:
 
     def result(self, action_id: str) -> ActionResult:
         return next(a for a in self.actions if a.action_id == action_id)
-
-
-@dataclass
-class Meeting:
-    """Where the roles of one collaboration meet: who has arrived, signals raised, a failure."""
-
-    needed: frozenset[str]
-    arrived: set[str] = field(default_factory=set)
-    finished: set[str] = field(default_factory=set)
-    signals: set[str] = field(default_factory=set)
-    failure: str | None = None
-
-    def signal(self, name: str) -> None:
-        self.signals.add(name)
-
-    def fail(self, reason: str) -> None:
-        if self.failure is None:
-            self.failure = reason
-
-    def wait_for(self, name: str, ticks: Callable[[], Iterator[Tick]] | None = None) -> Program:
-        """Yield WAIT until ``name`` is signalled; raise :class:`ActionFailed` if the partner failed."""
-        while name not in self.signals:
-            if self.failure is not None:
-                raise ActionFailed(f"partner failed: {self.failure}")
-            yield WAIT
-        if self.failure is not None:
-            raise ActionFailed(f"partner failed: {self.failure}")
-
-
-class World(Protocol):
-    """What the scheduler needs from a simulation (the PyBullet world, or a fake in tests)."""
-
-    @property
-    def time(self) -> float: ...
-
-    @property
-    def dt(self) -> float: ...
-
-    def step(self) -> None: ...
-
-    def program(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
-        """The primitives of ``pid``'s role in ``action``; raises :class:`ActionFailed` with the reason."""
-        ...
-
-    def recover(self, pid: str) -> Program:
-        """After a failure: let go of what the arm holds and return it home (best effort, never raises)."""
-        ...
-
-    def action_boundary(self, action: PlanAction, kind: str) -> None:
-        """Called at action start and end (the PyBullet world takes a camera image)."""
-        ...
 
 
 def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, *,

@@ -1,4 +1,4 @@
-"""The skill library (``assets/skills.yaml``): for each verb, transfer, handover and holding, the primitives
+"""The skill library (``wecook_core/assets/skills.yaml``): for each verb, transfer, handover and holding, the primitives
 grasp / engage / actuate / place, their Task Space Regions and the actuation motions. Pure data and numpy:
 nothing here touches the simulator, so skills are tested without it.
 

@@ -5,7 +5,7 @@
 - :mod:`.nouns`: normalising and matching object names (shared with the runtime and the categories)
 - :mod:`.learning`: counting P(A) and P(O | A)
 - :mod:`.evaluation`: held-out verb prediction against a majority baseline
-- :mod:`.build`: rebuilding ``assets/knowledge/`` (tables, derived categories, SOURCE.md)
+- :mod:`.build`: rebuilding ``wecook_core/assets/knowledge/`` (tables, derived categories, SOURCE.md)
 
-The run-time side (loading the tables, ranking) is :mod:`wecook_core.recognize`.
+The run-time side (loading the tables, ranking) is :mod:`wecook_core.knowledge.recognize`.
 """

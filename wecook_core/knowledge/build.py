@@ -8,11 +8,11 @@ from pathlib import Path
 
 import numpy as np
 
-from wecook_core.categories import CATEGORIES_PATH, derive_categories, format_categories, read_categories
+from wecook_core.knowledge.categories import CATEGORIES_PATH, derive_categories, format_categories, read_categories
 from wecook_core.knowledge.corpus import EPIC_CITATION, EPIC_LICENCE, Corpus, merge, read_corpus, read_csv, read_epic
 from wecook_core.knowledge.evaluation import Evaluation, Metrics, evaluate
 from wecook_core.knowledge.learning import learn
-from wecook_core.recognize import Knowledge, rank, save_knowledge
+from wecook_core.knowledge.recognize import Knowledge, rank, save_knowledge
 from wecook_core.resources import ASSETS_DIR, shared_dir
 
 KNOWLEDGE_DIR = ASSETS_DIR / "knowledge"
@@ -140,7 +140,7 @@ def source_markdown(corpus: Corpus, knowledge: Knowledge, evaluation: Evaluation
     ]
     if categories:
         parts.append(f"- `epic_categories.yaml`: {categories} object categories derived from the corpus's noun "
-                     "categories (overridden by `assets/categories.yaml`).")
+                     "categories (overridden by `wecook_core/assets/categories.yaml`).")
     parts += ["", "## Source", ""]
     parts += [f"- {s}" for s in corpus.sources]
     if epic:

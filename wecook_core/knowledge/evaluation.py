@@ -14,8 +14,8 @@ import numpy as np
 
 from wecook_core.knowledge.corpus import Corpus
 from wecook_core.knowledge.learning import Example, fold, from_examples
+from wecook_core.knowledge.recognize import Knowledge
 from wecook_core.knowledge.synonyms import RECOGNISED, VerbFolder
-from wecook_core.recognize import Knowledge
 
 
 @dataclass(frozen=True)

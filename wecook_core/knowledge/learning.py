@@ -9,8 +9,8 @@ import numpy as np
 
 from wecook_core.knowledge.corpus import Corpus, Record
 from wecook_core.knowledge.nouns import match, variants
+from wecook_core.knowledge.recognize import Knowledge
 from wecook_core.knowledge.synonyms import RECOGNISED, VerbFolder, load_synonyms
-from wecook_core.recognize import Knowledge
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,6 @@
 """Folding corpus verbs into wecook's action vocabulary (chop, slice, dice -> cut; whisk -> stir).
 
-The rules are data (``assets/knowledge/synonyms.yaml``): a table of verb words and a table of corpus verb
+The rules are data (``wecook_core/assets/knowledge/synonyms.yaml``): a table of verb words and a table of corpus verb
 classes; the corpus supplies its own class lists (EPIC's "cut" class lists chop, slice, dice, ...).
 """
 

@@ -19,10 +19,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from wecook_core.resources import ASSETS_DIR
-from wecook_core.synth.scenario import Scenario, synthesize, write_scenario
+from wecook_core.synth.files import write_scenario
+from wecook_core.synth.scenario import Scenario, synthesize
 
 DEMO_SEED = 2074
-"""The seed of the bundled demo (``assets/demo``): two persons, every case, 48.6 s at 30 fps, 640x360."""
+"""The seed of the bundled demo (``wecook_core/assets/demo``): two persons, every case, 48.6 s at 30 fps, 640x360."""
 DEMO_DIR = ASSETS_DIR / "demo"
 
 

@@ -76,8 +76,8 @@ FALLBACK_CATEGORIES: dict[str, Category] = {
 
 
 def category_of(label: str) -> Category:
-    """The shipped table's category of a label (:mod:`wecook_core.categories`), else the fallback."""
-    from wecook_core.categories import load_categories
+    """The shipped table's category of a label (:mod:`wecook_core.knowledge.categories`), else the fallback."""
+    from wecook_core.knowledge.categories import load_categories
 
     found = load_categories().categorize(label)
     if found is not None:

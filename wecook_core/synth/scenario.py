@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -11,7 +10,7 @@ from wecook_core.model import Action, Observations, TreeSpan, VideoInfo
 from wecook_core.synth.detect import BodyDetections, detect_bodies, detect_objects, hand_tracks
 from wecook_core.synth.scene import Scene, resolve
 from wecook_core.synth.script import write_script
-from wecook_core.trees import tree_of
+from wecook_core.trees.notation import tree_of
 
 VIDEO_NAME = "video.mp4"
 
@@ -80,24 +79,3 @@ def synthesize(
     truth = tuple(TreeSpan(a.start, a.end, tree_of(a)) for a in actions)
     return Scenario(seed, persons, (width, height), observations, truth, actions, tuple(script.tasks), scene,
                     bodies)
-
-
-def write_scenario(scenario: Scenario, out_dir: str | Path, *, video: bool = True, openpose: bool = True) -> Path:
-    """Write ``video.mp4`` (unless ``video=False``), ``objects.csv``, ``hands.csv``, ``openpose/`` and
-    ``truth.yaml`` into ``out_dir`` (created); returns it."""
-    from wecook_core.formats.native import write_hands_csv, write_objects_csv
-    from wecook_core.formats.treefile import write_tree_file
-    from wecook_core.synth.openpose import write_openpose
-
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    write_objects_csv(out / "objects.csv", scenario.observations.objects)
-    write_hands_csv(out / "hands.csv", scenario.observations.hands)
-    write_tree_file(out / "truth.yaml", scenario.truth)
-    if openpose:
-        write_openpose(scenario, out / "openpose")
-    if video:
-        from wecook_core.synth.render import write_video
-
-        write_video(scenario, out / VIDEO_NAME)
-    return out

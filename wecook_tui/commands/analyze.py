@@ -24,7 +24,7 @@ def register(sub: Any) -> None:
 
 def session_path(name: str, root: str | Path | None) -> Path:
     """A session's folder: ``NAME`` itself when it is a folder path, else ``ROOT/NAME``."""
-    from wecook_core.session import check_name, sessions_root
+    from wecook_core.session.store import check_name, sessions_root
 
     direct = Path(name)
     if ("/" in name or name.startswith(".")) and direct.is_dir():
@@ -36,12 +36,13 @@ def run(args: argparse.Namespace) -> int:
     from collections import Counter
 
     from wecook_core.errors import InputError
-    from wecook_core.formats.treefile import write_tree_file
-    from wecook_core.graph import CASES, case_of, write_graph_file
+    from wecook_core.knowledge.recognize import load_knowledge
     from wecook_core.model import SegmentStatus
-    from wecook_core.pipeline import Params, analyze
-    from wecook_core.recognize import load_knowledge
-    from wecook_core.session import open_session
+    from wecook_core.perception.params import Params
+    from wecook_core.perception.pipeline import analyze
+    from wecook_core.session.store import open_session
+    from wecook_core.trees.graph import CASES, case_of, write_graph_file
+    from wecook_core.trees.treefile import write_tree_file
 
     path = session_path(args.name, args.root)
     if not path.is_dir():

@@ -20,8 +20,8 @@ def register(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     from dataclasses import asdict
 
-    from wecook_core.evaluate import evaluate
-    from wecook_core.formats.treefile import read_tree_file
+    from wecook_core.perception.evaluation import evaluate
+    from wecook_core.trees.treefile import read_tree_file
 
     scores = evaluate(read_tree_file(args.pred), read_tree_file(args.truth))
     if args.json:

@@ -70,8 +70,8 @@ def register(sub: Any) -> None:
 
 
 def run_export(args: argparse.Namespace) -> int:
-    from wecook_core.export import export_session_plan
-    from wecook_core.session import check_name, sessions_root
+    from wecook_core.session.store import check_name, sessions_root
+    from wecook_core.workflows import export_session_plan
 
     session = sessions_root(args.root) / check_name(args.name)
     exported = export_session_plan(session, args.out, robot=args.robot)

@@ -116,7 +116,7 @@ def _split(values: Sequence[str]) -> list[str]:
 
 def run_recognize(args: argparse.Namespace) -> int:
     from wecook_core.errors import InputError
-    from wecook_core.recognize import load_knowledge, rank, unknown_objects
+    from wecook_core.knowledge.recognize import load_knowledge, rank, unknown_objects
 
     knowledge = load_knowledge(args.knowledge)
     candidates = _split([args.candidates]) if args.candidates else None
@@ -158,7 +158,7 @@ def _lines(stream: TextIO) -> Iterator[list[str]]:
 
 def _run_batch(knowledge: Any, name: str, candidates: list[str] | None) -> int:
     from wecook_core.errors import InputError
-    from wecook_core.recognize import rank_batch
+    from wecook_core.knowledge.recognize import rank_batch
 
     try:
         stream: TextIO = sys.stdin if name == "-" else open(name, encoding="utf-8")  # noqa: SIM115

@@ -66,7 +66,7 @@ def register(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     import json
 
-    from wecook_core.segment import choose_k, ggs, load_series
+    from wecook_core.perception.segmentation import choose_k, ggs, load_series
 
     data = load_series(args.file, args.columns)
     result = ggs(data, args.k_max, args.lamb)

@@ -11,8 +11,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from wecook_core.observations import Imported
-    from wecook_core.session import SessionSummary
+    from wecook_core.observations.importer import Imported
+    from wecook_core.session.store import SessionSummary
 
 OBJECT_FORMATS = ("cvat", "mot", "cocovid", "csv")
 HAND_FORMATS = ("openpose", "csv")
@@ -54,8 +54,8 @@ def register(sub: Any) -> None:
 
 
 def run_new(args: argparse.Namespace) -> int:
-    from wecook_core.observations import import_observations
-    from wecook_core.session import check_name, create_session, sessions_root
+    from wecook_core.observations.importer import import_observations
+    from wecook_core.session.store import check_name, create_session, sessions_root
 
     check_name(args.name)
     root = sessions_root(args.root)
@@ -65,10 +65,10 @@ def run_new(args: argparse.Namespace) -> int:
         raise InputError(root / args.name, "a session of that name already exists")
     table = None
     if args.categories:
-        from wecook_core.categories import load_categories
+        from wecook_core.knowledge.categories import load_categories
 
         table = load_categories(extra=[Path(args.categories)])
-    from wecook_core.observations import InputChecks
+    from wecook_core.observations.importer import InputChecks
 
     checks = InputChecks(gap_error_seconds=args.max_gap)
     imported = import_observations(args.video, args.objects, args.hands, objects_format=args.objects_format,
@@ -121,7 +121,7 @@ def _table(rows: list[SessionSummary]) -> str:
 
 
 def run_sessions(args: argparse.Namespace) -> int:
-    from wecook_core.session import list_sessions, sessions_root
+    from wecook_core.session.store import list_sessions, sessions_root
 
     root = sessions_root(args.root)
     rows = list_sessions(root)
@@ -134,7 +134,7 @@ def run_sessions(args: argparse.Namespace) -> int:
 
 def pick(args: argparse.Namespace) -> int:
     """`wecook` alone: list the sessions; in a terminal, ask which one to open in the workbench."""
-    from wecook_core.session import list_sessions, sessions_root
+    from wecook_core.session.store import list_sessions, sessions_root
 
     root = sessions_root(getattr(args, "root", None))
     rows = list_sessions(root)

@@ -43,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
 
     from wecook_core.errors import InputError
     from wecook_core.synth import synthesize, write_scenario
-    from wecook_core.trees import has_action
+    from wecook_core.trees.notation import has_action
 
     if args.duration is not None and args.duration <= 0:
         raise InputError(None, f"--duration must be positive, found {args.duration:g}")

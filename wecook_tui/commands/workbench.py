@@ -28,7 +28,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
 
 def session_path(name: str, root: Path | None) -> Path:
     """The folder of session ``name``: a path to a session folder, or a name under the sessions root."""
-    from wecook_core.session import sessions_root
+    from wecook_core.session.store import sessions_root
 
     given = Path(name)
     if (given / "session.yaml").is_file():
@@ -41,8 +41,8 @@ def session_path(name: str, root: Path | None) -> Path:
 
 
 def demo_session(root: Path | None) -> Path:
-    """The demo session, created from ``assets/demo`` the first time."""
-    from wecook_core.session import create_session, sessions_root
+    """The demo session, created from ``wecook_core/assets/demo`` the first time."""
+    from wecook_core.session.store import create_session, sessions_root
     from wecook_core.synth import demo_dir
 
     path = sessions_root(root) / DEMO_NAME
@@ -85,14 +85,14 @@ def report_demo(path: Path) -> int:
     from rich.console import Console
     from rich.table import Table
 
-    from wecook_core.evaluate import evaluate
-    from wecook_core.formats.treefile import read_tree_file, write_tree_file
-    from wecook_core.graph import dump_graph, write_graph_file
-    from wecook_core.pipeline import analyze
-    from wecook_core.recognize import load_knowledge
-    from wecook_core.session import open_session
+    from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.perception.evaluation import evaluate
+    from wecook_core.perception.pipeline import analyze
+    from wecook_core.session.store import open_session
     from wecook_core.synth import demo_dir
-    from wecook_core.trees import format_tree
+    from wecook_core.trees.graph import dump_graph, write_graph_file
+    from wecook_core.trees.notation import format_tree
+    from wecook_core.trees.treefile import read_tree_file, write_tree_file
 
     console = Console(highlight=False)
     session = open_session(path)

@@ -11,7 +11,7 @@ from textual.widgets import Static, Tree
 from textual.widgets.tree import TreeNode
 
 from wecook_core.model import Action, Associations, Node, Segment, SegmentStatus, TreeSpan
-from wecook_core.trees import format_tree
+from wecook_core.trees.notation import format_tree
 from wecook_tui.review import STATUS_GLYPHS, action_label
 
 

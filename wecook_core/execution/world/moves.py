@@ -16,9 +16,9 @@ import numpy as np
 import pybullet as p
 from scipy.spatial.transform import Rotation, Slerp
 
-from wecook_core.execution.executor import WAIT, WORK, ActionFailed, Program
 from wecook_core.execution.motion import MotionProblem, path_free, plan_motion
 from wecook_core.execution.planning_scene import boxes_overlap
+from wecook_core.execution.program import WAIT, WORK, ActionFailed, Program
 from wecook_core.execution.robot import HOME, LOWER, MAX_SPEED, REST, UPPER
 from wecook_core.execution.scene import SIM_HZ
 from wecook_core.execution.tsr import TSR, sample, xyzrpy_to_matrix

@@ -14,8 +14,8 @@ from collections.abc import Sequence
 import numpy as np
 import pybullet as p
 
-from wecook_core.execution.executor import WAIT, ActionFailed, Program
 from wecook_core.execution.planning_scene import Riding
+from wecook_core.execution.program import WAIT, ActionFailed, Program
 from wecook_core.execution.robot import attach, detach
 from wecook_core.execution.scene import SIM_HZ
 from wecook_core.execution.skills import Step, TSRSpec, Waypoint, actuation_path, evaluate

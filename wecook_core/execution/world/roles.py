@@ -13,8 +13,8 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import pybullet as p
 
-from wecook_core.execution.executor import WAIT, ActionFailed, Meeting, Program
 from wecook_core.execution.planning_scene import ARM_MARGIN
+from wecook_core.execution.program import WAIT, ActionFailed, Meeting, Program
 from wecook_core.execution.robot import REST, detach, set_arm_collisions
 from wecook_core.execution.scene import SIM_HZ
 from wecook_core.execution.skills import skill_name

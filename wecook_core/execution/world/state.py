@@ -12,9 +12,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import pybullet as p
 
-from wecook_core.execution.executor import ActionFailed
 from wecook_core.execution.observer import FrameInfo, RunEvent, RunObserver
 from wecook_core.execution.planning_scene import ARM_MARGIN, PlanningScene, Riding
+from wecook_core.execution.program import ActionFailed
 from wecook_core.execution.robot import EE_LINK, REST, Panda, set_arm_collisions
 from wecook_core.execution.scene import SIM_HZ, SceneBodies, build_scene, link_frames, world_poses
 from wecook_core.execution.skills import Half, SkillLibrary, TSRSpec, load_skills, object_kind

@@ -7,10 +7,10 @@
 - :mod:`.synthetic`: hand trajectories with known breakpoints.
 """
 
-from wecook_core.segmentation.choose import breakpoint_penalty, choose_k
-from wecook_core.segmentation.ggs import ggs, refine_breakpoints, segment_objective
-from wecook_core.segmentation.hands import SAMPLE_HZ, hand_series, segment_hands
-from wecook_core.segmentation.series import load_series
+from wecook_core.perception.segmentation.choose import breakpoint_penalty, choose_k
+from wecook_core.perception.segmentation.ggs import ggs, refine_breakpoints, segment_objective
+from wecook_core.perception.segmentation.hands import SAMPLE_HZ, hand_series, segment_hands
+from wecook_core.perception.segmentation.series import load_series
 
 __all__ = [
     "SAMPLE_HZ",

@@ -1,8 +1,8 @@
 """Object categories (tool, container, ingredient) from a shipped table that users extend with YAML files.
 
 Layers, later wins: the entries derived from the EPIC-KITCHENS noun categories
-(``assets/knowledge/epic_categories.yaml``, written by ``wecook knowledge learn``), the hand-written table
-``assets/categories.yaml``, the file ``$WECOOK_CATEGORIES`` names, then files passed in (``extra``).
+(``wecook_core/assets/knowledge/epic_categories.yaml``, written by ``wecook knowledge learn``), the hand-written table
+``wecook_core/assets/categories.yaml``, the file ``$WECOOK_CATEGORIES`` names, then files passed in (``extra``).
 
 A file::
 

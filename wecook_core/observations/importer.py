@@ -30,7 +30,7 @@ from wecook_core.formats.video import frame_count_note, probe_video, usable_fram
 from wecook_core.model import Category, HandTrack, ObjectTrack, Observations, VideoInfo
 
 if TYPE_CHECKING:
-    from wecook_core.categories import CategoryTable
+    from wecook_core.knowledge.categories import CategoryTable
 
 
 @dataclass(frozen=True)
@@ -265,7 +265,7 @@ def _check_hands(
 def _categorise(
     path: Path, tracks: Sequence[ObjectTrack], table: CategoryTable | None
 ) -> dict[str, Category]:
-    from wecook_core.categories import load_categories
+    from wecook_core.knowledge.categories import load_categories
 
     table = table if table is not None else load_categories()
     by_label = table.categorize_all([t.label for t in tracks], str(path))

@@ -5,16 +5,13 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Iterable, Sequence
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from wecook_core.model import HandTrack, Observations, Segment, Segmentation
-from wecook_core.segmentation.choose import breakpoint_penalty, choose_k
-from wecook_core.segmentation.ggs import ggs, refine_breakpoints
-
-if TYPE_CHECKING:  # pipeline imports the stages: no import cycle at run time
-    from wecook_core.pipeline import Params
+from wecook_core.perception.params import Params
+from wecook_core.perception.segmentation.choose import breakpoint_penalty, choose_k
+from wecook_core.perception.segmentation.ggs import ggs, refine_breakpoints
 
 SAMPLE_HZ = 10.0
 """GGS runs on each trajectory sampled at about this rate (every ``round(fps / SAMPLE_HZ)``-th frame), then

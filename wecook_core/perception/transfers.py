@@ -1,6 +1,6 @@
 """Transfers and handovers, tracked over the whole video's timeline of per-frame links (paper, "Action
 Recognition"): an ingredient whose container changes while a hand, or the object it holds, moves it; an object
-that passes from one person's hand to the other's. :mod:`wecook_core.actions` turns them into actions."""
+that passes from one person's hand to the other's. :mod:`wecook_core.perception.actions` turns them into actions."""
 
 from __future__ import annotations
 
@@ -10,13 +10,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from wecook_core.associate import Timeline, video_diagonal
-from wecook_core.frame_links import box_gap, frame_boxes
-from wecook_core.label_runs import NONE, kept_runs
 from wecook_core.model import HANDS, Category, Observations, person_of
+from wecook_core.perception.associate import Timeline, video_diagonal
+from wecook_core.perception.frame_links import box_gap, frame_boxes
+from wecook_core.perception.label_runs import NONE, kept_runs
 
 if TYPE_CHECKING:
-    from wecook_core.pipeline import Params
+    from wecook_core.perception.params import Params
 
 @dataclass(frozen=True)
 class TransferEvent:

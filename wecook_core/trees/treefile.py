@@ -9,7 +9,7 @@ import yaml
 
 from wecook_core.errors import InputError, read_input_text, yaml_error
 from wecook_core.model import TreeSpan
-from wecook_core.trees import TreeSyntaxError, format_tree, parse_tree
+from wecook_core.trees.notation import TreeSyntaxError, format_tree, parse_tree
 
 
 def dump_tree_spans(spans: Sequence[TreeSpan]) -> str:

@@ -3,7 +3,7 @@
 Layout of ``sessions/NAME/``::
 
     session.yaml     inputs (path, sha256, size, mtime, format), video facts, Params, created time, version
-    journal.jsonl    corrections, one JSON line each, append-only (see :mod:`wecook_core.journal`)
+    journal.jsonl    corrections, one JSON line each, append-only (see :mod:`wecook_core.session.journal`)
     trees.yaml       graph.yaml     plans/     runs/          (written by later stages)
 
 Opening a session never fails on what a crash or a later change can do: a torn journal line, an input file
@@ -31,14 +31,14 @@ import yaml
 from wecook_core import __version__
 from wecook_core.errors import InputError, yaml_error
 from wecook_core.formats.video import probe_video, usable_frames
-from wecook_core.input_files import InputFile, content_hash, input_problem, record_input
-from wecook_core.journal import Journal, JournalEntry, read_journal, replay
 from wecook_core.model import Corrections, Observations, VideoInfo
-from wecook_core.observations import Imported, import_observations
-from wecook_core.pipeline import Params
+from wecook_core.observations.importer import Imported, import_observations
+from wecook_core.perception.params import Params
+from wecook_core.session.inputs import InputFile, content_hash, input_problem, record_input
+from wecook_core.session.journal import Journal, JournalEntry, read_journal, replay
 
 if TYPE_CHECKING:
-    from wecook_core.categories import CategoryTable
+    from wecook_core.knowledge.categories import CategoryTable
 
 SESSION_FILE = "session.yaml"
 JOURNAL_FILE = "journal.jsonl"
@@ -221,7 +221,7 @@ def _category_table(extra: Path | None) -> CategoryTable | None:
     """The category table with the session's extra file on top (None: the default table)."""
     if extra is None:
         return None
-    from wecook_core.categories import load_categories
+    from wecook_core.knowledge.categories import load_categories
 
     return load_categories(extra=[extra])
 

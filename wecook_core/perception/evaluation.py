@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from wecook_core.model import Scores, TreeSpan
-from wecook_core.trees import has_action
+from wecook_core.trees.notation import has_action
 
 
 def _overlap(a: TreeSpan, b: TreeSpan) -> int:

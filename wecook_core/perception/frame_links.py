@@ -1,6 +1,6 @@
 """Per-frame boxes and links of a stretch of video, on dense arrays aligned on frame index (one row per frame,
 NaN where a box is absent; gaps of at most ``params.fill_gap`` frames interpolated): which container holds
-each ingredient, which object each hand touches and holds. :mod:`wecook_core.associate` summarises them per
+each ingredient, which object each hand touches and holds. :mod:`wecook_core.perception.associate` summarises them per
 segment."""
 
 from __future__ import annotations
@@ -10,11 +10,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from wecook_core.label_runs import NONE
 from wecook_core.model import HANDS, Category, Observations
+from wecook_core.perception.label_runs import NONE
 
 if TYPE_CHECKING:
-    from wecook_core.pipeline import Params
+    from wecook_core.perception.params import Params
 
 
 @dataclass(frozen=True, eq=False)

@@ -16,7 +16,7 @@ import numpy as np
 
 from wecook_core.model import ActionGraph, ActionKind, Category, Observations
 from wecook_core.plan import DEFAULT_TABLE, Scene, SceneObject, Table, Vec3
-from wecook_core.trees import action_of
+from wecook_core.trees.notation import action_of
 
 _FLAT_CONTAINERS = ("board", "tray", "mat", "sheet")
 _ROUND_INGREDIENTS = ("tomato", "lemon", "lime", "orange", "apple", "onion", "potato", "egg", "peach", "ball")

@@ -17,7 +17,7 @@ class SplitScorer:
     ``prefix[f, t]`` sums, over samples ``[0, t)``, the feature ``f`` for ``f < n`` and then the product of
     each pair of features (upper triangle of ``x xᵀ``), all on data centred on the series mean (less
     cancellation). A segment's split candidates are then contiguous slices. ``quirk``: score splits as the
-    reference code does (see :func:`~wecook_core.segmentation.ggs.ggs`).
+    reference code does (see :func:`~wecook_core.perception.segmentation.ggs.ggs`).
     """
 
     def __init__(self, x: np.ndarray, lamb: float, quirk: bool) -> None:

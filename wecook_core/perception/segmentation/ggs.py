@@ -12,7 +12,7 @@ Breakpoints are added one at a time, each where it raises the objective most (ov
 after every addition each breakpoint is moved to its best place between its two neighbours, in the
 reference's random order (Python ``random`` seeded with 0), until nothing moves.
 
-Speed: all split points of a segment are scored at once (:class:`~wecook_core.segmentation.scorer.SplitScorer`),
+Speed: all split points of a segment are scored at once (:class:`.scorer.SplitScorer`),
 the best split of every ``[start, end)`` range is cached (the greedy step and the adjustment passes ask for the
 same ranges many times), a heap holds every segment's best split, and an adjustment pass visits only the
 breakpoints whose neighbours moved.
@@ -29,7 +29,7 @@ import time
 import numpy as np
 
 from wecook_core.model import GGSResult
-from wecook_core.segmentation.scorer import SplitScorer
+from wecook_core.perception.segmentation.scorer import SplitScorer
 
 MAX_SHUFFLES = 250
 """Adjustment passes per added breakpoint at most (the reference's ``maxShuffles``)."""
@@ -49,7 +49,7 @@ def ggs(
     ``lamb`` (> 0) is the covariance regularisation λ, in squared units of the data. Stops early (fewer
     entries in the result) when no split of any segment raises the objective, or, given ``min_gain``, once
     ``patience`` breakpoints in a row each raised the objective by less than ``min_gain`` (the price of a
-    breakpoint in :func:`~wecook_core.segmentation.choose.choose_k`: saves time when ``k_max`` is generous).
+    breakpoint in :func:`~wecook_core.perception.segmentation.choose.choose_k`: saves time when ``k_max`` is generous).
 
     ``reference_quirk`` reproduces a slip of the reference code: when it scores split points its running
     left-segment mean starts from ``x_0 / n`` instead of ``x_0``. That only matters for ``n > 1``; it exists

@@ -42,10 +42,10 @@ from wecook_core.model import (
     TreeSpan,
     person_of,
 )
-from wecook_core.trees import TreeSyntaxError, action_of, format_tree, parse_tree, tree_of
+from wecook_core.trees.notation import TreeSyntaxError, action_of, format_tree, parse_tree, tree_of
 
 if TYPE_CHECKING:
-    from wecook_core.actions import SegmentActions
+    from wecook_core.model import SegmentActions
 
 FORMAT_KEY = "wecook_graph"
 FORMAT_VERSION = 1

@@ -22,9 +22,9 @@ def export_session_plan(session_path: str | Path, out: str | Path | None = None,
     """Analyse the session at ``session_path`` and write its plan to ``out`` (default
     ``<session>/plans/plan.yaml``); ``robot`` is the arms' URDF (relative to ``pybullet_data`` unless absolute).
     Unreadable inputs or an invalid plan raise :class:`InputError`."""
-    from wecook_core.pipeline import analyze
-    from wecook_core.recognize import load_knowledge
-    from wecook_core.session import open_session
+    from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.perception.pipeline import analyze
+    from wecook_core.session.store import open_session
 
     session = open_session(session_path)
     obs = session.load_observations()
@@ -37,11 +37,11 @@ def export_session_plan(session_path: str | Path, out: str | Path | None = None,
 
 
 def demo_plan(table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT) -> Plan:
-    """The plan of the bundled demo (``assets/demo``) as ``wecook export demo`` writes it for a new demo session:
-    its observations analysed with the default parameters and no corrections, laid out on ``table``."""
-    from wecook_core.observations import load_observations
-    from wecook_core.pipeline import analyze
-    from wecook_core.recognize import load_knowledge
+    """The plan of the bundled demo (``wecook_core/assets/demo``) as ``wecook export demo`` writes it for a new demo
+    session: its observations analysed with the default parameters and no corrections, laid out on ``table``."""
+    from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.observations.importer import load_observations
+    from wecook_core.perception.pipeline import analyze
     from wecook_core.synth import demo_dir
 
     folder = demo_dir()

@@ -1,7 +1,7 @@
 """Object association per segment (paper, "Object Association"): ingredient-container, hand-object,
 object-object.
 
-Everything is computed per frame (:mod:`wecook_core.frame_links`: dense arrays aligned on frame index, one
+Everything is computed per frame (:mod:`wecook_core.perception.frame_links`: dense arrays aligned on frame index, one
 row per frame, NaN where a box is absent; gaps of at most ``params.fill_gap`` frames interpolated), gathered in
 blocks of :data:`~wecook_core.frame_links.BLOCK_FRAMES` so memory does not grow with the video, then summarised
 per segment (here): a link is kept only when it holds for at least ``params.min_frames`` consecutive frames
@@ -17,7 +17,7 @@ inside the segment (a segment shorter than that is judged on the ``min_frames`` 
   is not acting), for ``min_frames`` and ``params.min_share`` of the segment; closest first; never a tool.
 
 :func:`associate_segments` also returns the :class:`Timeline`: the per-frame links of the whole video, which
-transfer and collaboration detection track over time (:mod:`wecook_core.actions`).
+transfer and collaboration detection track over time (:mod:`wecook_core.perception.actions`).
 """
 
 from __future__ import annotations
@@ -28,7 +28,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from wecook_core.frame_links import (
+from wecook_core.model import HANDS, Associations, Category, Corrections, Observations, Segment, Segmentation
+from wecook_core.perception.frame_links import (
     BLOCK_FRAMES,
     FrameBoxes,
     FrameLinks,
@@ -40,11 +41,10 @@ from wecook_core.frame_links import (
     frame_links,
     links_of,
 )
-from wecook_core.label_runs import NONE, dominant, kept_runs, longest_runs, runs
-from wecook_core.model import HANDS, Associations, Category, Corrections, Observations, Segment, Segmentation
+from wecook_core.perception.label_runs import NONE, dominant, kept_runs, longest_runs, runs
 
 if TYPE_CHECKING:
-    from wecook_core.pipeline import Params
+    from wecook_core.perception.params import Params
 
 
 # ------------------------------------------------------------------------------------------- segments

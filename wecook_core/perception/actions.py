@@ -17,14 +17,12 @@ grasp starts and its release ends.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from wecook_core.associate import Timeline, associate_segments, dwelling_points, video_diagonal
-from wecook_core.label_runs import longest_runs
 from wecook_core.model import (
     HANDS,
     Action,
@@ -33,40 +31,22 @@ from wecook_core.model import (
     Category,
     Corrections,
     Observations,
+    Ranking,
     Segment,
+    SegmentActions,
     Segmentation,
     person_of,
 )
-from wecook_core.transfers import HandoverEvent, TransferEvent, handover_events, hold_spans, transfer_events
+from wecook_core.perception.associate import Timeline, associate_segments, dwelling_points, video_diagonal
+from wecook_core.perception.label_runs import longest_runs
+from wecook_core.perception.transfers import HandoverEvent, TransferEvent, handover_events, hold_spans, transfer_events
 
 if TYPE_CHECKING:
-    from wecook_core.pipeline import Params
-    from wecook_core.recognize import Knowledge
-
-Ranking = tuple[tuple[str, float], ...]
+    from wecook_core.knowledge.recognize import Knowledge
+    from wecook_core.perception.params import Params
 
 HAND_VERBS: tuple[str, ...] = ("squeeze", "peel", "roll", "wrap")
 """Verbs a bare hand performs on the ingredient it holds (the candidates of a HAND action)."""
-
-
-@dataclass(frozen=True)
-class SegmentActions:
-    """What every hand does during one segment."""
-
-    segment: Segment
-    actions: tuple[Action, ...]
-    """One per acting hand (GRASP included), in :data:`HANDS` order of ``Action.hand``. A hand whose action
-    is the partner of a collaboration appears only inside it."""
-    rankings: Mapping[str, Ranking] = field(default_factory=dict)
-    """Hand -> the commonsense ranking of its individual action (empty when nothing was ranked)."""
-    partners: tuple[str, ...] = ()
-    """Hands whose action is the partner inside a collaboration of this segment."""
-
-    def action_of(self, hand: str) -> Action | None:
-        for action in self.actions:
-            if action.hand == hand:
-                return action
-        return None
 
 
 # ------------------------------------------------------------------------------------------ individual
@@ -80,7 +60,7 @@ def _candidates(knowledge: Knowledge, allowed: Sequence[str] | None = None) -> l
 
 
 def _rank(knowledge: Knowledge, objects: Sequence[str], allowed: Sequence[str] | None = None) -> Ranking:
-    from wecook_core.recognize import rank
+    from wecook_core.knowledge.recognize import rank
 
     return rank(knowledge, list(objects), _candidates(knowledge, allowed))
 

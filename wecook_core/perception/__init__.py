@@ -1,0 +1,1 @@
+"""Perception: observations -> segments, associations and actions, merged into trees (:mod:`wecook_core.trees`)."""
