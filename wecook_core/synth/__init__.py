@@ -9,9 +9,11 @@ scenario; the true trees run from the grasp that starts each action to the relea
 >>> write_scenario(scenario, "out/")           # video.mp4, objects.csv, hands.csv, openpose/, truth.yaml
 
 Modules: :mod:`.kitchen` (what objects look like), :mod:`.layout` (where they lie), :mod:`.script` (who does
-what when), :mod:`.motion` (how hands move), :mod:`.scene` (every frame's true state), :mod:`.detect` (what
+what when: the scheduler), :mod:`.tasks` (each task kind), :mod:`.writer` (what tasks share), :mod:`.motion` (how
+hands move), :mod:`.scene` (every frame's true state), :mod:`.detect` (what
 detectors report: jitter, dropouts, keypoints), :mod:`.render` (OpenCV drawing), :mod:`.openpose` (the
-OpenPose JSON folder), :mod:`.scenario` (the public functions).
+OpenPose JSON folder), :mod:`.scenario` (the public functions), :mod:`.files`
+(writing a scenario to disk).
 """
 
 from __future__ import annotations

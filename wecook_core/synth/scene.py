@@ -16,7 +16,7 @@ from wecook_core.synth.events import Appear, Effect, Glide, Resize, Ride, Turn
 from wecook_core.synth.kitchen import Kind, category_of
 from wecook_core.synth.layout import HALF_SHOULDERS, Body, box_of, extent
 from wecook_core.synth.motion import elbows, hand_path, minimum_jerk, rotation
-from wecook_core.synth.script import Script
+from wecook_core.synth.writer import Script
 
 
 @dataclass(frozen=True, eq=False)
