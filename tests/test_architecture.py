@@ -28,6 +28,7 @@ PACKAGES = ("wecook_core", "wecook_tui")
 
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("wecook_tui",),
+    ("wecook_core.batch",),
     ("wecook_core.workflows",),
     ("wecook_core.session",),
     ("wecook_core.execution",),

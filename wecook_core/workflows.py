@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from wecook_core.perception.pipeline import Analysis
 from wecook_core.plan import DEFAULT_ROBOT, DEFAULT_TABLE, Plan, Table, plan_from_graph, validate, write_plan
 
 
@@ -15,6 +16,28 @@ class Exported:
     """Where the plan was written."""
     warnings: tuple[str, ...] = ()
     """The session's warnings (changed inputs, torn journal lines), to show the user."""
+
+
+@dataclass(frozen=True)
+class Analysed:
+    analysis: Analysis
+    trees_path: Path
+    graph_path: Path
+
+
+def analyze_session(session_path: str | Path) -> Analysed:
+    """Analyse the session at ``session_path`` with its corrections; write its trees and graph."""
+    from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.perception.pipeline import analyze
+    from wecook_core.session.store import open_session
+    from wecook_core.trees.graph import write_graph_file
+    from wecook_core.trees.treefile import write_tree_file
+
+    session = open_session(session_path)
+    analysis = analyze(session.load_observations(), load_knowledge(), session.params, session.corrections)
+    write_tree_file(session.trees_path, analysis.trees)
+    write_graph_file(session.graph_path, analysis.graph)
+    return Analysed(analysis, session.trees_path, session.graph_path)
 
 
 def export_session_plan(session_path: str | Path, out: str | Path | None = None, *,

@@ -19,6 +19,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "synth",
     "segment",
     "knowledge",  # knowledge, recognize
+    "batch",
 )
 """Modules of `wecook_tui.commands`, in the order their commands are listed by `wecook --help`."""
 

@@ -1,0 +1,123 @@
+"""A batch's report: per video its stages, times, tree counts, actions done and errors; the batch's precision
+and recall over the videos that have truth files. Written as ``batch.json`` in the sessions folder."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from wecook_core.batch.engine import BatchRun
+from wecook_core.batch.stages import StageResult
+
+REPORT_FILE = "batch.json"
+
+
+@dataclass(frozen=True)
+class VideoReport:
+    name: str
+    status: str
+    """``done`` (every stage done or cached), ``failed`` or ``partial``."""
+    stages: tuple[StageResult, ...]
+    trees: int | None = None
+    actions: int | None = None
+    """Actions in the exported plan."""
+    done: int | None = None
+    """Actions done by the execute stage."""
+    precision: float | None = None
+    recall: float | None = None
+    error: str = ""
+
+    @property
+    def seconds(self) -> float:
+        return sum(s.seconds for s in self.stages)
+
+
+@dataclass(frozen=True)
+class BatchReport:
+    videos: tuple[VideoReport, ...]
+    seconds: float
+    engine: str
+    workers: int
+    precision: float | None = None
+    """Over every video with a truth file: correct trees / predicted trees (pooled)."""
+    recall: float | None = None
+
+    @property
+    def failed(self) -> int:
+        return sum(v.status == "failed" for v in self.videos)
+
+
+def build_report(run: BatchRun, root: str | Path) -> BatchReport:
+    """The report of ``run``; scores the trees of every video that has a truth file and an analysis."""
+    from wecook_core.perception.evaluation import match
+    from wecook_core.trees.notation import has_action
+    from wecook_core.trees.treefile import read_tree_file
+
+    root = Path(root)
+    videos = []
+    correct = predicted = true = 0
+    for item in run.items:
+        results = run.results.get(item.name, ())
+        by_stage = {r.stage: r for r in results}
+        failed = next((r for r in results if r.status == "failed"), None)
+        ok = all(r.status in ("done", "cached") for r in results)
+        status = "failed" if failed else "done" if ok else "partial"
+        analyze, export, execute = (by_stage.get(s) for s in ("analyze", "export", "execute"))
+        precision = recall = None
+        trees_file = root / item.name / "trees.yaml"
+        if item.truth is not None and analyze is not None and analyze.status in ("done", "cached") \
+                and trees_file.exists():
+            pred = [t for t in read_tree_file(trees_file) if has_action(t.tree)]
+            truth = [t for t in read_tree_file(item.truth) if has_action(t.tree)]
+            hits = len(match(pred, truth))
+            precision = hits / len(pred) if pred else 0.0
+            recall = hits / len(truth) if truth else 0.0
+            correct, predicted, true = correct + hits, predicted + len(pred), true + len(truth)
+        videos.append(VideoReport(
+            item.name, status, results,
+            trees=_get(analyze, "trees"), actions=_get(export, "actions"), done=_get(execute, "done"),
+            precision=precision, recall=recall, error=failed.error if failed else ""))
+    return BatchReport(tuple(videos), run.seconds, run.engine, run.workers,
+                       correct / predicted if predicted else (0.0 if true else None),
+                       correct / true if true else None)
+
+
+def _get(result: StageResult | None, key: str) -> int | None:
+    if result is None or result.status not in ("done", "cached"):
+        return None
+    value = result.summary.get(key)
+    return int(value) if isinstance(value, int | float) else None
+
+
+def report_dict(report: BatchReport) -> dict[str, Any]:
+    return {
+        "engine": report.engine, "workers": report.workers, "seconds": round(report.seconds, 3),
+        "precision": report.precision, "recall": report.recall, "failed": report.failed,
+        "videos": [{
+            "name": v.name, "status": v.status, "seconds": round(v.seconds, 3), "trees": v.trees,
+            "actions": v.actions, "done": v.done, "precision": v.precision, "recall": v.recall, "error": v.error,
+            "stages": [{"stage": s.stage, "status": s.status, "seconds": round(s.seconds, 3), "error": s.error,
+                        "summary": {k: val for k, val in s.summary.items() if k != "results"}}
+                       for s in v.stages],
+        } for v in report.videos],
+    }
+
+
+def write_report(report: BatchReport, root: str | Path) -> Path:
+    """Write ``batch.json`` into ``root`` atomically; returns its path."""
+    path = Path(root) / REPORT_FILE
+    fd, tmp = tempfile.mkstemp(prefix=".batch.", suffix=".json", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as out:
+            json.dump(report_dict(report), out, indent=1)
+            out.flush()
+            os.fsync(out.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path

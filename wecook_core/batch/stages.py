@@ -1,0 +1,249 @@
+"""One video's stages, as pure steps on its session folder: each writes what the matching command writes.
+
+``hands`` (detect hands when the manifest gives none) -> ``import`` (``wecook new``) -> ``analyze`` (``wecook
+analyze``: trees.yaml, graph.yaml) -> ``export`` (``wecook export``: plans/plan.yaml) -> ``execute`` (``wecook
+execute``: a recording in runs/). Each stage is keyed by a content hash of everything it reads (input files,
+parameters, corrections, the knowledge tables, the upstream stage's key, wecook's version); its key and result
+are stamped in ``<session>/batch/<stage>.json``, written atomically after the stage's own files, so a second run
+skips a stage whose key is unchanged and a killed batch loses no finished stage.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import tempfile
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+from typing import Any, Literal
+
+from wecook_core import __version__
+from wecook_core.batch.manifest import BatchItem
+from wecook_core.errors import InputError
+
+STAGES: tuple[str, ...] = ("hands", "import", "analyze", "export", "execute")
+"""Every stage, in the order they run for one video."""
+STAMP_DIR = "batch"
+HANDS_DIR = ".hands"
+"""Under the sessions root: hands detected for videos the manifest gives none for (a session's input)."""
+
+
+@dataclass(frozen=True)
+class StageOptions:
+    """What the stages take besides the video's inputs (part of every stage's key)."""
+
+    seed: int = 0
+    """Run seed of the execute stage."""
+    force: bool = False
+    """Redo stages whose key is unchanged."""
+    record: bool = True
+    """The execute stage records an MCAP file."""
+
+
+@dataclass(frozen=True)
+class StageResult:
+    """What one stage did for one video."""
+
+    video: str
+    stage: str
+    status: Literal["done", "cached", "failed", "skipped"]
+    """``cached``: its key was unchanged, nothing ran; ``skipped``: an earlier stage of the video failed."""
+    seconds: float = 0.0
+    """Wall time of the stage (0 when cached or skipped)."""
+    summary: Mapping[str, Any] = field(default_factory=dict)
+    """Stage figures: ``trees``, ``nodes``, ``actions``, ``done``, ``path``..."""
+    error: str = ""
+    """The one-line error of a failed stage."""
+    key: str = ""
+    pid: int = 0
+    """The process that ran it (a Ray worker, or this one)."""
+    peak_rss_mb: float = 0.0
+    """That process's peak resident memory so far, MiB."""
+
+
+def stages_for(item: BatchItem, wanted: Sequence[str]) -> tuple[str, ...]:
+    """The stages to run for ``item``, in order: ``hands`` only when the manifest gives no hands."""
+    unknown = [s for s in wanted if s not in STAGES]
+    if unknown:
+        raise InputError(None, f"unknown stage {unknown[0]!r} (stages: {', '.join(STAGES)})")
+    return tuple(s for s in STAGES if s in wanted and not (s == "hands" and item.hands is not None))
+
+
+def run_stage(item: BatchItem, stage: str, root: Path, options: StageOptions) -> StageResult:
+    """Run ``stage`` for ``item`` under the sessions ``root`` unless its stamp says it is done; never raises
+    for the video's own problems (they are the result's ``error``)."""
+    began = time.perf_counter()
+    result = _run(item, stage, root, options, began)
+    return replace(result, pid=os.getpid(), peak_rss_mb=_peak_rss_mb())
+
+
+def _peak_rss_mb() -> float:
+    import resource
+
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
+
+
+def _run(item: BatchItem, stage: str, root: Path, options: StageOptions, began: float) -> StageResult:
+    try:
+        key = _key(item, stage, root, options)
+        stamp = _read_stamp(root / item.name, stage)
+        if not options.force and stamp is not None and stamp.get("key") == key:
+            return StageResult(item.name, stage, "cached", 0.0, stamp.get("summary", {}), key=key)
+        summary = _RUN[stage](item, root, options)
+        result = StageResult(item.name, stage, "done", time.perf_counter() - began, summary, key=key)
+        _write_stamp(root / item.name, stage, {"key": key, "summary": summary, "seconds": result.seconds})
+        return result
+    except InputError as error:
+        return StageResult(item.name, stage, "failed", time.perf_counter() - began, error=str(error))
+    except Exception as error:  # one video's failure never stops the batch
+        return StageResult(item.name, stage, "failed", time.perf_counter() - began,
+                           error=f"{type(error).__name__}: {error}")
+
+
+# ------------------------------------------------------------------------------------------------ keys
+
+
+def _file_hash(path: Path, digest: Any) -> None:
+    if path.is_dir():
+        for child in sorted(path.rglob("*")):
+            if child.is_file():
+                digest.update(str(child.relative_to(path)).encode())
+                _file_hash(child, digest)
+        return
+    with path.open("rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+
+
+def _hands_path(item: BatchItem, root: Path) -> Path:
+    return item.hands if item.hands is not None else root / HANDS_DIR / f"{item.name}.csv"
+
+
+def _key(item: BatchItem, stage: str, root: Path, options: StageOptions) -> str:
+    """Content hash of everything ``stage`` reads for ``item``."""
+    digest = hashlib.sha256(f"wecook {__version__} {stage}".encode())
+    inputs = [item.video, item.objects, _hands_path(item, root), item.categories]
+    if stage == "hands":
+        inputs = [item.video]
+    for path in inputs:
+        if path is not None and path.exists():
+            digest.update(str(path.name).encode())
+            _file_hash(path, digest)
+    session = root / item.name
+    if stage in ("analyze", "export", "execute"):
+        from wecook_core.knowledge.recognize import KNOWLEDGE_PATH
+
+        for name in ("session.yaml", "journal.jsonl"):
+            if (session / name).exists():
+                _file_hash(session / name, digest)
+        _file_hash(KNOWLEDGE_PATH, digest)
+    if stage == "execute":
+        digest.update(json.dumps({"seed": options.seed, "record": options.record}).encode())
+        plan = session / "plans" / "plan.yaml"
+        if plan.exists():
+            _file_hash(plan, digest)
+    return digest.hexdigest()[:32]
+
+
+def _read_stamp(session: Path, stage: str) -> dict[str, Any] | None:
+    try:
+        data = json.loads((session / STAMP_DIR / f"{stage}.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return data if isinstance(data, dict) else None
+
+
+def _write_stamp(session: Path, stage: str, data: Mapping[str, Any]) -> None:
+    folder = session / STAMP_DIR
+    folder.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{stage}.", suffix=".json", dir=folder)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as out:
+            json.dump(data, out, indent=1, default=str)
+            out.flush()
+            os.fsync(out.fileno())
+        os.replace(tmp, folder / f"{stage}.json")
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+# ---------------------------------------------------------------------------------------------- stages
+
+
+def _hands(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
+    try:
+        from wecook_core.observations import hands_detect  # type: ignore[attr-defined,unused-ignore]
+    except ImportError as error:
+        raise InputError(item.video, f"no hands given and hand detection is not available ({error})") from None
+    out = _hands_path(item, root)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    written = hands_detect.detect_hands_to_csv(item.video, out)
+    return {"path": str(out), "hands": written}
+
+
+def _import(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
+    from wecook_core.session.store import create_session
+
+    target = root / item.name
+    if target.exists():
+        if not options.force and not (target / STAMP_DIR / "import.json").exists():
+            raise InputError(target, "a session of that name exists and was not made by a batch (use --force "
+                                     "to replace it; the old one is kept beside it)")
+        target.rename(target.with_name(f".{item.name}.replaced-{time.strftime('%Y%m%dT%H%M%S')}-{os.getpid()}"))
+    path = create_session(root, item.name, item.video, item.objects, _hands_path(item, root),
+                          categories=item.categories)
+    return {"path": str(path)}
+
+
+def _analyze(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
+    from wecook_core.workflows import analyze_session
+
+    analysis = analyze_session(root / item.name).analysis
+    return {"trees": len(analysis.trees), "nodes": len(analysis.graph.nodes),
+            "segments": len(analysis.segmentation.segments)}
+
+
+def _export(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
+    from wecook_core.workflows import export_session_plan
+
+    exported = export_session_plan(root / item.name)
+    return {"actions": len(exported.plan.actions), "path": str(exported.path)}
+
+
+def _execute(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
+    from wecook_core.execution.executor import execute_plan
+    from wecook_core.execution.observer import RunObserver
+    from wecook_core.execution.recorder import McapRecorder
+    from wecook_core.plan import read_plan
+
+    session = root / item.name
+    plan_path = session / "plans" / "plan.yaml"
+    plan = read_plan(plan_path)
+    record = session / "runs" / f"batch-seed{options.seed}.mcap"
+    observer: RunObserver
+    if options.record:
+        if record.exists():
+            shutil.move(record, record.with_suffix(f".{time.strftime('%Y%m%dT%H%M%S')}.mcap"))
+        observer = McapRecorder(record)
+    else:
+        from wecook_core.execution.fanout import FanOut
+
+        observer = FanOut()
+    try:
+        result = execute_plan(plan, observer, seed=options.seed)
+    finally:
+        close = getattr(observer, "close", None)
+        if close is not None:
+            close()
+    done = sum(a.status == "done" for a in result.actions)
+    return {"actions": len(result.actions), "done": done, "arm_contacts": result.arm_contacts,
+            "sim_time": round(result.sim_time, 3), "recording": str(record) if options.record else None,
+            "results": [asdict(a) for a in result.actions]}
+
+
+_RUN = {"hands": _hands, "import": _import, "analyze": _analyze, "export": _export, "execute": _execute}
