@@ -34,7 +34,8 @@ def _object(o: ObjectMsg) -> str:
 
 
 def _action(a: ActionMsg) -> str:
-    return f"ActionMsg({_strings(a.pid)}, {_s(a.verb)}, {_strings(a.location)}, {_s(a.tool)}, {_strings(a.ingredients)})"
+    fields = [_strings(a.pid), _s(a.verb), _strings(a.location), _s(a.tool), _strings(a.ingredients)]
+    return f"ActionMsg({', '.join(fields)})"
 
 
 def _agent(a: AgentMsg) -> str:
