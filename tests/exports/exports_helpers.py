@@ -120,6 +120,10 @@ def _atoms(formula: Any) -> tuple[list[tuple[str, ...]], list[tuple[str, ...]]]:
     return [(str(formula.name), *(str(t.name) for t in formula.terms))], []
 
 
+def _ground(atoms: list[tuple[str, ...]], binding: dict[str, str]) -> list[tuple[str, ...]]:
+    return [(atom[0], *(binding.get(t, t) for t in atom[1:])) for atom in atoms]
+
+
 def simulate(domain_file: Path, problem_file: Path, steps: list[tuple[str, ...]]) -> set[tuple[str, ...]]:
     """Parse domain and problem with ``pddl``, run ``steps`` from the initial state (asserting each step's
     action exists, its arguments are objects of the parameters' types and its precondition holds) and assert
@@ -152,12 +156,11 @@ def simulate(domain_file: Path, problem_file: Path, steps: list[tuple[str, ...]]
             assert arg in types, f"step {k} {name}: {arg} is not an object"
             assert all(is_a(arg, str(t)) for t in param.type_tags), (k, name, arg, param.type_tags)
             binding[str(param.name)] = arg
-        ground = lambda atom: (atom[0], *(binding.get(t, t) for t in atom[1:]))  # noqa: E731
-        pos, neg = _atoms(action.precondition)
-        missing = [ground(a) for a in pos if ground(a) not in state] + [ground(a) for a in neg if ground(a) in state]
+        pos, neg = (_ground(atoms, binding) for atoms in _atoms(action.precondition))
+        missing = [a for a in pos if a not in state] + [a for a in neg if a in state]
         assert not missing, f"step {k} ({name} {' '.join(args)}): precondition fails on {missing}"
-        add, delete = _atoms(action.effect)
-        state = (state - {ground(a) for a in delete}) | {ground(a) for a in add}
+        add, delete = (_ground(atoms, binding) for atoms in _atoms(action.effect))
+        state = (state - set(delete)) | set(add)
     pos, neg = _atoms(problem.goal)
     assert not [g for g in pos if g not in state] and not [g for g in neg if g in state], (pos, state)
     return state

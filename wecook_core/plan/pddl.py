@@ -230,7 +230,8 @@ def export_pddl(plan: Plan, problem_name: str = "plan") -> PddlExport:
     for obj in plan.scene.objects:
         by_type.setdefault(_TYPE[obj.category], []).append(names[obj.name])
     inside = {i: c for i, c in plan.scene.containing}
-    init = [("free", a) for a in agents] + [("loose", names[o.name]) for o in plan.scene.objects]
+    init: list[tuple[str, ...]] = [("free", a) for a in agents]
+    init += [("loose", names[o.name]) for o in plan.scene.objects]
     init += [("in", names[o.name], names[inside[o.name]] if o.name in inside else TABLETOP)
              for o in plan.scene.objects if o.category is Category.INGREDIENT]
     goal = list(steps.goal)

@@ -21,7 +21,7 @@ class Publisher:
 
     def publish(self, message):
         if not isinstance(message, self.data_class):
-            raise TypeError("published a %s on a %s publisher" % (type(message).__name__, self.data_class.__name__))
+            raise TypeError(f"published a {type(message).__name__} on a {self.data_class.__name__} publisher")
         published.append((self.topic, message))
 
 

@@ -32,45 +32,45 @@ def check_value(kind, value, where):
     """Raise TypeError unless ``value`` is of ROS type ``kind``."""
     if kind.endswith("[]"):
         if not isinstance(value, (list, tuple)):
-            raise TypeError("%s: expected a list of %s, got %r" % (where, kind[:-2], value))
+            raise TypeError(f"{where}: expected a list of {kind[:-2]}, got {value!r}")
         for k, item in enumerate(value):
-            check_value(kind[:-2], item, "%s[%d]" % (where, k))
+            check_value(kind[:-2], item, f"{where}[{k}]")
     elif kind == "string":
         if not isinstance(value, str):
-            raise TypeError("%s: expected a string, got %r" % (where, value))
+            raise TypeError(f"{where}: expected a string, got {value!r}")
     elif kind == "bool":
         if not isinstance(value, bool):
-            raise TypeError("%s: expected a bool, got %r" % (where, value))
+            raise TypeError(f"{where}: expected a bool, got {value!r}")
     elif kind == "float64":
         if not isinstance(value, float):
-            raise TypeError("%s: expected a float, got %r" % (where, value))
+            raise TypeError(f"{where}: expected a float, got {value!r}")
     elif kind == "uint32":
         if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < 2 ** 32:
-            raise TypeError("%s: expected a uint32, got %r" % (where, value))
+            raise TypeError(f"{where}: expected a uint32, got {value!r}")
     elif kind in DEFINITIONS:
         if type(value).__name__ != kind or type(value).__module__ != __name__:
-            raise TypeError("%s: expected a %s, got %r" % (where, kind, value))
+            raise TypeError(f"{where}: expected a {kind}, got {value!r}")
     else:
-        raise TypeError("%s: unknown ROS type %s" % (where, kind))
+        raise TypeError(f"{where}: unknown ROS type {kind}")
 
 
-class _Message(object):
+class _Message:
     _type = ""
 
     def __init__(self, *args, **kwargs):
         fields = fields_of(self._type)
         if args and kwargs:
-            raise TypeError("%s: give fields positionally or by keyword, not both" % self._type)
+            raise TypeError(f"{self._type}: give fields positionally or by keyword, not both")
         if args and len(args) != len(fields):
-            raise TypeError("%s takes %d fields, got %d" % (self._type, len(fields), len(args)))
+            raise TypeError(f"{self._type} takes {len(fields)} fields, got {len(args)}")
         unknown = set(kwargs) - {f for f, _ in fields}
         if unknown:
-            raise TypeError("%s has no field %s" % (self._type, ", ".join(sorted(unknown))))
-        values = dict(zip([f for f, _ in fields], args)) if args else kwargs
+            raise TypeError("{} has no field {}".format(self._type, ", ".join(sorted(unknown))))
+        values = dict(zip([f for f, _ in fields], args, strict=False)) if args else kwargs
         for field, kind in fields:
             if field not in values:
-                raise TypeError("%s: field %s not given" % (self._type, field))
-            check_value(kind, values[field], "%s.%s" % (self._type, field))
+                raise TypeError(f"{self._type}: field {field} not given")
+            check_value(kind, values[field], f"{self._type}.{field}")
             setattr(self, field, values[field])
         built.append(self)
 
