@@ -6,10 +6,13 @@ STAMP := $(VENV)/.installed
 
 .PHONY: demo test check bench setup clean
 
+# pddl (tests only: the PDDL parser the export's round trip is checked with) is installed on its own, without its
+# dependencies, because it pins lark<1.2 while wecook needs lark>=1.2 (its parser runs on both).
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PY) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[dev,batch]'
+	$(BIN)/python -m pip install --quiet --no-deps 'pddl==0.5.1'
 	touch $(STAMP)
 
 setup: $(STAMP)

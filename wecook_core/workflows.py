@@ -40,11 +40,10 @@ def analyze_session(session_path: str | Path) -> Analysed:
     return Analysed(analysis, session.trees_path, session.graph_path)
 
 
-def export_session_plan(session_path: str | Path, out: str | Path | None = None, *,
-                        table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT) -> Exported:
-    """Analyse the session at ``session_path`` and write its plan to ``out`` (default
-    ``<session>/plans/plan.yaml``); ``robot`` is the arms' URDF (relative to ``pybullet_data`` unless absolute).
-    Unreadable inputs or an invalid plan raise :class:`InputError`."""
+def session_plan(session_path: str | Path, *, table: Table = DEFAULT_TABLE,
+                 robot: str = DEFAULT_ROBOT) -> tuple[Plan, Path, tuple[str, ...]]:
+    """The plan of the session at ``session_path``, analysed with its corrections (not validated), its
+    ``plans/`` folder and its warnings. Unreadable inputs raise :class:`InputError`."""
     from wecook_core.knowledge.recognize import load_knowledge
     from wecook_core.perception.pipeline import analyze
     from wecook_core.session.store import open_session
@@ -53,10 +52,19 @@ def export_session_plan(session_path: str | Path, out: str | Path | None = None,
     obs = session.load_observations()
     analysis = analyze(obs, load_knowledge(), session.params, session.corrections)
     plan = plan_from_graph(analysis.graph, obs, table=table, robot=robot)
-    path = Path(out) if out is not None else session.plans_dir / "plan.yaml"
+    return plan, session.plans_dir, tuple(session.warnings)
+
+
+def export_session_plan(session_path: str | Path, out: str | Path | None = None, *,
+                        table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT) -> Exported:
+    """Analyse the session at ``session_path`` and write its plan to ``out`` (default
+    ``<session>/plans/plan.yaml``); ``robot`` is the arms' URDF (relative to ``pybullet_data`` unless absolute).
+    Unreadable inputs or an invalid plan raise :class:`InputError`."""
+    plan, plans_dir, warnings = session_plan(session_path, table=table, robot=robot)
+    path = Path(out) if out is not None else plans_dir / "plan.yaml"
     validate(plan, path)
     write_plan(plan, path)
-    return Exported(plan, path, tuple(session.warnings))
+    return Exported(plan, path, warnings)
 
 
 def demo_plan(table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT) -> Plan:

@@ -14,7 +14,8 @@ COMMAND_MODULES: tuple[str, ...] = (
     "session",  # new, sessions
     "workbench",  # open, demo
     "analyze",
-    "execute",  # export, execute, runs
+    "export",
+    "execute",  # execute, runs
     "evaluate",
     "synth",
     "segment",

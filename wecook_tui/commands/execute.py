@@ -1,7 +1,6 @@
-"""`wecook export`, `wecook execute`, `wecook runs check` and `wecook runs recover`: plans and their runs.
+"""`wecook execute`, `wecook runs check` and `wecook runs recover`: plans and their runs (`wecook export`: see
+:mod:`wecook_tui.commands.export`).
 
-- ``wecook export NAME [-o plan.yaml] [--root DIR] [--robot URDF]``: analyse session NAME (with its
-  corrections) and write its plan, by default to ``sessions/NAME/plans/plan.yaml``.
 - ``wecook execute PLAN [--record FILE.mcap | --no-record] [--seed N] [--realtime] [--jsonl]``: validate the
   plan (errors before anything runs, exit 2), run it headless with progress per action, record it (default
   ``runs/<plan>-<time>.mcap``: the session's ``runs/`` when the plan is in a session's ``plans/``, else beside
@@ -16,7 +15,6 @@ from __future__ import annotations
 
 import argparse
 import datetime as dt
-import sys
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -31,16 +29,6 @@ if TYPE_CHECKING:
 
 
 def register(sub: Any) -> None:
-    export = sub.add_parser("export", help="write a session's robot plan (YAML)",
-                            description="Analyse a session with its corrections and write its plan "
-                                        "(wecook_plan: 1).")
-    export.add_argument("name", help="session name")
-    export.add_argument("-o", "--out", type=Path, help="plan file (default: sessions/NAME/plans/plan.yaml)")
-    export.add_argument("--root", type=Path, help="where sessions live (default: $WECOOK_SESSIONS or ./sessions)")
-    export.add_argument("--robot", default="franka_panda/panda.urdf", metavar="URDF",
-                        help="the arms' URDF, relative to pybullet_data unless absolute (default: %(default)s)")
-    export.set_defaults(func=run_export)
-
     execute = sub.add_parser("execute", help="run a plan with two simulated arms, recorded as MCAP",
                              description="Validate a plan, run it headless in PyBullet and record the run.")
     execute.add_argument("plan", type=Path, help="plan file (YAML)")
@@ -64,23 +52,6 @@ def register(sub: Any) -> None:
     recover.add_argument("file", type=Path, help="recording (.mcap)")
     recover.add_argument("-o", "--out", type=Path, help="output (default: FILE with .recovered.mcap)")
     recover.set_defaults(func=run_recover)
-
-
-# ---------------------------------------------------------------------------------------------- export
-
-
-def run_export(args: argparse.Namespace) -> int:
-    from wecook_core.session.store import check_name, sessions_root
-    from wecook_core.workflows import export_session_plan
-
-    session = sessions_root(args.root) / check_name(args.name)
-    exported = export_session_plan(session, args.out, robot=args.robot)
-    for warning in exported.warnings:
-        print(f"wecook: warning: {warning}", file=sys.stderr)
-    plan = exported.plan
-    print(f"wrote {exported.path}: {len(plan.actions)} actions, {len(plan.agents)} arms, "
-          f"{len(plan.scene.objects)} objects")
-    return 0
 
 
 # --------------------------------------------------------------------------------------------- execute

@@ -1,0 +1,166 @@
+"""Running exported plans off their platforms: a dispatch script against stand-ins of ``rospy`` and ``wecook.msg``
+(``stand_in/``, put on sys.path), and a PDDL plan's steps on the domain and problem the ``pddl`` library parsed."""
+
+from __future__ import annotations
+
+import ast
+import builtins
+import importlib
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import pytest
+
+from wecook_core.plan import Plan
+
+STAND_IN = Path(__file__).parent / "stand_in"
+
+
+@dataclass
+class Dispatched:
+    rospy: ModuleType
+    msg: ModuleType
+    imported: list[str]
+    """Every module the script imported (``import x`` -> ``x``, ``from x.y import z`` -> ``x.y``), in order."""
+
+    @property
+    def task(self) -> Any:
+        assert len(self.rospy.published) == 1, self.rospy.published
+        topic, message = self.rospy.published[0]
+        assert topic == "WeCookDispatch"
+        return message
+
+
+def run_dispatch(script: str, monkeypatch: pytest.MonkeyPatch) -> Dispatched:
+    """Execute ``script`` as ``__main__`` with the stand-ins on sys.path, recording what it imports."""
+    for name in ("rospy", "wecook", "wecook.msg"):
+        monkeypatch.delitem(sys.modules, name, raising=False)
+    monkeypatch.syspath_prepend(str(STAND_IN))
+    rospy = importlib.import_module("rospy")
+    msg = importlib.import_module("wecook.msg")
+    assert Path(rospy.__file__).parent == STAND_IN and Path(msg.__file__).parent == STAND_IN / "wecook"
+    imported: list[str] = []
+    real_import = builtins.__import__
+
+    def recording_import(name: str, globals: Any = None, locals: Any = None, fromlist: Any = (),
+                         level: int = 0) -> Any:
+        imported.append(name)
+        return real_import(name, globals, locals, fromlist, level)
+
+    scope = {"__name__": "__main__", "__builtins__": {**vars(builtins), "__import__": recording_import}}
+    exec(compile(script, "dispatch.py", "exec"), scope)
+    return Dispatched(rospy, msg, imported)
+
+
+def script_imports(script: str) -> set[str]:
+    """Modules the script's import statements name (anywhere in it)."""
+    out: set[str] = set()
+    for node in ast.walk(ast.parse(script)):
+        if isinstance(node, ast.Import):
+            out.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            out.add("." * node.level + (node.module or ""))
+    return out
+
+
+def check_message(msg: ModuleType, message: Any, where: str = "TaskMsg") -> int:
+    """Assert that ``message`` and every message in it has exactly its definition's fields, each of its type;
+    returns how many messages were checked."""
+    kind = type(message).__name__
+    fields = msg.fields_of(kind)
+    assert type(message) is getattr(msg, kind), where
+    assert set(vars(message)) == {f for f, _ in fields}, (where, sorted(vars(message)))
+    count = 1
+    for field, ros_type in fields:
+        value = getattr(message, field)
+        msg.check_value(ros_type, value, f"{where}.{field}")
+        base = ros_type.removesuffix("[]")
+        if base in msg.DEFINITIONS:
+            items = value if ros_type.endswith("[]") else [value]
+            for k, item in enumerate(items):
+                count += check_message(msg, item, f"{where}.{field}[{k}]")
+    return count
+
+
+def expected_verbs(plan: Plan) -> list[str]:
+    """The platform's verb of each plan action, in plan order."""
+    out = []
+    for a in plan.actions:
+        if a.verb == "holding":
+            assert a.partner is not None
+            out.append(f"holding_{a.tool}_{a.partner.verb}")
+        else:
+            out.append(a.verb)
+    return out
+
+
+# ------------------------------------------------------------------------------------------------ PDDL
+
+
+def _atoms(formula: Any) -> tuple[list[tuple[str, ...]], list[tuple[str, ...]]]:
+    """(positive, negative) atoms of a conjunction of literals, as (predicate, term names...)."""
+    from pddl.logic.base import And, Not
+    from pddl.logic.predicates import Predicate
+
+    if isinstance(formula, And):
+        pos: list[tuple[str, ...]] = []
+        neg: list[tuple[str, ...]] = []
+        for operand in formula.operands:
+            p, n = _atoms(operand)
+            pos += p
+            neg += n
+        return pos, neg
+    if isinstance(formula, Not):
+        p, n = _atoms(formula.argument)
+        return n, p
+    assert isinstance(formula, Predicate), f"not a literal: {formula!r}"
+    return [(str(formula.name), *(str(t.name) for t in formula.terms))], []
+
+
+def _ground(atoms: list[tuple[str, ...]], binding: dict[str, str]) -> list[tuple[str, ...]]:
+    return [(atom[0], *(binding.get(t, t) for t in atom[1:])) for atom in atoms]
+
+
+def simulate(domain_file: Path, problem_file: Path, steps: list[tuple[str, ...]]) -> set[tuple[str, ...]]:
+    """Parse domain and problem with ``pddl``, run ``steps`` from the initial state (asserting each step's
+    action exists, its arguments are objects of the parameters' types and its precondition holds) and assert
+    the goal holds at the end; returns the final state."""
+    from pddl import parse_domain, parse_problem
+
+    domain = parse_domain(domain_file)
+    problem = parse_problem(problem_file)
+    assert problem.domain_name == domain.name
+    actions = {str(a.name): a for a in domain.actions}
+    parents = {str(k): str(v) for k, v in domain.types.items() if v is not None}
+    types = {str(o.name): {str(t) for t in o.type_tags} for o in (*problem.objects, *domain.constants)}
+
+    def is_a(obj: str, wanted: str) -> bool:
+        todo = list(types[obj])
+        while todo:
+            t = todo.pop()
+            if t == wanted:
+                return True
+            if t in parents:
+                todo.append(parents[t])
+        return wanted == "object"
+
+    state = {atom for fact in problem.init for atom in _atoms(fact)[0]}
+    for k, (name, *args) in enumerate(steps):
+        action = actions[name]
+        assert len(action.parameters) == len(args), (k, name, args)
+        binding = {}
+        for param, arg in zip(action.parameters, args, strict=True):
+            assert arg in types, f"step {k} {name}: {arg} is not an object"
+            assert all(is_a(arg, str(t)) for t in param.type_tags), (k, name, arg, param.type_tags)
+            binding[str(param.name)] = arg
+        pos, neg = (_ground(atoms, binding) for atoms in _atoms(action.precondition))
+        missing = [a for a in pos if a not in state] + [a for a in neg if a in state]
+        assert not missing, f"step {k} ({name} {' '.join(args)}): precondition fails on {missing}"
+        add, delete = (_ground(atoms, binding) for atoms in _atoms(action.effect))
+        state = (state - set(delete)) | set(add)
+    pos, neg = _atoms(problem.goal)
+    assert not [g for g in pos if g not in state] and not [g for g in neg if g in state], (pos, state)
+    return state
