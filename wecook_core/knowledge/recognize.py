@@ -1,7 +1,8 @@
 """The commonsense model at run time: rank actions by P(A | O1..On) ∝ P(A) ∏ P(Ok | A).
 
 The tables come from a corpus of (action, objects) records (:mod:`wecook_core.knowledge`); the shipped
-ones are learned from EPIC-KITCHENS (``wecook_core/assets/knowledge/``). Object labels are free text: each is matched
+ones are learned from EPIC-KITCHENS and recipe instructions (``wecook_core/assets/knowledge/``), with a
+uniform P(A) (see :class:`Knowledge`). Object labels are free text: each is matched
 to a corpus noun (exact, the corpus's own aliases, shorter tails down to the head noun, singular/plural);
 labels that match nothing are ignored and reported by :func:`unknown_objects`.
 """
@@ -22,7 +23,7 @@ from wecook_core.knowledge.nouns import match
 from wecook_core.resources import ASSETS_DIR
 
 KNOWLEDGE_PATH = ASSETS_DIR / "knowledge" / "commonsense.json"
-"""The shipped tables (learned from EPIC-KITCHENS, see ``wecook_core/assets/knowledge/SOURCE.md``)."""
+"""The shipped tables (learned from EPIC-KITCHENS and recipes, see ``wecook_core/assets/knowledge/SOURCE.md``)."""
 
 FORMAT_KEY = "wecook_knowledge"
 FORMAT_VERSION = 1
