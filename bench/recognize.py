@@ -34,7 +34,10 @@ def naive(knowledge: Knowledge, labels: list[str]) -> list[tuple[str, float]]:
     scores = []
     for a in range(len(verbs)):
         row_total = int(knowledge.pair_counts[a].sum())
-        score = (int(knowledge.action_counts[a]) + knowledge.alpha) / (total + knowledge.alpha * len(verbs))
+        if knowledge.prior_kind == "uniform":
+            score = 1.0 / len(verbs)
+        else:
+            score = (int(knowledge.action_counts[a]) + knowledge.alpha) / (total + knowledge.alpha * len(verbs))
         for label in labels:
             o = match(label, knowledge.index)
             if o is not None:

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from wecook_core.errors import InputError
-from wecook_core.knowledge.build import build, default_corpus
+from wecook_core.knowledge.build import build, default_corpora, read_corpora
 from wecook_core.knowledge.corpus import Corpus, Record, merge, read_csv, read_epic
 from wecook_core.knowledge.evaluation import Example, evaluate, score, split
 from wecook_core.knowledge.learning import fold, learn
@@ -85,7 +85,8 @@ def test_shipped_synonyms_fold_corpus_verbs() -> None:
     expected = {"chop": "cut", "chop-into": "cut", "slice": "cut", "dice": "cut", "make": None,
                 "mix": "stir", "whisk": "stir", "beat": "stir", "scatter": "sprinkle", "season": "sprinkle",
                 "roll-out": "roll", "roll-up": None, "smear": "spread", "cover": None, "dip": "dip",
-                "squeeze": "squeeze", "take": None, "transfer": None, "wash": None}
+                "squeeze": "squeeze", "take": None, "transfer": "transfer", "spoon-into": "transfer",
+                "scoop": "transfer", "skim-off": None, "wash": None}
     assert {verb: folder.fold(verb) for verb in expected} == expected
 
 
@@ -103,7 +104,7 @@ def test_synonym_targets_must_be_recognised_verbs(tmp_path: Path) -> None:
     with pytest.raises(InputError, match="dice") as error:
         load_synonyms(path)
     assert "words.chop" in str(error.value)
-    assert "transfer" not in RECOGNISED
+    assert RECOGNISED[-1] == "transfer" and len(RECOGNISED) == 11  # every verb of the grammar is ranked
 
 
 # ---------------------------------------------------------------------------------------------- corpora
@@ -111,24 +112,48 @@ def test_synonym_targets_must_be_recognised_verbs(tmp_path: Path) -> None:
 
 def test_csv_corpus_and_learned_counts(tmp_path: Path) -> None:
     corpus = read_csv(write(tmp_path / "c.csv", CSV))
-    assert corpus.records[2] == Record("slice", ("knife", "tomatoes"), "c.csv:4")
+    assert corpus.records[2] == Record("slice", ("knife", "tomatoes"), "c.csv:4", source="c")
     examples, vocabulary = fold(corpus)
-    assert [e.action for e in examples] == ["cut", "cut", "cut", "stir", "stir", "pour"]
-    # objects first seen in kept records; "tomatoes" is matched to "tomato"; bowl (transfer) is dropped
-    assert vocabulary == ("knife", "tomato", "onion", "chopping_board", "spoon", "pot", "whisk", "egg", "oil", "pan")
+    assert [e.action for e in examples] == ["cut", "cut", "cut", "stir", "stir", "pour", "transfer"]
+    # objects first seen in kept records; "tomatoes" is matched to "tomato"; "take" is dropped
+    assert vocabulary == ("knife", "tomato", "onion", "chopping_board", "spoon", "pot", "whisk", "egg", "oil", "pan",
+                          "bowl")
     knowledge = learn(corpus, alpha=1.0)
     cut = knowledge.verbs.index("cut")
-    assert knowledge.action_counts.tolist() == [3, 0, 2, 1, 0, 0, 0, 0, 0, 0]
-    assert knowledge.pair_counts[cut].tolist() == [3, 2, 1, 1, 0, 0, 0, 0, 0, 0]
-    assert knowledge.prior()["cut"] == pytest.approx((3 + 1) / (6 + 10))
-    assert knowledge.likelihood("knife", "cut") == pytest.approx((3 + 1) / (7 + 10))
-    assert knowledge.likelihood("egg", "stir") == pytest.approx((1 + 1) / (4 + 10))
+    assert knowledge.action_counts.tolist() == [3, 0, 2, 1, 0, 0, 0, 0, 0, 0, 1]
+    assert knowledge.pair_counts[cut].tolist() == [3, 2, 1, 1, 0, 0, 0, 0, 0, 0, 0]
+    assert knowledge.prior()["cut"] == pytest.approx((3 + 1) / (7 + 11))
+    assert knowledge.likelihood("knife", "cut") == pytest.approx((3 + 1) / (7 + 11))
+    assert knowledge.likelihood("egg", "stir") == pytest.approx((1 + 1) / (4 + 11))
     assert rank(knowledge, ["knife", "tomato"])[0][0] == "cut"
     assert rank(knowledge, ["whisk", "egg"])[0][0] == "stir"
+    assert rank(knowledge, ["spoon"])[0][0] == "stir"  # the corpus prior: stir 2 records, transfer 1
+    uniform = learn(corpus, alpha=1.0, prior="uniform")
+    assert uniform.prior()["cut"] == pytest.approx(1 / 11)
+    assert uniform.pair_counts.tolist() == knowledge.pair_counts.tolist()
+    assert rank(uniform, ["spoon"])[0][0] == "transfer"  # spoon: 1 of transfer's 2 objects, 1 of stir's 4
+
+
+def test_records_without_objects_are_not_learned(tmp_path: Path) -> None:
+    corpus = read_csv(write(tmp_path / "c.csv", "action,objects\ncut,knife\ncut,\nstir,  ;\n"))
+    examples, _ = fold(corpus)
+    assert [e.action for e in examples] == ["cut"]
+
+
+def test_csv_declares_corpus_source_licence_and_context(tmp_path: Path) -> None:
+    text = ("# corpus: mine\n# source: my notes, 2026\n# licence: CC0 1.0\naction,objects,group,context\n"
+            "stir,pot,r1,spoon\nchop,onion,r1,\n")
+    corpus = read_csv(write(tmp_path / "c.csv", text))
+    assert corpus.records[0] == Record("stir", ("pot",), "r1", ("spoon",), "mine")
+    assert corpus.records[1].context == () and corpus.records[1].source == "mine"
+    assert corpus.licences == ("CC0 1.0",)
+    assert corpus.sources == ("c.csv (2 records, CSV: my notes, 2026)",)
+    assert fold(corpus)[0][0].objects == ("pot", "spoon")
 
 
 @pytest.mark.parametrize(("text", "place"), [
     ("action,objects\ncut\n", "line 2"),
+    ("cut,knife,g,ctx,extra\n", "line 1"),
     ("cut,knife\n,tomato\n", "line 2"),
     ("action,objects\n", None),
 ])
@@ -202,7 +227,7 @@ def test_merged_corpora_share_nouns(tmp_path: Path) -> None:
 def test_not_a_corpus(tmp_path: Path) -> None:
     from wecook_core.knowledge.corpus import read_corpus
 
-    with pytest.raises(InputError, match="EPIC"):
+    with pytest.raises(InputError, match=r"EPIC.*recipes"):
         read_corpus(tmp_path)
     with pytest.raises(InputError, match="no such"):
         read_corpus(tmp_path / "missing.csv")
@@ -243,6 +268,20 @@ def test_evaluate_a_corpus_where_objects_decide() -> None:
     assert result.baseline.accuracy == pytest.approx(test_cut.support / result.test_records)
     assert result.baseline.macro_recall == pytest.approx(1 / 3)
     assert result.test_groups == 4
+    assert result.by_source == ()  # one corpus
+
+
+def test_evaluation_reports_each_corpus() -> None:
+    rows = [Record(verb, (obj,), f"{source}{i % 10}", source=source)
+            for source in ("a", "b") for i in range(100)
+            for verb, obj in ((("cut", "knife"), ("stir", "spoon"))[i % 2],)]
+    rows += [Record("pour", ("spoon",), f"b{i}", source="b") for i in range(10)]  # b: spoon is also poured
+    result = evaluate(Corpus(tuple(rows)), seed=1, prior="uniform")
+    by_source = dict(result.by_source)
+    assert list(by_source) == ["a", "b"]
+    assert by_source["a"].accuracy == 1.0
+    assert by_source["b"].accuracy < 1.0
+    assert sum(s.support for m in by_source.values() for s in m.per_verb) == result.test_records
 
 
 # --------------------------------------------------------------------------------------------- rebuild
@@ -254,16 +293,21 @@ def test_build_from_a_csv_writes_tables_and_source(tmp_path: Path) -> None:
     assert [p.name for p in built.files] == ["commonsense.json", "SOURCE.md"]
     knowledge = load_knowledge(tmp_path / "out" / "commonsense.json")
     assert knowledge.action_counts.tolist() == built.knowledge.action_counts.tolist()
+    assert knowledge.prior_kind == "uniform"
+    assert [e.seed for e in built.evaluations] == [0, 1, 2, 3, 4]
     source = (tmp_path / "out" / "SOURCE.md").read_text()
     assert "c.csv (8 records, CSV)" in source and "CC BY-NC" not in source
+    assert "| uniform | all |" in source and "| corpus | all |" in source
 
 
-def test_shipped_tables_are_what_the_shared_corpus_teaches(shared: Path) -> None:
-    """The shipped counts are reproducible from the corpus read in place (same defaults as `learn`)."""
+def test_shipped_tables_are_what_the_shared_corpora_teach(shared: Path) -> None:
+    """The shipped counts are reproducible from the corpora read in place (same defaults as `learn`)."""
     shipped = json.loads((ASSETS_DIR / "knowledge" / "commonsense.json").read_text())
-    knowledge = learn(read_epic(default_corpus()))
+    knowledge = learn(read_corpora(default_corpora()), prior="uniform")
     assert list(knowledge.verbs) == shipped["verbs"]
     assert list(knowledge.objects) == shipped["objects"]
     assert knowledge.action_counts.tolist() == shipped["action_counts"]
     assert knowledge.pair_counts.tolist() == shipped["pair_counts"]
-    assert "CC BY-NC 4.0" in (ASSETS_DIR / "knowledge" / "SOURCE.md").read_text()
+    assert shipped["prior"] == "uniform"
+    source = (ASSETS_DIR / "knowledge" / "SOURCE.md").read_text()
+    assert "CC BY-NC 4.0" in source and "public domain" in source and "recipes.csv" in source

@@ -354,3 +354,13 @@ def test_the_demo_layout_keeps_each_arm_s_things_on_its_half_and_room_for_the_ha
             ox, oy = other.half_extents()
             assert abs(tool.x - other.x) - tx - ox >= HAND_ROOM - 1e-6 or \
                 abs(tool.y - other.y) - ty - oy >= GAP - 1e-6, (tool.name, other.name)
+
+
+@pytest.mark.parametrize(("name", "shape"), [
+    ("pepper", "cylinder"), ("olive_oil", "cylinder"), ("soy_sauce", "cylinder"),
+    ("bell_pepper", "sphere"), ("red_pepper", "box"), ("foil", "box"), ("tomatoes", "sphere"),
+])
+def test_bottles_are_matched_by_head_noun_not_substring(name: str, shape: str) -> None:
+    from wecook_core.plan.layout import _shape_for
+
+    assert _shape_for(name, Category.INGREDIENT, 0.05, 0.05)[0] == shape

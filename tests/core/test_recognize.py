@@ -21,6 +21,7 @@ from wecook_core.knowledge.recognize import (
     save_knowledge,
     unknown_objects,
 )
+from wecook_core.model import VERBS as VERBS_OF_THE_GRAMMAR
 
 # Three verbs, four objects. cut: 3 records, stir: 1, pour: 0.
 VERBS = ("cut", "stir", "pour")
@@ -44,6 +45,16 @@ def test_smoothed_tables_match_the_formulas(small: Knowledge) -> None:
     assert small.likelihood("spoon", "cut") == pytest.approx(1 / 10)
     assert small.likelihood("spoon", "stir") == pytest.approx(2 / 5)
     assert small.likelihood("tomato", "pour") == pytest.approx(1 / 4)
+
+
+def test_uniform_prior_ranks_by_the_likelihood_alone() -> None:
+    uniform = Knowledge(VERBS, OBJECTS, ACTIONS, COUNTS, alpha=1.0, prior_kind="uniform")
+    assert uniform.prior() == pytest.approx({"cut": 1 / 3, "stir": 1 / 3, "pour": 1 / 3})
+    # spoon: P(spoon | cut) = 1/10, P(spoon | stir) = 2/5, P(spoon | pour) = 1/4
+    assert dict(rank(uniform, ["spoon"])) == pytest.approx({"cut": 0.1 / 0.75, "stir": 0.4 / 0.75,
+                                                            "pour": 0.25 / 0.75})
+    with pytest.raises(ValueError, match="prior"):
+        Knowledge(VERBS, OBJECTS, ACTIONS, COUNTS, prior_kind="flat")
 
 
 def test_rank_is_the_normalised_posterior(small: Knowledge) -> None:
@@ -118,6 +129,10 @@ def test_save_load_round_trip(tmp_path: Path, small: Knowledge) -> None:
     assert (loaded.pair_counts == COUNTS).all() and (loaded.action_counts == ACTIONS).all()
     assert dict(rank(loaded, ["cherry tomato"])) == pytest.approx(dict(rank(small, ["tomato"])))
     assert load_knowledge(path) is loaded  # cached
+    assert loaded.prior_kind == "corpus"
+    uniform = Knowledge(VERBS, OBJECTS, ACTIONS, COUNTS, prior_kind="uniform")
+    save_knowledge(uniform, tmp_path / "u.json")
+    assert load_knowledge(tmp_path / "u.json").prior_kind == "uniform"
 
 
 @pytest.mark.parametrize(("text", "fragment"), [
@@ -155,8 +170,7 @@ def test_shipped_tables_load_fast() -> None:
         best = min(best, time.perf_counter() - started)
     assert best < 0.05
     knowledge = load_knowledge()
-    assert knowledge.verbs == tuple(data["verbs"])
-    assert "transfer" not in knowledge.verbs
+    assert knowledge.verbs == tuple(data["verbs"]) == VERBS_OF_THE_GRAMMAR  # transfer, dip, wrap too
     assert load_knowledge() is knowledge
 
 
@@ -173,6 +187,12 @@ def test_shipped_tables_load_fast() -> None:
     (["oil", "pan"], "pour"),
     (["butter", "knife", "bread"], "spread"),
     (["bread", "hummus"], "spread"),
+    (["lemon"], "squeeze"),
+    (["foil"], "wrap"),
+    (["tortilla"], "wrap"),
+    (["chicken", "flour"], "dip"),
+    (["pepper", "pot"], "sprinkle"),
+    (["spoon", "rice", "bowl"], "transfer"),
 ])
 def test_shipped_tables_rank_what_the_corpus_supports(objects: list[str], verb: str) -> None:
     knowledge = load_knowledge()

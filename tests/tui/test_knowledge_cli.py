@@ -70,6 +70,46 @@ def test_learn_and_evaluate_own_corpus(tmp_path: Path, capsys: pytest.CaptureFix
     assert result["test_groups"] == 2 and result["train_records"] + result["test_records"] == 8
 
 
+def test_evaluate_corpus_prior(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    corpus = tmp_path / "mine.csv"
+    corpus.write_text(CSV)
+    assert main(["knowledge", "evaluate", "--corpus", str(corpus), "--prior", "corpus", "--fraction", "0.5"]) == 0
+    assert "prior corpus" in capsys.readouterr().out
+
+
+RECIPE = """---
+title: "Rice jars"
+---
+
+## Ingredients
+
+- rice
+
+## Directions
+
+1. Peel and cut the onions.
+2. Using a spoon, transfer the rice into the jars.
+"""
+
+
+def test_extract_recipes_then_learn_from_them(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    recipes = tmp_path / "recipes"
+    recipes.mkdir()
+    (recipes / "rice-jars.md").write_text(RECIPE)
+    out = tmp_path / "records.csv"
+    assert main(["knowledge", "extract", str(recipes), "-o", str(out), "--licence", "CC0 1.0"]) == 0
+    assert "wrote 3 records" in capsys.readouterr().out
+    text = out.read_text()
+    assert "# licence: CC0 1.0" in text
+    assert "peel,onion,rice-jars" in text and "transfer,spoon;rice;jar,rice-jars" in text
+    assert main(["knowledge", "learn", "--corpus", str(out), "-o", str(tmp_path / "t")]) == 0
+    assert "transfer 1" in capsys.readouterr().out
+    assert main(["knowledge", "learn", "--corpus", str(recipes), "-o", str(tmp_path / "t2")]) == 0
+    assert "transfer 1" in capsys.readouterr().out
+    assert main(["knowledge", "extract", str(tmp_path), "-o", str(out)]) == 2
+    assert "Markdown recipes" in capsys.readouterr().err
+
+
 def test_learn_bad_corpus_is_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     corpus = tmp_path / "bad.csv"
     corpus.write_text("action,objects\ncut\n")

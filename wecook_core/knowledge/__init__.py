@@ -1,11 +1,14 @@
 """Learning the commonsense tables from a corpus of (action, objects) records.
 
-- :mod:`.corpus`: reading corpora (EPIC-KITCHENS folders, ``action,objects`` CSV files) into records
+- :mod:`.corpus`: reading corpora (EPIC-KITCHENS folders, folders of Markdown recipes, ``action,objects`` CSV
+  files) into records
+- :mod:`.instructions`: (verb, objects) records from the clauses of recipe instructions
 - :mod:`.synonyms`: folding corpus verbs into wecook's vocabulary (chop -> cut)
 - :mod:`.nouns`: normalising and matching object names (shared with the runtime and the categories)
 - :mod:`.learning`: counting P(A) and P(O | A)
 - :mod:`.evaluation`: held-out verb prediction against a majority baseline
-- :mod:`.build`: rebuilding ``wecook_core/assets/knowledge/`` (tables, derived categories, SOURCE.md)
+- :mod:`.build`: rebuilding ``wecook_core/assets/knowledge/`` (tables, derived categories, recipe records)
+- :mod:`.report`: SOURCE.md (sources, licences, held-out figures per corpus)
 
 The run-time side (loading the tables, ranking) is :mod:`wecook_core.knowledge.recognize`.
 """

@@ -10,14 +10,18 @@ from __future__ import annotations
 
 import ast
 import csv
+import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from wecook_core.errors import InputError
+from wecook_core.knowledge.instructions import is_recipe_folder, recipe_files, recipe_records
 from wecook_core.knowledge.nouns import epic_name, match, normalise
 
 EPIC_LICENCE = "CC BY-NC 4.0"
+EPIC_SOURCE = "epic-kitchens"
+RECIPES_SOURCE = "recipes"
 EPIC_CITATION = (
     'Damen et al., "Scaling Egocentric Vision: The EPIC-KITCHENS Dataset" (ECCV 2018) and '
     '"Rescaling Egocentric Vision" (IJCV 2022)'
@@ -37,6 +41,9 @@ class Record:
     context: tuple[str, ...] = ()
     """Objects picked up just before the action (EPIC: nouns of the preceding "take" records), most
     likely what the hand holds while acting: the tool the narration leaves out ("cut tomato")."""
+    source: str = ""
+    """The corpus the record comes from (``epic-kitchens``, ``recipes``, a CSV's ``# corpus:`` line or file
+    name), for reporting held-out figures per corpus."""
 
 
 @dataclass(frozen=True)
@@ -81,12 +88,16 @@ def merge(corpora: Sequence[Corpus]) -> Corpus:
     )
 
 
-def read_corpus(path: Path) -> Corpus:
-    """A corpus from a path: an EPIC-KITCHENS folder (holding ``epic55/`` and/or ``epic100/``) or a CSV file."""
+def read_corpus(path: Path, *, context: int = 2, nouns: Mapping[str, str] | None = None) -> Corpus:
+    """A corpus from a path: an EPIC-KITCHENS folder (holding ``epic55/`` and/or ``epic100/``), a folder of
+    Markdown recipes (:func:`read_recipes`, nouns from ``nouns``) or a CSV file."""
     if path.is_dir():
         if (path / "epic55").is_dir() or (path / "epic100").is_dir():
-            return read_epic(path)
-        raise InputError(path, "expected an EPIC-KITCHENS folder (with epic55/ or epic100/) or a CSV file")
+            return read_epic(path, context=context)
+        if is_recipe_folder(path):
+            return read_recipes(path, nouns or {})
+        raise InputError(path, "expected an EPIC-KITCHENS folder (with epic55/ or epic100/), a folder of Markdown "
+                               "recipes (with a Directions list) or a CSV file")
     if not path.is_file():
         raise InputError(path, "no such corpus file or folder")
     return read_csv(path)
@@ -95,35 +106,49 @@ def read_corpus(path: Path) -> Corpus:
 # ------------------------------------------------------------------------------------------------ CSV
 
 
-def read_csv(path: Path) -> Corpus:
-    """A corpus from a CSV file, one record per row: ``action,objects[,group]``.
+_META = re.compile(r"^#\s*(corpus|source|licence|license)\s*:\s*(.+?)\s*$", re.I)
 
-    ``objects`` is a ``;``-separated list (``knife;tomato;chopping board``). A first row reading
-    ``action,objects`` is a header. Blank rows and rows starting with ``#`` are skipped. Without a group
-    column each row is its own group.
+
+def read_csv(path: Path) -> Corpus:
+    """A corpus from a CSV file, one record per row: ``action,objects[,group[,context]]``.
+
+    ``objects`` is a ``;``-separated list (``knife;tomato;chopping board``), ``context`` too (objects
+    named before the record that it is likely about, see :attr:`Record.context`). A first row reading
+    ``action,objects`` is a header. Blank rows and rows starting with ``#`` are skipped; comment lines
+    ``# corpus: NAME`` (the records' source name, default the file's stem), ``# source: TEXT`` and
+    ``# licence: TEXT`` describe the data for SOURCE.md. Without a group column each row is its own group.
     """
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as error:
         raise InputError(path, f"cannot read the corpus: {error}") from None
-    records = []
+    meta: dict[str, list[str]] = {}
+    for line in text.splitlines():
+        found = _META.match(line)
+        if found:
+            meta.setdefault(found.group(1).lower().replace("license", "licence"), []).append(found.group(2))
+    name = meta.get("corpus", [path.stem])[0]
+    records: list[Record] = []
     for number, row in enumerate(csv.reader(text.splitlines()), start=1):
         if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):
             continue
-        if number == 1 and [c.strip().lower() for c in row[:2]] == ["action", "objects"]:
-            continue
-        if len(row) not in (2, 3):
-            raise InputError(path, f"expected 2 or 3 columns (action,objects[,group]), found {len(row)}",
+        if not records and [c.strip().lower() for c in row[:2]] == ["action", "objects"]:
+            continue  # the header, the first row that is not a comment
+        if len(row) not in (2, 3, 4):
+            raise InputError(path, f"expected 2 to 4 columns (action,objects[,group[,context]]), found {len(row)}",
                              place=f"line {number}")
         action = row[0].strip().lower()
         if not action:
             raise InputError(path, "empty action", place=f"line {number}")
         objects = tuple(name for name in (normalise(o) for o in row[1].split(";")) if name)
-        group = row[2].strip() if len(row) == 3 and row[2].strip() else f"{path.name}:{number}"
-        records.append(Record(action, objects, group))
+        group = row[2].strip() if len(row) >= 3 and row[2].strip() else f"{path.name}:{number}"
+        context = tuple(n for n in (normalise(o) for o in row[3].split(";")) if n) if len(row) == 4 else ()
+        records.append(Record(action, objects, group, context, name))
     if not records:
         raise InputError(path, "no records (expected rows action,objects)")
-    return Corpus(records=tuple(records), sources=(f"{path} ({len(records)} records, CSV)",))
+    described = "; ".join(meta.get("source", []))
+    line = f"{path.name} ({len(records)} records, CSV" + (f": {described})" if described else ")")
+    return Corpus(records=tuple(records), sources=(line,), licences=tuple(meta.get("licence", [])))
 
 
 # ------------------------------------------------------------------------------------------- EPIC
@@ -171,7 +196,7 @@ def _with_context(rows: list[tuple[str, int, str, tuple[str, ...]]], verb_classe
             if rows[j][0] == video and verb_classes.get(rows[j][2]) == "take":
                 held.extend(rows[j][3])
         taken[i] = tuple(dict.fromkeys(held))
-    return [Record(verb, objects, video, taken[i]) for i, (video, _, verb, objects) in enumerate(rows)]
+    return [Record(verb, objects, video, taken[i], EPIC_SOURCE) for i, (video, _, verb, objects) in enumerate(rows)]
 
 
 def read_epic(root: Path, *, context: int = 2) -> Corpus:
@@ -257,3 +282,19 @@ def read_epic(root: Path, *, context: int = 2) -> Corpus:
         sources=tuple(sources),
         licences=(EPIC_LICENCE,),
     )
+
+
+# ------------------------------------------------------------------------------------------- recipes
+
+
+def read_recipes(root: Path, nouns: Mapping[str, str], *, licence: str = "") -> Corpus:
+    """A folder of Markdown recipes (:mod:`wecook_core.knowledge.instructions`): one record per clause of
+    their directions, grouped by recipe; objects are the nouns of ``nouns`` (normalised phrase -> name)
+    that the clause names."""
+    found = recipe_records(root, nouns)
+    if not found:
+        raise InputError(root, "no recipe directions found (expected Markdown files with a Directions list)")
+    records = tuple(Record(verb, objects, name, source=RECIPES_SOURCE) for name, verb, objects in found)
+    files = len(recipe_files(root))
+    return Corpus(records=records, sources=(f"{root} ({files} recipes, {len(records)} clauses)",),
+                  licences=(licence,) if licence else ())

@@ -57,6 +57,9 @@ class Evaluation:
     seed: int
     fraction: float
     """Fraction of groups held out."""
+    by_source: tuple[tuple[str, Metrics], ...] = ()
+    """The model's figures on the held-out records of each corpus (``epic-kitchens``, ``recipes``, ...),
+    in order of first appearance; empty when the records come from one corpus only."""
 
 
 def split(examples: Sequence[Example], *, seed: int = 0,
@@ -105,17 +108,24 @@ def score(truth: Sequence[str], predicted: Sequence[str], verbs: Sequence[str]) 
 
 
 def evaluate(corpus: Corpus, *, seed: int = 0, fraction: float = 0.2, alpha: float = 1.0,
-             folder: VerbFolder | None = None, verbs: Sequence[str] = RECOGNISED) -> Evaluation:
+             folder: VerbFolder | None = None, verbs: Sequence[str] = RECOGNISED,
+             prior: str = "corpus") -> Evaluation:
     """Learn on the train groups of ``corpus``, score verb prediction on the held-out groups."""
     examples, vocabulary = fold(corpus, folder, verbs)
     train, test, groups = split(examples, seed=seed, fraction=fraction)
     if not train or not test:
         raise ValueError("the corpus has too few groups to hold some out")
-    knowledge = from_examples(train, vocabulary, corpus, alpha=alpha, verbs=verbs)
+    knowledge = from_examples(train, vocabulary, corpus, alpha=alpha, verbs=verbs, prior=prior)
     truth = [e.action for e in test]
+    predicted = predict(knowledge, test)
     majority = knowledge.verbs[int(np.argmax(knowledge.action_counts))]
+    sources = list(dict.fromkeys(e.source for e in examples))
+    by_source = tuple(
+        (source, score([t for t, e in zip(truth, test, strict=True) if e.source == source],
+                       [p for p, e in zip(predicted, test, strict=True) if e.source == source], verbs))
+        for source in sources) if len(sources) > 1 else ()
     return Evaluation(
-        model=score(truth, predict(knowledge, test), verbs),
+        model=score(truth, predicted, verbs),
         baseline=score(truth, [majority] * len(test), verbs),
         majority=majority,
         train_records=len(train),
@@ -123,4 +133,5 @@ def evaluate(corpus: Corpus, *, seed: int = 0, fraction: float = 0.2, alpha: flo
         test_groups=groups,
         seed=seed,
         fraction=fraction,
+        by_source=by_source,
     )

@@ -22,11 +22,14 @@ class Example:
     objects: tuple[str, ...]
     """Object names, each once: the record's objects then its context (vocabulary names after matching)."""
     group: str
+    source: str = ""
+    """The corpus of the record (see :attr:`~wecook_core.knowledge.corpus.Record.source`)."""
 
 
 def fold(corpus: Corpus, folder: VerbFolder | None = None,
          verbs: Sequence[str] = RECOGNISED) -> tuple[tuple[Example, ...], tuple[str, ...]]:
-    """The corpus's records whose verb folds into ``verbs``, and the object vocabulary.
+    """The corpus's records whose verb folds into ``verbs`` and that name an object, and the object
+    vocabulary.
 
     Objects are matched to the corpus's nouns (aliases, head noun, plural); an object the corpus does
     not define becomes a vocabulary entry of its own (a user's CSV defines its vocabulary by use), unless
@@ -40,12 +43,12 @@ def fold(corpus: Corpus, folder: VerbFolder | None = None,
     examples = []
     for record in corpus.records:
         action = folder.fold(record.action)
-        if action is None or action not in wanted:
-            continue
         named = (*record.objects, *record.context)
+        if action is None or action not in wanted or not named:
+            continue  # a record naming no object says nothing of P(O | A), and is never asked
         objects = tuple(dict.fromkeys(_object(o, corpus, cache, vocabulary) for o in named))
         vocabulary.update(dict.fromkeys(objects))
-        examples.append(Example(action, objects, record.group))
+        examples.append(Example(action, objects, record.group, record.source))
     return tuple(examples), tuple(vocabulary)
 
 
@@ -77,25 +80,27 @@ def count(examples: Sequence[Example], verbs: Sequence[str],
 
 
 def learn(corpus: Corpus, *, alpha: float = 1.0, folder: VerbFolder | None = None,
-          verbs: Sequence[str] = RECOGNISED, source: str = "") -> Knowledge:
+          verbs: Sequence[str] = RECOGNISED, source: str = "", prior: str = "corpus") -> Knowledge:
     """The commonsense tables of a corpus: counts of the records whose verb folds into ``verbs``.
 
-    ``alpha`` is the additive smoothing pseudo-count (see :class:`~wecook_core.recognize.Knowledge`).
+    ``alpha`` is the additive smoothing pseudo-count and ``prior`` how P(A) is taken (see
+    :class:`~wecook_core.knowledge.recognize.Knowledge`).
     The corpus's aliases are kept so that run-time labels find their nouns.
     """
     examples, vocabulary = fold(corpus, folder, verbs)
-    return from_examples(examples, vocabulary, corpus, alpha=alpha, verbs=verbs, source=source)
+    return from_examples(examples, vocabulary, corpus, alpha=alpha, verbs=verbs, source=source, prior=prior)
 
 
 def from_examples(examples: Sequence[Example], vocabulary: Sequence[str], corpus: Corpus, *, alpha: float = 1.0,
-                  verbs: Sequence[str] = RECOGNISED, source: str = "") -> Knowledge:
+                  verbs: Sequence[str] = RECOGNISED, source: str = "", prior: str = "corpus") -> Knowledge:
     actions, pairs = count(examples, verbs, vocabulary)
     known = set(vocabulary)
     aliases = {a: o for a, o in corpus.nouns.items() if o in known and a != o}
     source = source or "; ".join(corpus.sources)
-    return Knowledge(tuple(verbs), tuple(vocabulary), actions, pairs, alpha=alpha, aliases=aliases, source=source)
+    return Knowledge(tuple(verbs), tuple(vocabulary), actions, pairs, alpha=alpha, aliases=aliases, source=source,
+                     prior_kind=prior)
 
 
 def records(examples: Sequence[Example]) -> tuple[Record, ...]:
     """Examples back as plain records (for writing a folded corpus as CSV)."""
-    return tuple(Record(e.action, e.objects, e.group) for e in examples)
+    return tuple(Record(e.action, e.objects, e.group, source=e.source) for e in examples)

@@ -1,7 +1,8 @@
 """The commonsense model at run time: rank actions by P(A | O1..On) ∝ P(A) ∏ P(Ok | A).
 
 The tables come from a corpus of (action, objects) records (:mod:`wecook_core.knowledge`); the shipped
-ones are learned from EPIC-KITCHENS (``wecook_core/assets/knowledge/``). Object labels are free text: each is matched
+ones are learned from EPIC-KITCHENS and recipe instructions (``wecook_core/assets/knowledge/``), with a
+uniform P(A) (see :class:`Knowledge`). Object labels are free text: each is matched
 to a corpus noun (exact, the corpus's own aliases, shorter tails down to the head noun, singular/plural);
 labels that match nothing are ignored and reported by :func:`unknown_objects`.
 """
@@ -22,10 +23,13 @@ from wecook_core.knowledge.nouns import match
 from wecook_core.resources import ASSETS_DIR
 
 KNOWLEDGE_PATH = ASSETS_DIR / "knowledge" / "commonsense.json"
-"""The shipped tables (learned from EPIC-KITCHENS, see ``wecook_core/assets/knowledge/SOURCE.md``)."""
+"""The shipped tables (learned from EPIC-KITCHENS and recipes, see ``wecook_core/assets/knowledge/SOURCE.md``)."""
 
 FORMAT_KEY = "wecook_knowledge"
 FORMAT_VERSION = 1
+
+PRIORS: tuple[str, ...] = ("corpus", "uniform")
+"""How P(A) is taken (:attr:`Knowledge.prior_kind`)."""
 
 Ranking = tuple[tuple[str, float], ...]
 """(verb, probability) pairs, best first, probabilities summing to 1."""
@@ -41,6 +45,12 @@ class Knowledge:
     P(A) = (n_A + alpha) / (N + alpha |verbs|) and P(O | A) = (n_{A,O} + alpha) / (Σ_O n_{A,O} + alpha |objects|):
     additive smoothing over the whole object vocabulary, so an object never seen with an action only
     lowers that action's score, it never rules it out.
+
+    With ``prior_kind="uniform"`` P(A) is 1 / |verbs|: the ranking is then the likelihood of the objects under
+    each action. How often a corpus names an action (cooks stir far more often than they wrap) says little
+    about what one segment of a video shows once its objects are known, and the corpus prior buries the
+    rare actions (wrap, dip, sprinkle) under the frequent ones whatever the objects; the shipped tables
+    use the uniform prior (see ``wecook_core/assets/knowledge/SOURCE.md`` for the held-out figures of both).
     """
 
     verbs: tuple[str, ...]
@@ -58,6 +68,8 @@ class Knowledge:
     (:func:`wecook_core.knowledge.nouns.normalise`); aliases of objects outside the vocabulary are ignored."""
     source: str = ""
     """Where the counts come from, one line."""
+    prior_kind: str = "corpus"
+    """``"corpus"``: P(A) from the action counts; ``"uniform"``: every action equally likely a priori."""
     log_prior: np.ndarray = field(init=False, repr=False)
     """float64 ``(len(verbs),)``: natural log of P(A)."""
     log_likelihood: np.ndarray = field(init=False, repr=False)
@@ -73,7 +85,12 @@ class Knowledge:
             raise ValueError("alpha must be positive")
         if (counts < 0).any() or (actions < 0).any():
             raise ValueError("counts must be non-negative")
-        prior = (actions + self.alpha) / (actions.sum() + self.alpha * len(self.verbs))
+        if self.prior_kind not in PRIORS:
+            raise ValueError(f"prior must be one of {', '.join(PRIORS)}, not {self.prior_kind!r}")
+        if self.prior_kind == "uniform":
+            prior = np.full(len(self.verbs), 1.0 / max(1, len(self.verbs)))
+        else:
+            prior = (actions + self.alpha) / (actions.sum() + self.alpha * len(self.verbs))
         likelihood = (counts + self.alpha) / (counts.sum(axis=1, keepdims=True) + self.alpha * len(self.objects))
         rows = {name: i for i, name in enumerate(self.objects)}
         index = {alias: rows[name] for alias, name in self.aliases.items() if name in rows}
@@ -102,6 +119,7 @@ def knowledge_to_json(knowledge: Knowledge) -> str:
         FORMAT_KEY: FORMAT_VERSION,
         "source": knowledge.source,
         "alpha": knowledge.alpha,
+        "prior": knowledge.prior_kind,
         "verbs": list(knowledge.verbs),
         "action_counts": knowledge.action_counts.tolist(),
         "objects": list(knowledge.objects),
@@ -143,7 +161,8 @@ def knowledge_from_json(data: Any, path: Path) -> Knowledge:
         raise InputError(path, "expected a mapping alias -> object", place="aliases")
     try:
         return Knowledge(verbs, objects, actions, counts, alpha=float(data.get("alpha", 1.0)),
-                         aliases={str(k): str(v) for k, v in aliases.items()}, source=str(data.get("source", "")))
+                         aliases={str(k): str(v) for k, v in aliases.items()}, source=str(data.get("source", "")),
+                         prior_kind=str(data.get("prior", "corpus")))
     except ValueError as error:
         raise InputError(path, str(error)) from None
 

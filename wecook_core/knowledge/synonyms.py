@@ -18,8 +18,10 @@ from wecook_core.resources import ASSETS_DIR
 
 SYNONYMS_PATH = ASSETS_DIR / "knowledge" / "synonyms.yaml"
 
-RECOGNISED: tuple[str, ...] = tuple(v for v in VERBS if v != "transfer")
-"""The verbs the commonsense model ranks: the vocabulary without ``transfer`` (detected, not recognised)."""
+RECOGNISED: tuple[str, ...] = VERBS
+"""The verbs the commonsense model ranks: the whole vocabulary. ``transfer`` is ranked too (spoon + rice +
+jar + pot), though the pipeline detects transfers from container changes and leaves it out of the
+candidates of an individual action."""
 
 
 @dataclass(frozen=True)

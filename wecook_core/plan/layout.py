@@ -14,13 +14,20 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from wecook_core.knowledge.nouns import match
 from wecook_core.model import ActionGraph, ActionKind, Category, Observations
 from wecook_core.plan import DEFAULT_TABLE, Scene, SceneObject, Table, Vec3
 from wecook_core.trees.notation import action_of
 
 _FLAT_CONTAINERS = ("board", "tray", "mat", "sheet")
-_ROUND_INGREDIENTS = ("tomato", "lemon", "lime", "orange", "apple", "onion", "potato", "egg", "peach", "ball")
-_BOTTLES = ("oil", "bottle", "salt", "pepper", "sauce", "vinegar", "milk", "jar", "shaker", "syrup")
+_ROUND_INGREDIENTS = {name: True for name in ("tomato", "lemon", "lime", "orange", "apple", "onion", "potato", "egg",
+                                              "peach", "ball", "bell_pepper")}
+_BOTTLES = {**{name: True for name in ("oil", "bottle", "salt", "pepper", "sauce", "vinegar", "milk", "jar", "shaker",
+                                       "syrup")},
+            **{name: False for name in ("bell_pepper", "red_pepper", "green_pepper", "yellow_pepper", "sweet_pepper",
+                                        "chili_pepper", "chilli_pepper")}}
+"""Ingredients kept in a bottle, matched by head noun (:func:`wecook_core.knowledge.nouns.match`, whole words):
+olive_oil is one, foil and boiled_egg are not; pepper (the spice) is, bell_pepper (the vegetable) is not."""
 _CONTAINER_HEIGHTS = (("plate", 0.03), ("pan", 0.05), ("bowl", 0.07), ("pot", 0.12), ("cup", 0.09),
                       ("glass", 0.1), ("mug", 0.09))
 FIRST_FRAMES = 5
@@ -57,10 +64,10 @@ def _shape_for(name: str, category: Category, width_m: float, depth_m: float) ->
         height = next((h for word, h in _CONTAINER_HEIGHTS if word in name), 0.08)
         d = round(_clip(long_side, 0.1, 0.22), 3)
         return "cylinder", (d, d, height), 0.0
-    if any(word in name for word in _BOTTLES):
+    if match(name, _BOTTLES):
         return "cylinder", (0.05, 0.05, 0.14), 0.0
     d = round(_clip(short_side, 0.04, 0.07), 3)
-    if any(word in name for word in _ROUND_INGREDIENTS):
+    if match(name, _ROUND_INGREDIENTS):
         return "sphere", (d, d, d), 0.0
     return "box", (round(_clip(long_side, 0.04, 0.08), 3), d, 0.03), yaw
 

@@ -23,13 +23,30 @@ def register(sub: Any) -> None:
     actions = knowledge.add_subparsers(dest="knowledge_command", metavar="ACTION", required=True)
 
     learn = actions.add_parser("learn", help="learn the tables from corpora and write them (and SOURCE.md)",
-                               description="Read corpora (EPIC-KITCHENS folders or CSV files `action,objects`, "
-                                           "objects separated by `;`), fold their verbs into wecook's actions, "
-                                           "count, and write commonsense.json, epic_categories.yaml and SOURCE.md.")
+                               description="Read corpora (EPIC-KITCHENS folders, folders of Markdown recipes or "
+                                           "CSV files `action,objects`, objects separated by `;`), fold their "
+                                           "verbs into wecook's actions, count, and write commonsense.json, "
+                                           "epic_categories.yaml and SOURCE.md.")
     _corpus_options(learn)
     learn.add_argument("-o", "--out", type=Path, default=None,
                        help="output folder (default: the shipped assets/knowledge)")
     learn.set_defaults(func=run_learn)
+
+    extract = actions.add_parser("extract", help="write the (verb, objects) records of Markdown recipes as CSV",
+                                 description="Read a folder of Markdown recipes (a `## Directions` list each, as "
+                                             "on publicdomainrecipes.com or based.cooking; a folder holding "
+                                             "`content/` works too), extract the verb and objects of every clause "
+                                             "of their directions, and write them as a CSV corpus.")
+    extract.add_argument("recipes", type=Path, metavar="FOLDER", help="folder of Markdown recipes")
+    extract.add_argument("-o", "--out", type=Path, default=None,
+                         help="CSV to write (default: the shipped assets/knowledge/recipes.csv)")
+    extract.add_argument("--origin", default=None,
+                         help="where the recipes come from, for the CSV's `# source:` line (default: the "
+                              "shipped corpus's description when writing the shipped file, else the folder)")
+    extract.add_argument("--licence", default=None,
+                         help="licence of the recipes, for the CSV's `# licence:` line (default: the shipped "
+                              "corpus's, public domain, when writing the shipped file; else none)")
+    extract.set_defaults(func=run_extract)
 
     evaluate = actions.add_parser("evaluate", help="held-out accuracy, macro precision and recall",
                                   description="Split the corpus by group (EPIC: video) with a seed, learn on "
@@ -55,9 +72,11 @@ def register(sub: Any) -> None:
 
 def _corpus_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--corpus", type=Path, action="append", default=None, metavar="PATH",
-                        help="EPIC-KITCHENS folder or CSV file; repeat to combine "
-                             "(default: ../shared/data/epic-kitchens)")
+                        help="EPIC-KITCHENS folder, folder of Markdown recipes or CSV file; repeat to combine "
+                             "(default: ../shared/data/epic-kitchens and the shipped recipes.csv)")
     parser.add_argument("--alpha", type=float, default=1.0, help="additive smoothing pseudo-count (1.0)")
+    parser.add_argument("--prior", choices=("uniform", "corpus"), default="uniform",
+                        help="P(A): uniform, or learned from the action counts (uniform)")
     parser.add_argument("--context", type=int, default=2,
                         help="EPIC: objects of 'take' records among this many before an action count as its "
                              "objects (the held tool); 0 turns it off (2)")
@@ -65,27 +84,46 @@ def _corpus_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _corpora(args: argparse.Namespace) -> list[Path]:
-    from wecook_core.knowledge.build import default_corpus
+    from wecook_core.knowledge.build import default_corpora
 
-    return list(args.corpus or [default_corpus()])
+    return list(args.corpus or default_corpora())
 
 
 def run_learn(args: argparse.Namespace) -> int:
     from wecook_core.knowledge.build import KNOWLEDGE_DIR, build
 
     out = args.out or KNOWLEDGE_DIR
-    built = build(_corpora(args), out, alpha=args.alpha, context=args.context, seed=args.seed)
+    built = build(_corpora(args), out, alpha=args.alpha, context=args.context, seed=args.seed, prior=args.prior)
     k = built.knowledge
     counts = ", ".join(f"{v} {n}" for v, n in zip(k.verbs, k.action_counts.tolist(), strict=True))
     print(f"learned from {int(k.action_counts.sum())} records ({counts}); "
           f"{len(k.objects)} objects, {len(k.aliases)} aliases")
     if built.evaluation is not None:
         m, b = built.evaluation.model, built.evaluation.baseline
-        print(f"held out: accuracy {m.accuracy:.3f} (majority {b.accuracy:.3f}), macro precision "
-              f"{m.macro_precision:.3f} ({b.macro_precision:.3f}), macro recall {m.macro_recall:.3f} "
-              f"({b.macro_recall:.3f})")
+        print(f"held out (seed {built.evaluation.seed}): accuracy {m.accuracy:.3f} (majority {b.accuracy:.3f}), "
+              f"macro precision {m.macro_precision:.3f} ({b.macro_precision:.3f}), macro recall "
+              f"{m.macro_recall:.3f} ({b.macro_recall:.3f})")
+        for source, metrics in built.evaluation.by_source:
+            print(f"  held-out {source} records: accuracy {metrics.accuracy:.3f}, macro precision "
+                  f"{metrics.macro_precision:.3f}, macro recall {metrics.macro_recall:.3f}")
     for path in built.files:
         print(f"wrote {path}")
+    return 0
+
+
+def run_extract(args: argparse.Namespace) -> int:
+    from wecook_core.errors import InputError
+    from wecook_core.knowledge.build import RECIPES_LICENCE, RECIPES_ORIGIN, RECIPES_PATH, extract_recipes
+    from wecook_core.knowledge.instructions import is_recipe_folder
+
+    if not is_recipe_folder(args.recipes):
+        raise InputError(args.recipes, "expected a folder of Markdown recipes with a `## Directions` list")
+    out = args.out or RECIPES_PATH
+    shipped = out.resolve() == RECIPES_PATH.resolve()
+    origin = args.origin if args.origin is not None else (RECIPES_ORIGIN if shipped else str(args.recipes))
+    licence = args.licence if args.licence is not None else (RECIPES_LICENCE if shipped else "")
+    count = extract_recipes(args.recipes, out, origin=origin, licence=licence)
+    print(f"wrote {count} records to {out}" + ("" if licence else " (no licence declared: pass --licence)"))
     return 0
 
 
@@ -93,19 +131,20 @@ def run_evaluate(args: argparse.Namespace) -> int:
     from dataclasses import asdict
 
     from wecook_core.errors import InputError
-    from wecook_core.knowledge.build import metrics_table, read_corpora
+    from wecook_core.knowledge.build import read_corpora
     from wecook_core.knowledge.evaluation import evaluate
+    from wecook_core.knowledge.report import metrics_table
 
     corpus = read_corpora(_corpora(args), context=args.context)
     try:
-        result = evaluate(corpus, seed=args.seed, fraction=args.fraction, alpha=args.alpha)
+        result = evaluate(corpus, seed=args.seed, fraction=args.fraction, alpha=args.alpha, prior=args.prior)
     except ValueError as error:
         raise InputError(None, str(error)) from None
     if args.json:
         print(json.dumps(asdict(result)))
     else:
-        print(f"{result.test_groups} groups held out (seed {result.seed}): {result.train_records} training "
-              f"records, {result.test_records} held-out records\n")
+        print(f"{result.test_groups} groups held out (seed {result.seed}, prior {args.prior}): "
+              f"{result.train_records} training records, {result.test_records} held-out records\n")
         print(metrics_table(result))
     return 0
 

@@ -1,0 +1,222 @@
+"""(verb, objects) records from recipe instructions: the imperative clauses of a recipe's directions.
+
+Recipe steps name actions the way a cook says them ("Peel and cut the apples", "In a bowl, whisk the eggs",
+"Using a spoon, transfer the rice to the jars"). A step is split into sentences; in each sentence a verb is a
+word of :data:`VERBS` that opens a clause (first word, or after a comma, "and", "then" or an adverb), or
+its gerund after "by", "after", "while", ... ("by cutting the sausages"). A verb's objects are the known
+nouns between it and the next verb; nouns in front of the sentence's first verb ("In a bowl, ...",
+"Using a knife, ...") belong to that verb; a verb with no noun of its own that is coordinated with the next
+("Peel and cut the apples") shares the next one's. Nouns are matched whole-word, longest phrase first,
+singular or plural, against a noun table (by default the shipped category tables: every object wecook
+categorises).
+
+Words that are nouns as well as verbs ("salt", "pepper", "butter", "spoon") count as verbs only at the
+start of a sentence and not before "and" or a comma ("Salt the water", not "Salt and pepper to taste");
+the ones that name what the action is done with (:data:`NAMING_VERBS`) add that noun to the objects.
+Raw verbs are kept ("chop"); they are folded into wecook's actions when learning
+(:mod:`wecook_core.knowledge.synonyms`).
+
+The Markdown recipe format read here is the one of the public-domain recipe sites built with Hugo
+(based.cooking, publicdomainrecipes.com): front matter, ``## Ingredients``, then ``## Directions`` with a
+numbered or bulleted list.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+
+from wecook_core.errors import InputError
+from wecook_core.knowledge.nouns import normalise, variants
+
+VERBS: frozenset[str] = frozenset({
+    "add", "adjust", "allow", "arrange", "bake", "baste", "batter", "beat", "blanch", "blend", "boil", "braise",
+    "bring", "broil", "brown", "brush", "butter", "caramelise", "caramelize", "check", "chill", "chop", "clean",
+    "coat", "combine", "cook", "cool", "core", "cover", "crack", "cream", "crimp", "crumble", "crush", "cube",
+    "cut", "debone", "deglaze", "dice", "dip", "discard", "dissolve", "distribute", "divide", "drain", "drizzle",
+    "drop", "dry", "dunk", "dust", "empty", "fill", "fillet", "finish", "flatten", "flip", "fluff", "fold", "form",
+    "freeze", "fry", "garnish", "glaze", "grate", "grease", "grill", "grind", "halve", "heat", "insert", "juice",
+    "julienne", "knead", "ladle", "layer", "leave", "let", "line", "marinate", "mash", "measure", "melt",
+    "microwave", "mince", "mix", "moisten", "move", "pare", "pat", "peel", "pepper", "pierce", "pinch", "place",
+    "poach", "pound", "pour", "preheat", "prepare", "press", "pull", "puree", "put", "quarter", "reduce",
+    "refrigerate", "remove", "repeat", "reserve", "rest", "return", "rinse", "roast", "roll", "rub", "salt",
+    "saute", "scatter", "scoop", "scramble", "scrape", "sear", "season", "separate", "serve", "set", "shake",
+    "shape", "shred", "sieve", "sift", "simmer", "skewer", "skim", "skin", "slice", "smash", "smear", "smooth",
+    "soak", "spoon", "spray", "spread", "sprinkle", "squeeze", "squish", "stack", "steam", "steep", "stir",
+    "strain", "stuff", "sweeten", "take", "tear", "thread", "tie", "toast", "top", "toss", "transfer", "trim",
+    "tuck", "turn", "twist", "unroll", "unwrap", "use", "warm", "wash", "whip", "whisk", "wipe", "wrap", "zest"
+})
+"""Imperative cooking verbs that open a clause. Only the ones that fold into wecook's actions become
+records that count; the others end the clause of the verb before them."""
+
+NOUN_VERBS: frozenset[str] = frozenset({
+    "butter", "core", "cream", "dust", "juice", "ladle", "line", "measure", "pepper", "pinch", "quarter", "salt",
+    "scoop", "skewer", "skin", "spoon", "top", "zest"
+})
+"""Verbs that are nouns too: verbs only at a sentence's start, and not before "and" or a comma."""
+
+NAMING_VERBS: frozenset[str] = frozenset(["spoon", "ladle", "scoop", "butter", "salt", "pepper", "skewer"])
+"""Verbs that name the tool or ingredient they act with ("Spoon the rice into jars" is done with a spoon,
+"Salt the water" with salt): the noun is one of the clause's objects."""
+
+_ADVERBS = frozenset({
+    "afterwards", "again", "also", "briefly", "carefully", "constantly", "continuously", "evenly", "finally",
+    "finely", "first", "further", "generously", "gently", "immediately", "just", "lightly", "meanwhile", "next",
+    "now", "occasionally", "once", "optionally", "quickly", "roughly", "simply", "slowly", "then", "thinly",
+    "thoroughly", "well"
+})
+_BOUNDARIES = frozenset({",", "and", "then", "or", "&", "to"})
+_GERUND_OPENERS = frozenset({"by", "after", "before", "while", "when", "start", "begin", "continue", "keep",
+                             "finish", "without", "try", "for"})
+_TOKEN = re.compile(r"[a-z]+(?:'[a-z]+)?|,")
+_SENTENCE = re.compile(r"[.!?;:]+(?:\s+|$)|\s+-\s+|\n")
+_MARKUP = re.compile(r"!\[[^\]]*\]\([^)]*\)|\[([^\]]*)\]\([^)]*\)|<[^>]+>|[*_`#>]")
+_PARENS = re.compile(r"\([^)]*\)")
+_LIST_ITEM = re.compile(r"^\s*(?:\d+[.)]|[-*+])\s+")
+
+
+def _gerunds(verbs: Iterable[str]) -> dict[str, str]:
+    """Gerund -> verb: cut -> cutting, slice -> slicing, stir -> stirring, mix -> mixing."""
+    forms: dict[str, str] = {}
+    for verb in verbs:
+        forms.setdefault(verb + "ing", verb)
+        if verb.endswith("e") and not verb.endswith("ee"):
+            forms.setdefault(verb[:-1] + "ing", verb)
+        if re.search(r"[^aeiou][aeiou][bdgklmnprt]$", verb):
+            forms.setdefault(verb + verb[-1] + "ing", verb)
+    return forms
+
+
+_GERUNDS = _gerunds(VERBS)
+
+
+def tokens(sentence: str) -> list[str]:
+    """Lowercase words (apostrophes kept) and commas."""
+    return _TOKEN.findall(sentence.lower().replace("’", "'"))
+
+
+def sentences(text: str) -> list[str]:
+    """A step's sentences, markup and parenthesised asides dropped."""
+    text = _PARENS.sub(" ", _MARKUP.sub(r"\1", text))
+    return [s.strip() for s in _SENTENCE.split(text) if s.strip()]
+
+
+def _is_verb(words: Sequence[str], i: int, start: int) -> str | None:
+    """The verb ``words[i]`` stands for when it opens a clause, else None."""
+    word = words[i]
+    j = i - 1
+    while j >= start and words[j] in _ADVERBS:
+        j -= 1
+    opens = j < start or words[j] in _BOUNDARIES
+    if word in VERBS:
+        if word in NOUN_VERBS:
+            following = words[i + 1] if i + 1 < len(words) else ""
+            return word if j < start and following not in ("and", ",", "or", "to", "") else None
+        return word if opens else None
+    verb = _GERUNDS.get(word)
+    if verb is not None and verb not in NOUN_VERBS and j >= start and words[j] in _GERUND_OPENERS:
+        return verb
+    return None
+
+
+def _nouns(words: Sequence[str], nouns: Mapping[str, str], longest: int) -> list[str]:
+    """Known nouns in ``words``, longest phrase first, whole words only, singular or plural."""
+    found: list[str] = []
+    i = 0
+    while i < len(words):
+        for n in range(min(longest, len(words) - i), 0, -1):
+            phrase = "_".join(words[i:i + n])
+            name = next((nouns[v] for v in variants(phrase) if v in nouns), None) if "," not in phrase else None
+            if name is not None:
+                found.append(name)
+                i += n
+                break
+        else:
+            i += 1
+    return found
+
+
+def clause_records(sentence: str, nouns: Mapping[str, str]) -> list[tuple[str, tuple[str, ...]]]:
+    """The (verb, objects) of a sentence's clauses, in order (see the module docstring)."""
+    words = tokens(sentence)
+    longest = max((k.count("_") + 1 for k in nouns), default=1)
+    verbs = [(i, v) for i in range(len(words)) if (v := _is_verb(words, i, 0)) is not None]
+    records: list[tuple[str, list[str]]] = []
+    for k, (i, verb) in enumerate(verbs):
+        end = verbs[k + 1][0] if k + 1 < len(verbs) else len(words)
+        objects = _nouns(words[i + 1:end], nouns, longest)
+        if verb in NAMING_VERBS and verb in nouns:
+            objects.insert(0, nouns[verb])
+        if k == 0:
+            objects = _nouns(words[:i], nouns, longest) + objects
+        records.append((verb, objects))
+    for k in range(len(records) - 2, -1, -1):  # "peel and cut the apples": peel shares cut's objects
+        i, next_i = verbs[k][0], verbs[k + 1][0]
+        if not records[k][1] and all(w in _BOUNDARIES or w in _ADVERBS for w in words[i + 1:next_i]):
+            records[k] = (records[k][0], list(records[k + 1][1]))
+    return [(verb, tuple(dict.fromkeys(objects))) for verb, objects in records]
+
+
+def extract(steps: Iterable[str], nouns: Mapping[str, str]) -> list[tuple[str, tuple[str, ...]]]:
+    """(verb, objects) of every clause of the steps, in order."""
+    return [record for step in steps for sentence in sentences(step) for record in clause_records(sentence, nouns)]
+
+
+# -------------------------------------------------------------------------------------- Markdown recipes
+
+_DIRECTIONS = re.compile(r"^(?:directions|instructions|steps|method|preparation|procedure)\b", re.I)
+
+
+def directions(text: str) -> list[str]:
+    """The steps of a Markdown recipe: the list items (or paragraphs) under its Directions heading."""
+    steps: list[str] = []
+    inside = False
+    for line in text.splitlines():
+        heading = re.match(r"^\s*#{1,4}\s*(.*)$", line)
+        if heading:
+            inside = bool(_DIRECTIONS.match(heading.group(1).strip()))
+            continue
+        if not inside or not line.strip():
+            continue
+        if _LIST_ITEM.match(line) or not steps:
+            steps.append(_LIST_ITEM.sub("", line).strip())
+        else:
+            steps[-1] += " " + line.strip()
+    return steps
+
+
+def recipe_files(root: Path) -> list[Path]:
+    """The Markdown recipes of a folder (or of its ``content/`` folder), sorted; Hugo ``_index.md`` left out."""
+    folder = root / "content" if (root / "content").is_dir() else root
+    return sorted(p for p in folder.glob("*.md") if not p.name.startswith("_"))
+
+
+def is_recipe_folder(root: Path) -> bool:
+    return root.is_dir() and any(directions(_read(p)) for p in recipe_files(root)[:20])
+
+
+def _read(path: Path) -> str:
+    try:
+        return path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(path, f"cannot read the recipe: {error}") from None
+
+
+def recipe_records(root: Path, nouns: Mapping[str, str]) -> list[tuple[str, str, tuple[str, ...]]]:
+    """(recipe name, verb, objects) of every clause of every recipe in ``root``, recipes in name order."""
+    found = []
+    for path in recipe_files(root):
+        for verb, objects in extract(directions(_read(path)), nouns):
+            found.append((path.stem, verb, objects))
+    return found
+
+
+def noun_table(names: Iterable[str]) -> dict[str, str]:
+    """Normalised phrase -> object name, for :func:`extract`, from object names or labels."""
+    table: dict[str, str] = {}
+    for name in names:
+        key = normalise(name)
+        if key:
+            table.setdefault(key, key)
+    return table

@@ -1,0 +1,173 @@
+"""SOURCE.md of the shipped tables: where the counts come from, their licences, and how well they do."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from wecook_core.knowledge.corpus import EPIC_CITATION, EPIC_LICENCE, EPIC_SOURCE, RECIPES_SOURCE, Corpus
+from wecook_core.knowledge.evaluation import Evaluation, Metrics
+from wecook_core.knowledge.recognize import Knowledge, rank
+
+EXPECTED: tuple[tuple[tuple[str, ...], str], ...] = (
+    (("knife", "tomato"), "cut"),
+    (("spoon", "pot"), "stir"),
+    (("rolling pin", "dough"), "roll"),
+    (("peeler", "potato"), "peel"),
+    (("lemon",), "squeeze"),
+    (("hand", "lemon"), "squeeze"),
+    (("oil", "pan"), "pour"),
+    (("salt", "pot"), "sprinkle"),
+    (("butter knife", "bread"), "spread"),
+    (("butter", "knife", "bread"), "spread"),
+    (("foil",), "wrap"),
+    (("plastic wrap", "bowl"), "wrap"),
+    (("bread", "sauce"), "dip"),
+    (("spoon", "rice", "jar", "pot"), "transfer"),
+)
+"""Object sets a cook would name one action for; SOURCE.md reports what the learned tables answer."""
+
+
+def _row(name: str, m: Metrics) -> str:
+    return f"| {name} | {m.accuracy:.3f} | {m.macro_precision:.3f} | {m.macro_recall:.3f} |"
+
+
+def verb_table(metrics: Metrics) -> list[str]:
+    """Markdown lines: precision and recall per verb."""
+    lines = ["| verb | held-out records | predicted | precision | recall |", "| --- | ---: | ---: | ---: | ---: |"]
+    lines += [f"| {s.verb} | {s.support} | {s.predicted} | {s.precision:.3f} | {s.recall:.3f} |"
+              for s in metrics.per_verb]
+    return lines
+
+
+def metrics_table(evaluation: Evaluation) -> str:
+    """Markdown: the model against the majority baseline, per corpus when there are several, then per verb
+    (per verb and corpus)."""
+    lines = ["| predictor | accuracy | macro precision | macro recall |", "| --- | ---: | ---: | ---: |",
+             _row("commonsense model, all held-out records", evaluation.model)]
+    lines += [_row(f"commonsense model, held-out `{source}` records", m) for source, m in evaluation.by_source]
+    lines += [_row(f"majority class (`{evaluation.majority}`)", evaluation.baseline)]
+    for source, m in evaluation.by_source or (("all", evaluation.model),):
+        lines += ["", f"Held-out `{source}` records:" if evaluation.by_source else "Per verb:", "", *verb_table(m)]
+    return "\n".join(lines)
+
+
+def _stat(values: Sequence[float]) -> str:
+    return f"{np.mean(values):.3f} ± {np.std(values):.3f}"
+
+
+def seeds_summary(runs: Mapping[str, Sequence[Evaluation]]) -> str:
+    """Markdown: mean and spread of the headline figures over several splits, per prior and corpus."""
+    first = next(iter(runs.values()))[0]
+    seeds = ", ".join(str(e.seed) for e in next(iter(runs.values())))
+    lines = [f"Over the splits of seeds {seeds} (mean ± standard deviation):", "",
+             "| prior | held-out records | accuracy | macro precision | macro recall |",
+             "| --- | --- | ---: | ---: | ---: |"]
+    for prior, evaluations in runs.items():
+        rows: list[tuple[str, list[Metrics]]] = [("all", [e.model for e in evaluations])]
+        rows += [(source, [e.by_source[i][1] for e in evaluations]) for i, (source, _) in enumerate(first.by_source)]
+        rows.append(("all, majority class", [e.baseline for e in evaluations]))
+        for name, metrics in rows:
+            lines.append(f"| {prior} | {name} | {_stat([m.accuracy for m in metrics])} | "
+                         f"{_stat([m.macro_precision for m in metrics])} | "
+                         f"{_stat([m.macro_recall for m in metrics])} |")
+    return "\n".join(lines)
+
+
+def _files(alpha: float, prior: str, categories: int, recipes: bool) -> list[str]:
+    parts = [
+        "- `commonsense.json`: counts learned from the corpora (records per action, records per action and "
+        "object) and the object aliases; `wecook_core.knowledge.recognize.load_knowledge` reads it and derives "
+        f"P(O | A) with additive smoothing (alpha = {alpha:g}) over the object vocabulary; P(A) is "
+        + ("uniform (`\"prior\": \"uniform\"`)." if prior == "uniform" else "learned from the action counts."),
+        "- `synonyms.yaml`: hand-written, how corpus verbs fold into wecook's actions (input of the learner).",
+    ]
+    if recipes:
+        parts.append("- `recipes.csv`: the (verb, objects) records extracted from the recipe instructions "
+                     "(input of the learner; `wecook knowledge extract` rebuilds it from the recipes).")
+    if categories:
+        parts.append(f"- `epic_categories.yaml`: {categories} object categories derived from the EPIC-KITCHENS "
+                     "noun categories (overridden by `wecook_core/assets/categories.yaml`).")
+    return parts
+
+
+def _licences(corpus: Corpus, context: int) -> list[str]:
+    sources = {r.source for r in corpus.records}
+    parts: list[str] = []
+    if EPIC_LICENCE in corpus.licences:
+        parts += ["", f"**EPIC-KITCHENS** annotations, licence **{EPIC_LICENCE}** (non-commercial use only); the "
+                      f"counts learned from them carry the same licence. Cite: {EPIC_CITATION}. The annotations "
+                      "are not in this repository: they are read in place from `../shared/data/epic-kitchens/`. "
+                      "Objects of a record: its `all_nouns` mapped to EPIC-100 noun classes, plus the nouns of "
+                      f"the \"take\" records among the {context} records before it in the same video (the "
+                      "narrations rarely name the tool: \"take knife\", then \"cut tomato\")."
+                      + (" Context is off." if context == 0 else "")]
+    if RECIPES_SOURCE in sources:
+        parts += ["", "**Recipe instructions**: the recipes of Public Domain Recipes (publicdomainrecipes.com, "
+                      "the continuation of based.cooking), released into the **public domain** by their authors "
+                      "(the Unlicense: \"This website and all its content is in the public domain\"). Each clause "
+                      "of a recipe's directions becomes a record: its imperative verb and the objects it names "
+                      "(`wecook_core.knowledge.instructions`: clause-opening verbs, whole-word noun phrases of "
+                      "the shipped category tables, \"Peel and cut the apples\" shares the apples, \"Spoon the "
+                      "rice into jars\" is done with a spoon). The extracted records are shipped as "
+                      "`recipes.csv`; the recipes themselves are not."]
+    other = [lic for lic in corpus.licences if lic != EPIC_LICENCE]
+    if other:
+        parts += ["", "Licences declared by the other corpora: " + ", ".join(other) + "."]
+    if sources - {EPIC_SOURCE, RECIPES_SOURCE}:
+        parts += ["", "Other corpora (no licence declared unless listed above): "
+                      + ", ".join(sorted(sources - {EPIC_SOURCE, RECIPES_SOURCE})) + "."]
+    return parts
+
+
+def source_markdown(corpus: Corpus, knowledge: Knowledge, runs: Mapping[str, Sequence[Evaluation]], *,
+                    command: str, alpha: float, context: int, categories: int) -> str:
+    """The text of SOURCE.md; ``runs``: prior -> evaluations over several seeds (the tables' prior first)."""
+    counts = ", ".join(f"{v} {n}" for v, n in zip(knowledge.verbs, knowledge.action_counts.tolist(), strict=True))
+    recipes = any(r.source == RECIPES_SOURCE for r in corpus.records)
+    parts = ["# Commonsense knowledge tables: source", "",
+             f"Generated by `{command}` (do not edit by hand; rebuild). Files:", "",
+             *_files(alpha, knowledge.prior_kind, categories, recipes), "", "## Sources", ""]
+    parts += [f"- {s}" for s in corpus.sources]
+    parts += _licences(corpus, context)
+    parts += ["", "## What was learned", "",
+              f"Records kept (verb folds into wecook's actions and the record names an object): "
+              f"{int(knowledge.action_counts.sum())} ({counts}); object vocabulary: {len(knowledge.objects)} "
+              f"nouns, {len(knowledge.aliases)} aliases.", "", "## Held-out evaluation", ""]
+    evaluation = next(iter(runs.values()))[0] if runs else None
+    if evaluation is None:
+        parts.append("Not evaluated: the corpus has too few groups to hold some out.")
+    else:
+        parts += [f"Split by group (EPIC: video; recipes: recipe), seed {evaluation.seed}: {evaluation.test_groups} "
+                  f"groups ({evaluation.fraction:.0%}) held out, {evaluation.train_records} training records, "
+                  f"{evaluation.test_records} held-out records; the tables are learned from the training records "
+                  f"of all corpora. Prediction: argmax of P(A | objects), prior `{knowledge.prior_kind}`. Macro "
+                  "averages run over the verbs present in the held-out records (a verb never predicted has "
+                  "precision 0). "
+                  "Held-out EPIC records carry their take-context objects too, as the pipeline passes the held "
+                  "tool with the targets.", "", metrics_table(evaluation), "", seeds_summary(runs)]
+    parts += ["", "## Common cases", "",
+              "What a cook would answer, and the learned tables' top-1 (computed at build time):", "",
+              "| objects | expected | top-1 (p) | |", "| --- | --- | --- | --- |"]
+    for objects, expected in EXPECTED:
+        ranking = rank(knowledge, objects)
+        verb, p = ranking[0] if ranking else ("-", 0.0)
+        parts.append(f"| {' + '.join(objects)} | {expected} | {verb} ({p:.2f}) | "
+                     f"{'ok' if verb == expected else 'wrong'} |")
+    parts += [
+        "", "## Rebuild", "",
+        "```",
+        f"{command}            # reads ../shared/data/epic-kitchens and recipes.csv, writes assets/knowledge/",
+        "wecook knowledge extract public-domain-recipes/content -o wecook_core/assets/knowledge/recipes.csv",
+        "wecook knowledge learn --corpus ../shared/data/epic-kitchens --corpus my_records.csv -o DIR",
+        "wecook knowledge evaluate --json",
+        "```",
+        "",
+        "`extract` reads a clone of github.com/ronaldl29/public-domain-recipes (its `content/` folder of "
+        "Markdown recipes; any folder of such recipes works, and `--corpus FOLDER` learns from one directly). "
+        "A CSV corpus has rows `action,objects[,group[,context]]`, objects separated by `;` "
+        "(`chop,knife;onion;chopping board`), and may declare `# corpus:`, `# source:` and `# licence:` in "
+        "comment lines.",
+    ]
+    return "\n".join(parts) + "\n"
