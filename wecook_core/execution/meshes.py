@@ -4,7 +4,7 @@ A URDF's ``<visual>`` elements give, per link, a mesh file (OBJ with its MTL mat
 the link frame and its scale. Each mesh is loaded with trimesh, split by material (so the Panda keeps its white
 shells and dark joints), reduced with quadric decimation (fast-simplification) to about :data:`KEEP` of its
 triangles (at least :data:`MIN_FACES` per part), and written as one GLB whose parts carry their material colour
-(no textures). A recording embeds these GLBs once, in foxglove.ModelPrimitive ``data``.
+(no textures), in glTF's Y-up axes (Foxglove turns glTF models to Z-up). A recording embeds these GLBs once, in foxglove.ModelPrimitive ``data``.
 
 Conversion takes about a second for the Panda; the GLBs are cached on disk (``$XDG_CACHE_HOME/wecook/meshes``,
 keyed by the mesh file's content and the reduction) so later runs read them in milliseconds. Visuals that are
@@ -29,7 +29,9 @@ KEEP = 0.12
 """Share of a mesh part's triangles kept by decimation."""
 MIN_FACES = 200
 """Parts with fewer triangles than this are kept whole."""
-CACHE_VERSION = 1
+CACHE_VERSION = 2
+Y_UP = ((1.0, 0.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0), (0.0, -1.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+"""Z-up (URDF) to Y-up (glTF): Foxglove turns a glTF model +90 degrees about x to make it Z-up."""
 
 
 @dataclass(frozen=True)
@@ -181,6 +183,7 @@ def convert_mesh(path: Path, keep: float = KEEP, min_faces: int = MIN_FACES) -> 
         mesh = trimesh.Trimesh(geometry.vertices, geometry.faces, process=True)
         if len(mesh.faces) >= min_faces:
             mesh = mesh.simplify_quadric_decimation(face_count=max(min_faces, int(len(mesh.faces) * keep)))
+        mesh.apply_transform(np.asarray(Y_UP))
         mesh.visual = trimesh.visual.TextureVisuals(material=PBRMaterial(
             name=str(name), baseColorFactor=[float(c) for c in rgba], metallicFactor=0.1, roughnessFactor=0.6))
         scene.add_geometry(mesh, node_name=str(name), geom_name=str(name))
@@ -188,6 +191,29 @@ def convert_mesh(path: Path, keep: float = KEEP, min_faces: int = MIN_FACES) -> 
         return None
     glb = scene.export(file_type="glb")
     return bytes(glb) if isinstance(glb, bytes | bytearray) else None
+
+
+def glb_parts(glb: bytes) -> list[tuple[Any, Any, tuple[float, float, float, float]]]:
+    """The parts of a GLB written by :func:`convert_mesh`, back in Z-up: (vertices n x 3, triangles m x 3,
+    rgba 0..1)."""
+    import io
+
+    import numpy as np
+    import trimesh
+
+    scene = trimesh.load(io.BytesIO(glb), file_type="glb", force="scene")
+    back = np.linalg.inv(np.asarray(Y_UP))
+    parts = []
+    for name in scene.graph.nodes_geometry:
+        transform, geometry_name = scene.graph[name]
+        mesh = scene.geometry[geometry_name]
+        vertices = trimesh.transform_points(mesh.vertices, back @ transform)
+        material = getattr(mesh.visual, "material", None)
+        factor = getattr(material, "baseColorFactor", None)
+        rgba = np.asarray(factor if factor is not None else (204, 204, 204, 255), dtype=float) / 255.0
+        parts.append((vertices, np.asarray(mesh.faces), (float(rgba[0]), float(rgba[1]), float(rgba[2]),
+                                                          float(rgba[3]))))
+    return parts
 
 
 def arm_visuals(urdfs: Mapping[str, str | Path]) -> dict[str, LinkVisual]:
