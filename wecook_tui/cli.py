@@ -14,7 +14,8 @@ COMMAND_MODULES: tuple[str, ...] = (
     "session",  # new, sessions
     "workbench",  # open, demo
     "analyze",
-    "execute",  # export, execute, runs
+    "execute",  # export, execute
+    "runs",  # runs check, recover, show, export
     "evaluate",
     "synth",
     "segment",
