@@ -22,14 +22,11 @@ import json
 import threading
 import time
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 from wecook_core.errors import InputError
 from wecook_core.execution import foxglove, meshes
 from wecook_core.execution.observer import FrameInfo, Quat, RunEvent, Vec3
-
-if TYPE_CHECKING:
-    import foxglove as sdk
 
 LIVE_HZ = 30.0
 """States sent per wall-clock second at most."""
@@ -73,7 +70,7 @@ class LiveServer:
                                                 context=self._context)
         listener = _resend_listener(self)
         try:
-            self._server: sdk.WebSocketServer = sdk.start_server(
+            self._server: Any = sdk.start_server(
                 name="wecook", host=HOST, port=port, context=self._context, server_listener=listener,
                 capabilities=[sdk.Capability.Time], message_backlog_size=4096)
         except Exception as error:  # the SDK raises RuntimeError for a port in use
@@ -176,9 +173,9 @@ class LiveServer:
 
 def _resend_listener(server: LiveServer) -> Any:
     """The SDK's ServerListener: a client subscribing to ``/robot`` or ``/scene`` gets its message again."""
-    sdk = _sdk()
+    listener: Any = _sdk().ServerListener
 
-    class Resend(sdk.ServerListener):  # type: ignore[misc]
+    class Resend(listener):
         def on_subscribe(self, client: Any, channel: Any) -> None:
             if channel.topic in ("/robot", "/scene"):
                 threading.Thread(target=server.resend, args=(channel.topic,), daemon=True).start()

@@ -4,10 +4,12 @@ A URDF's ``<visual>`` elements give, per link, a mesh file (OBJ with its MTL mat
 the link frame and its scale. Each mesh is loaded with trimesh, split by material (so the Panda keeps its white
 shells and dark joints), reduced with quadric decimation (fast-simplification) to about :data:`KEEP` of its
 triangles (at least :data:`MIN_FACES` per part), and written as one GLB whose parts carry their material colour
-(no textures), in glTF's Y-up axes (Foxglove turns glTF models to Z-up). A recording embeds these GLBs once, in foxglove.ModelPrimitive ``data``.
+(no textures), in glTF's Y-up axes (Foxglove turns glTF models to Z-up). A recording embeds these GLBs once,
+in foxglove.ModelPrimitive ``data``.
 
-Conversion takes about a second for the Panda; the GLBs are cached on disk (``$XDG_CACHE_HOME/wecook/meshes``,
-keyed by the mesh file's content and the reduction) so later runs read them in milliseconds. Visuals that are
+Conversion takes about a second for the Panda; the GLBs are cached on disk
+(``$XDG_CACHE_HOME/wecook/meshes``, keyed by the mesh file's content and the reduction) so later runs read them
+in milliseconds. Visuals that are
 boxes, cylinders or spheres come back as :class:`~wecook_core.execution.observer.Shape`.
 """
 
@@ -92,9 +94,9 @@ def _robot_visuals(urdf: str) -> tuple[tuple[str, LinkVisual], ...]:
         return ()
     colors: dict[str, tuple[float, ...]] = {}
     for material in root.iter("material"):
-        color = material.find("color")
-        if material.get("name") and color is not None:
-            colors[material.get("name", "")] = _floats(color.get("rgba"), (0.8, 0.8, 0.8, 1.0))
+        swatch = material.find("color")
+        if material.get("name") and swatch is not None:
+            colors[material.get("name", "")] = _floats(swatch.get("rgba"), (0.8, 0.8, 0.8, 1.0))
     out = []
     for link in root.findall("link"):
         models: list[LinkModel] = []
@@ -104,13 +106,13 @@ def _robot_visuals(urdf: str) -> tuple[tuple[str, LinkVisual], ...]:
             xyz = _floats(origin.get("xyz") if origin is not None else None, (0.0, 0.0, 0.0))
             rpy = _floats(origin.get("rpy") if origin is not None else None, (0.0, 0.0, 0.0))
             pose = ((xyz[0], xyz[1], xyz[2]), _rpy_quat(*rpy[:3]))
-            material = visual.find("material")
-            rgba = (0.8, 0.8, 0.8, 1.0)
-            if material is not None:
-                inline = material.find("color")
+            look = visual.find("material")
+            rgba: tuple[float, ...] = (0.8, 0.8, 0.8, 1.0)
+            if look is not None:
+                inline = look.find("color")
                 rgba = _floats(inline.get("rgba"), rgba) if inline is not None else colors.get(
-                    material.get("name", ""), rgba)
-            color = (rgba[0], rgba[1], rgba[2], rgba[3])
+                    look.get("name", ""), rgba)
+            color: tuple[float, float, float, float] = (rgba[0], rgba[1], rgba[2], rgba[3])
             geometry = visual.find("geometry")
             if geometry is None:
                 continue
@@ -171,7 +173,7 @@ def convert_mesh(path: Path, keep: float = KEEP, min_faces: int = MIN_FACES) -> 
     from trimesh.visual.material import PBRMaterial
 
     try:
-        loaded = trimesh.load(str(path), force="scene", group_material=True)
+        loaded: Any = trimesh.load(str(path), force="scene", group_material=True)
     except Exception:  # trimesh raises many kinds on a bad file
         return None
     scene = trimesh.Scene()
@@ -201,7 +203,7 @@ def glb_parts(glb: bytes) -> list[tuple[Any, Any, tuple[float, float, float, flo
     import numpy as np
     import trimesh
 
-    scene = trimesh.load(io.BytesIO(glb), file_type="glb", force="scene")
+    scene: Any = trimesh.load(io.BytesIO(glb), file_type="glb", force="scene")
     back = np.linalg.inv(np.asarray(Y_UP))
     parts = []
     for name in scene.graph.nodes_geometry:

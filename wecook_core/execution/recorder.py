@@ -24,6 +24,7 @@ the wall clock when recording starts unless given (pass 0 for byte-identical rec
 
 from __future__ import annotations
 
+import contextlib
 import json
 import platform
 import shutil
@@ -114,10 +115,8 @@ class McapRecorder:
         self._closed = False
         self._lock = threading.Lock()
         if layout and LAYOUT.is_file():
-            try:
+            with contextlib.suppress(OSError):  # the recording matters, the layout is a convenience
                 shutil.copyfile(LAYOUT, layout_path(self.path))
-            except OSError:  # the recording matters, the layout is a convenience
-                pass
 
     # ------------------------------------------------------------------------------------ writing
 

@@ -138,7 +138,8 @@ def summarize_recording(path: str | Path) -> RunSummary:
             if isinstance(action, dict) and "id" in action:
                 pids = action.get("pids") or action.get("pid") or ""
                 pids = ",".join(pids) if isinstance(pids, list) else str(pids)
-                lines[str(action["id"])] = {"id": str(action["id"]), "agents": pids, "verb": str(action.get("verb", ""))}
+                lines[str(action["id"])] = {"id": str(action["id"]), "agents": pids,
+                                            "verb": str(action.get("verb", ""))}
         agents = tuple(f"{a.get('pid')} {a.get('robot')}" for a in plan.get("agents") or () if isinstance(a, dict))
         scene = plan.get("scene")
         objects = len(scene.get("objects") or ()) if isinstance(scene, dict) else 0
@@ -206,7 +207,7 @@ def export_csv(path: str | Path, out_dir: str | Path) -> list[Path]:
     messages = list(_read(path))
     first = min((ns for _, _, ns, _ in messages), default=None)
     origin = _origin(meta, first)
-    joints: list[tuple[float, dict[str, tuple[float, float]]]] = []
+    joints: list[tuple[float, dict[str, tuple[Any, Any]]]] = []
     events: list[list[Any]] = []
     names: dict[str, None] = {}
     for topic, _, ns, data in messages:
@@ -218,7 +219,7 @@ def export_csv(path: str | Path, out_dir: str | Path) -> list[Path]:
         if topic == "/joint_states":
             prefix = f"{message['agent']}/" if "agent" in message else ""  # wecook.JointState (older files)
             positions, velocities = message.get("position") or [], message.get("velocity") or []
-            row = {}
+            row: dict[str, tuple[Any, Any]] = {}
             for k, name in enumerate(message.get("name") or []):
                 full = prefix + str(name)
                 names.setdefault(full)
