@@ -11,6 +11,7 @@ client would render the full visual meshes (about 200 000 triangles for two Pand
 
 from __future__ import annotations
 
+import time
 from collections.abc import Mapping, Sequence
 from typing import Any, Literal
 
@@ -43,6 +44,8 @@ class CameraObserver:
         self.eye, self.target = eye, target
         self.keep = keep
         self.images = 0
+        self.render_seconds = 0.0
+        """CPU seconds spent rendering and encoding (this thread)."""
         self._next = 0.0
         self._client: int | None = None
         self._bodies: list[tuple[str, int, tuple[Vec3, Quat]]] = []
@@ -127,7 +130,9 @@ class CameraObserver:
         if t + 1e-9 >= self._next:
             while self._next <= t + 1e-9:
                 self._next += self.period
+            clock = time.thread_time()
             jpeg = self.render(poses)
+            self.render_seconds += time.thread_time() - clock
             if jpeg is not None:
                 self.images += 1
                 self.inner.on_image(t, jpeg, *self.size)
