@@ -56,7 +56,7 @@ def register(sub: Any) -> None:
     execute.add_argument("--live", action="store_true",
                          help="serve the run to Foxglove over WebSocket on 127.0.0.1 while it runs")
     execute.add_argument("--port", type=int, default=8765, help="port of --live (default: %(default)s; 0: any)")
-    execute.add_argument("--camera-hz", type=float, default=2.0, metavar="HZ",
+    execute.add_argument("--camera-hz", type=_rate, default=2.0, metavar="HZ",
                          help="camera images per simulated second (default: %(default)s; 0: at action boundaries)")
     execute.set_defaults(func=run_execute)
 
@@ -337,9 +337,19 @@ def _live_server(args: argparse.Namespace, console: Console) -> Any:
     return server
 
 
+def _rate(text: str) -> float:
+    try:
+        hz = float(text)
+    except ValueError:
+        hz = -1.0
+    if not 0 <= hz < float("inf"):
+        raise argparse.ArgumentTypeError(f"not a rate in Hz (0 or more): {text!r}")
+    return hz
+
+
 def _with_camera(observer: Any, hz: float) -> Any:
     """``--camera-hz``: the observer wrapped by a camera rendering at ``hz`` images per simulated second."""
-    if not hz or hz <= 0:
+    if not hz:
         return observer
     from wecook_core.execution.camera import CameraObserver
 
