@@ -4,9 +4,10 @@
 (every frame's world pose) it renders a view at ``hz`` images per simulated second into ``on_image`` (JPEG,
 foxglove.CompressedImage on ``/camera``). It renders its own light copy of the scene in a separate PyBullet
 client (DIRECT, the tiny software renderer, no shadows): the table and the objects from their shapes, the arms
-from the decimated link meshes of :mod:`.meshes` (about 12 % of the URDF's triangles). The simulation's own
-client would render the full visual meshes (about 200 000 triangles for two Pandas): ~90 ms an image at
-320x240, against a few ms here. ``bench/recording.py`` measures the cost at the default rate.
+from the link meshes of :mod:`.meshes` decimated once more (about 2 % of the URDF's triangles). The simulation's
+own client would render the full visual meshes (about 200 000 triangles for two Pandas): ~90 ms an image at
+320x240 (~45 ms without shadows), against ~4-7 ms here at 240x180. ``bench/recording.py`` measures the cost at
+the default rate.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ EYE, TARGET, FOV = (0.0, -1.5, 1.0), (0.0, 0.0, 0.15), 55.0
 """Where the camera is and looks, in metres from the table frame's origin (the middle of its top), and its
 vertical field of view (degrees)."""
 JPEG_QUALITY = 80
-KEEP = 0.3
+KEEP = 0.15
 """Share of the recorded meshes' triangles the camera renders (parts of fewer than 100 are kept whole): the
 tiny renderer's time is mostly per triangle, and a 320x240 view needs no finer mesh."""
 
