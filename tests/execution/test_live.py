@@ -48,10 +48,14 @@ def test_server_sends_every_topic_and_meshes_to_a_late_subscriber() -> None:
         with connect(server.url, subprotocols=[SUBPROTOCOL]) as ws:
             subs = _subscribe_all(ws, time.monotonic() + 10)
             assert set(subs.values()) >= {"/tf", "/scene", "/joint_states", "/plan/events", "/log", "/camera"}
-            time.sleep(0.3)  # let the subscriptions land
-            synthetic_run(server, actions=2, seconds_per_action=0.5, wall_per_sim=0.2)
             got: dict[str, list[dict]] = {}
-            deadline = time.monotonic() + 10
+            deadline = time.monotonic() + 20
+            while time.monotonic() < deadline and "/scene" not in got:  # sent again once the client subscribed
+                message = ws.recv(timeout=deadline - time.monotonic())
+                if isinstance(message, bytes) and (data := _data(message, subs)) is not None:
+                    got.setdefault(data[0], []).append(data[2])
+            time.sleep(0.2)
+            synthetic_run(server, actions=2, seconds_per_action=0.5, wall_per_sim=0.5)
             while time.monotonic() < deadline and not {"/tf", "/scene", "/joint_states", "/plan/events"} <= set(got):
                 try:
                     message = ws.recv(timeout=1.0)
