@@ -10,6 +10,11 @@ medians of the process CPU times are compared (the machine is shared: wall times
 spent inside the recorder's calls is reported too.
 
 Run: ``.venv/bin/python -m bench.recording``.
+
+Measured on 2026-12-02 (2 shared cores, load ~10; CPU-time medians of 3, demo plan, 175 s simulated): bare run
+13.4 s (13.1x real time); with recording 1.11; recording + live serving to a connected client 1.14 (11.4x);
+recording + camera at 2 Hz 1.22 (10.8x: 351 images at 240x180, 5.7 ms CPU each, 2.0 s in all); recording size
+28 KiB per simulated second (4.8 MiB, the meshes included).
 """
 
 from __future__ import annotations
