@@ -11,7 +11,7 @@ STAMP := $(VENV)/.installed
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PY) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[dev,batch]'
+	$(BIN)/python -m pip install --quiet -e '.[dev,batch,live]'
 	$(BIN)/python -m pip install --quiet --no-deps 'pddl==0.5.1'
 	touch $(STAMP)
 

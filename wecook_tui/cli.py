@@ -15,7 +15,8 @@ COMMAND_MODULES: tuple[str, ...] = (
     "workbench",  # open, demo
     "analyze",
     "export",
-    "execute",  # execute, runs
+    "execute",
+    "runs",  # runs check, recover, show, export
     "evaluate",
     "synth",
     "segment",

@@ -29,16 +29,22 @@ def test_a_recorded_run_has_every_topic_with_its_schema(tmp_path: Path) -> None:
                           fail=("a2",), plan_yaml="wecook_plan: 1\nactions: []\n", seed=7)
     messages = read_all(path)
     topics = {topic: schema for topic, schema, _ in messages}
-    assert topics == foxglove.TOPIC_SCHEMAS
+    assert topics == {t: s for t, s in foxglove.TOPIC_SCHEMAS.items() if t != "/robot"}  # no URDF: no meshes
     tf = [m for t, _, m in messages if t == "/tf"]
     assert len(tf) == stats.states
     first = tf[0]["transforms"][0]
     assert set(first) == {"timestamp", "parent_frame_id", "child_frame_id", "translation", "rotation"}
     assert first["parent_frame_id"] == "world" and set(first["rotation"]) == {"x", "y", "z", "w"}
     assert set(first["timestamp"]) == {"sec", "nsec"}
-    joints = [m for t, _, m in messages if t == "/joint_states"]
-    assert len(joints) == 2 * stats.states and {j["agent"] for j in joints} == {"P1", "P2"}
-    assert len(joints[0]["name"]) == len(joints[0]["position"]) == 7
+    joints = [m for t, _, m in messages if t == "/joint_states"]  # ROS 2 sensor_msgs/msg/JointState, both arms
+    assert len(joints) == stats.states and topics["/joint_states"] == "sensor_msgs/msg/JointState"
+    names = joints[0]["name"]
+    assert len(names) == len(joints[0]["position"]) == len(joints[0]["velocity"]) == 14
+    assert names[:2] == ["P1/joint1", "P1/joint2"] and names[7] == "P2/joint1"
+    assert set(joints[0]["header"]) == {"stamp", "frame_id"} and set(joints[0]["header"]["stamp"]) == {"sec", "nanosec"}
+    assert joints[0]["velocity"] == [0.0] * 14 and any(v != 0.0 for v in joints[5]["velocity"])
+    dt = (joints[6]["header"]["stamp"]["nanosec"] - joints[5]["header"]["stamp"]["nanosec"]) / 1e9
+    assert joints[6]["velocity"][0] == pytest.approx((joints[6]["position"][0] - joints[5]["position"][0]) / dt)
     events = [m for t, _, m in messages if t == "/plan/events"]
     kinds = [(e["kind"], e["action_id"]) for e in events if e["kind"].startswith("action")]
     assert kinds == [("action_start", "a1"), ("action_end", "a1"), ("action_start", "a2"),
@@ -162,7 +168,7 @@ def test_every_message_conforms_to_its_channel_schema(tmp_path: Path) -> None:
             problems = schema_problems(json.loads(message.data), json.loads(schema.data), channel.topic)
             assert problems == [], problems[:5]
             seen.add(channel.topic)
-    assert seen == set(foxglove.TOPIC_SCHEMAS)
+    assert seen == set(foxglove.TOPIC_SCHEMAS) - {"/robot"}
     tf = foxglove.SCHEMAS["foxglove.FrameTransforms"]
     assert schema_problems({"transforms": [{"timestamp": {"sec": -1, "nsec": 0}}]}, tf, "/tf") == \
         ["/tf.transforms[0].timestamp.sec: -1 < 0"]

@@ -44,7 +44,7 @@ def test_a_finished_run_passes(tmp_path: Path) -> None:
     assert report.problems == ()
     assert report.ok
     assert report.actions == {"a1": "done", "a2": "failed: synthetic failure", "a3": "done"}
-    assert report.messages["/joint_states"] == 2 * report.messages["/tf"] > 0
+    assert report.messages["/joint_states"] == report.messages["/tf"] > 0  # one message for both arms
     assert report.attachments == ("plan.yaml",) and "seed" in report.metadata["wecook"]
     assert report.duration_s == pytest.approx(1.5, abs=0.05)
 

@@ -2,8 +2,17 @@
 
 Field names follow the Foxglove schemas (foxglove.FrameTransforms, foxglove.SceneUpdate, foxglove.Log,
 foxglove.CompressedImage): times are ``{sec, nsec}``, vectors ``{x, y, z}``, quaternions ``{x, y, z, w}``,
-colours ``{r, g, b, a}`` in 0..1, image bytes base64. Two schemas are wecook's own: ``wecook.JointState`` and
-``wecook.RunEvent``.
+colours ``{r, g, b, a}`` in 0..1, image and model bytes base64. Joint states use ROS 2's
+``sensor_msgs/msg/JointState`` layout (``header.stamp {sec, nanosec}``, ``name``, ``position``, ``velocity``,
+``effort``), one message for both arms with names ``<pid>/<joint>``, so tools that know ROS joint states read
+them. ``wecook.RunEvent`` is wecook's own.
+
+Every object schema lists its ``required`` fields and allows no others, so a validator (``jsonschema``) catches
+a missing or misspelt field; Foxglove ignores both keywords.
+
+``/robot`` holds the arms' link meshes (foxglove.SceneUpdate with model primitives, GLB data embedded), written
+once at the start: it is large, and a viewer that seeks gets the latest message of each topic anyway.
+``/scene`` holds the table and the objects (small; repeated at every flush).
 """
 
 from __future__ import annotations
@@ -18,17 +27,20 @@ from wecook_core.execution.observer import FrameInfo, Quat, RunEvent, Shape, Vec
 
 WORLD_FRAME = "world"
 
+JOINT_STATE = "sensor_msgs/msg/JointState"
+
 TOPIC_SCHEMAS: dict[str, str] = {
     "/tf": "foxglove.FrameTransforms",
     "/scene": "foxglove.SceneUpdate",
-    "/joint_states": "wecook.JointState",
+    "/robot": "foxglove.SceneUpdate",
+    "/joint_states": JOINT_STATE,
     "/plan/events": "wecook.RunEvent",
     "/log": "foxglove.Log",
     "/camera": "foxglove.CompressedImage",
 }
 """Topic -> schema name of every topic a run records."""
 REQUIRED_TOPICS: tuple[str, ...] = ("/tf", "/scene", "/joint_states", "/plan/events", "/log")
-"""Topics every finished recording has (``/camera`` is optional)."""
+"""Topics every finished recording has (``/camera`` and ``/robot`` are optional)."""
 
 LOG_LEVELS = {"debug": 1, "info": 2, "warning": 3, "error": 4}
 """foxglove.Log levels (0 unknown, 5 fatal)."""
@@ -41,30 +53,37 @@ def _number(description: str) -> dict[str, Any]:
     return {"type": "number", "description": description}
 
 
-def _time(description: str) -> dict[str, Any]:
-    return {"type": "object", "title": "time", "description": description,
-            "properties": {"sec": {"type": "integer", "minimum": 0},
-                           "nsec": {"type": "integer", "minimum": 0, "maximum": 999_999_999}}}
+def _object(title: str | None, description: str, properties: dict[str, Any],
+            optional: tuple[str, ...] = ()) -> dict[str, Any]:
+    """An object schema whose properties are all required (but ``optional``) and the only ones allowed."""
+    out: dict[str, Any] = {"type": "object", "description": description, "properties": properties,
+                           "required": [k for k in properties if k not in optional], "additionalProperties": False}
+    if title is not None:
+        out["title"] = title
+    return out
+
+
+def _time(description: str, nsec: str = "nsec") -> dict[str, Any]:
+    return _object("time", description, {"sec": {"type": "integer", "minimum": 0},
+                                         nsec: {"type": "integer", "minimum": 0, "maximum": 999_999_999}})
 
 
 def _vector3(description: str) -> dict[str, Any]:
-    return {"title": "foxglove.Vector3", "type": "object", "description": description,
-            "properties": {axis: _number(f"{axis} (metres)") for axis in "xyz"}}
+    return _object("foxglove.Vector3", description, {axis: _number(f"{axis} (metres)") for axis in "xyz"})
 
 
 def _quaternion(description: str) -> dict[str, Any]:
-    return {"title": "foxglove.Quaternion", "type": "object", "description": description,
-            "properties": {axis: _number(f"{axis} component") for axis in "xyzw"}}
+    return _object("foxglove.Quaternion", description, {axis: _number(f"{axis} component") for axis in "xyzw"})
 
 
 def _pose(description: str) -> dict[str, Any]:
-    return {"title": "foxglove.Pose", "type": "object", "description": description,
-            "properties": {"position": _vector3("position"), "orientation": _quaternion("orientation")}}
+    return _object("foxglove.Pose", description,
+                   {"position": _vector3("position"), "orientation": _quaternion("orientation")})
 
 
 def _color() -> dict[str, Any]:
-    return {"title": "foxglove.Color", "type": "object", "description": "colour, each channel 0..1",
-            "properties": {c: _number(c) for c in "rgba"}}
+    return _object("foxglove.Color", "colour, each channel 0..1",
+                   {c: {"type": "number", "minimum": 0, "maximum": 1} for c in "rgba"})
 
 
 def _array(items: dict[str, Any], description: str) -> dict[str, Any]:
@@ -72,87 +91,94 @@ def _array(items: dict[str, Any], description: str) -> dict[str, Any]:
 
 
 def _primitive(title: str, description: str, extra: Mapping[str, Any] = {}) -> dict[str, Any]:
-    return {"title": title, "type": "object", "description": description,
-            "properties": {"pose": _pose("centre and orientation in the entity's frame"),
-                           "size": _vector3("full extents along each axis (metres)"), "color": _color(), **extra}}
+    return _object(title, description, {"pose": _pose("centre and orientation in the entity's frame"),
+                                        "size": _vector3("full extents along each axis (metres)"),
+                                        "color": _color(), **extra})
+
+
+def _model() -> dict[str, Any]:
+    return _object("foxglove.ModelPrimitive", "a 3D model (embedded GLB)", {
+        "pose": _pose("origin of the model in the entity's frame"),
+        "scale": _vector3("scale along each axis"), "color": _color(),
+        "override_color": {"type": "boolean", "description": "draw in color instead of the model's materials"},
+        "url": {"type": "string", "description": "empty: the model is embedded in data"},
+        "media_type": {"type": "string", "description": "model/gltf-binary"},
+        "data": {"type": "string", "contentEncoding": "base64", "description": "the model file"}})
 
 
 def frame_transforms_schema() -> dict[str, Any]:
-    transform = {"title": "foxglove.FrameTransform", "type": "object",
-                 "description": "pose of child_frame_id in parent_frame_id",
-                 "properties": {"timestamp": _time("time of the transform"),
-                                "parent_frame_id": {"type": "string"}, "child_frame_id": {"type": "string"},
-                                "translation": _vector3("translation"), "rotation": _quaternion("rotation")}}
-    return {"title": "foxglove.FrameTransforms", "type": "object", "description": "transforms between frames",
-            "properties": {"transforms": _array(transform, "transforms")}}
+    transform = _object("foxglove.FrameTransform", "pose of child_frame_id in parent_frame_id",
+                        {"timestamp": _time("time of the transform"), "parent_frame_id": {"type": "string"},
+                         "child_frame_id": {"type": "string"}, "translation": _vector3("translation"),
+                         "rotation": _quaternion("rotation")})
+    return _object("foxglove.FrameTransforms", "transforms between frames",
+                   {"transforms": _array(transform, "transforms")})
 
 
 def scene_update_schema() -> dict[str, Any]:
-    deletion = {"title": "foxglove.SceneEntityDeletion", "type": "object",
-                "properties": {"timestamp": _time("entities older than this are deleted"),
-                               "type": {"type": "integer", "description": "0 matching id, 1 all"},
-                               "id": {"type": "string"}}}
-    entity = {"title": "foxglove.SceneEntity", "type": "object",
-              "description": "shapes drawn in one frame",
-              "properties": {
-                  "timestamp": _time("time of the entity"),
-                  "frame_id": {"type": "string", "description": "frame the primitives are given in"},
-                  "id": {"type": "string", "description": "replaces an earlier entity with the same id"},
-                  "lifetime": {"type": "object", "title": "duration",
-                               "properties": {"sec": {"type": "integer"}, "nsec": {"type": "integer"}},
-                               "description": "zero: until replaced"},
-                  "frame_locked": {"type": "boolean", "description": "follow frame_id as it moves"},
-                  "metadata": _array({"title": "foxglove.KeyValuePair", "type": "object",
-                                      "properties": {"key": {"type": "string"}, "value": {"type": "string"}}},
-                                     "key-value pairs"),
-                  "cubes": _array(_primitive("foxglove.CubePrimitive", "a box"), "boxes"),
-                  "spheres": _array(_primitive("foxglove.SpherePrimitive", "a sphere (size: diameters)"),
-                                    "spheres"),
-                  "cylinders": _array(_primitive("foxglove.CylinderPrimitive", "a cylinder along z",
-                                                 {"bottom_scale": _number("bottom diameter ratio 0..1"),
-                                                  "top_scale": _number("top diameter ratio 0..1")}), "cylinders"),
-                  **{kind: _array({"type": "object"}, f"{kind} primitives (never written by wecook)")
-                     for kind in ("arrows", "lines", "triangles", "texts", "models")},
-              }}
-    return {"title": "foxglove.SceneUpdate", "type": "object", "description": "entities of a 3D scene",
-            "properties": {"deletions": _array(deletion, "entities to delete"),
-                           "entities": _array(entity, "entities to add or replace")}}
+    deletion = _object("foxglove.SceneEntityDeletion", "a deletion",
+                       {"timestamp": _time("entities older than this are deleted"),
+                        "type": {"type": "integer", "description": "0 matching id, 1 all"}, "id": {"type": "string"}})
+    entity = _object("foxglove.SceneEntity", "shapes drawn in one frame", {
+        "timestamp": _time("time of the entity"),
+        "frame_id": {"type": "string", "description": "frame the primitives are given in"},
+        "id": {"type": "string", "description": "replaces an earlier entity with the same id"},
+        "lifetime": _object("duration", "zero: until replaced", {"sec": {"type": "integer"},
+                                                                 "nsec": {"type": "integer"}}),
+        "frame_locked": {"type": "boolean", "description": "follow frame_id as it moves"},
+        "metadata": _array(_object("foxglove.KeyValuePair", "a pair", {"key": {"type": "string"},
+                                                                      "value": {"type": "string"}}),
+                           "key-value pairs"),
+        "cubes": _array(_primitive("foxglove.CubePrimitive", "a box"), "boxes"),
+        "spheres": _array(_primitive("foxglove.SpherePrimitive", "a sphere (size: diameters)"), "spheres"),
+        "cylinders": _array(_primitive("foxglove.CylinderPrimitive", "a cylinder along z",
+                                       {"bottom_scale": _number("bottom diameter ratio 0..1"),
+                                        "top_scale": _number("top diameter ratio 0..1")}), "cylinders"),
+        "models": _array(_model(), "meshes"),
+        **{kind: _array({"type": "object"}, f"{kind} primitives (never written by wecook)")
+           for kind in ("arrows", "lines", "triangles", "texts")},
+    })
+    return _object("foxglove.SceneUpdate", "entities of a 3D scene",
+                   {"deletions": _array(deletion, "entities to delete"),
+                    "entities": _array(entity, "entities to add or replace")})
 
 
 def log_schema() -> dict[str, Any]:
-    return {"title": "foxglove.Log", "type": "object", "description": "a log line",
-            "properties": {"timestamp": _time("time of the line"),
-                           "level": {"type": "integer", "description": "0 unknown 1 debug 2 info 3 warning 4 "
-                                     "error 5 fatal"},
-                           "message": {"type": "string"}, "name": {"type": "string"},
-                           "file": {"type": "string"}, "line": {"type": "integer", "minimum": 0}}}
+    return _object("foxglove.Log", "a log line", {
+        "timestamp": _time("time of the line"),
+        "level": {"type": "integer", "minimum": 0, "maximum": 5,
+                  "description": "0 unknown 1 debug 2 info 3 warning 4 error 5 fatal"},
+        "message": {"type": "string"}, "name": {"type": "string"},
+        "file": {"type": "string"}, "line": {"type": "integer", "minimum": 0}})
 
 
 def compressed_image_schema() -> dict[str, Any]:
-    return {"title": "foxglove.CompressedImage", "type": "object", "description": "a compressed image",
-            "properties": {"timestamp": _time("time of the image"), "frame_id": {"type": "string"},
-                           "data": {"type": "string", "contentEncoding": "base64"},
-                           "format": {"type": "string", "description": "jpeg or png"}}}
+    return _object("foxglove.CompressedImage", "a compressed image", {
+        "timestamp": _time("time of the image"), "frame_id": {"type": "string"},
+        "data": {"type": "string", "contentEncoding": "base64"},
+        "format": {"type": "string", "enum": ["jpeg", "png"]}})
 
 
 def joint_state_schema() -> dict[str, Any]:
-    return {"title": "wecook.JointState", "type": "object", "description": "one arm's joint positions",
-            "properties": {"timestamp": _time("time of the state"),
-                           "agent": {"type": "string", "description": "P1 or P2"},
-                           "name": _array({"type": "string"}, "joint names"),
-                           "position": _array({"type": "number"}, "radians (revolute) or metres (prismatic)")}}
+    header = _object("std_msgs/msg/Header", "stamp and frame", {"stamp": _time("time of the state", "nanosec"),
+                                                                "frame_id": {"type": "string"}})
+    return _object(JOINT_STATE, "both arms' joints (ROS 2 layout); names are <pid>/<joint>", {
+        "header": header,
+        "name": _array({"type": "string"}, "joint names, e.g. P1/panda_joint1"),
+        "position": _array({"type": "number"}, "radians (revolute) or metres (prismatic)"),
+        "velocity": _array({"type": "number"}, "rad/s or m/s (differences of the recorded positions)"),
+        "effort": _array({"type": "number"}, "empty: not measured")})
 
 
 def run_event_schema() -> dict[str, Any]:
     kinds = ["action_start", "action_end", "action_failed", "primitive_start", "primitive_end",
              "primitive_failed", "retry", "wait", "run_end"]
     nullable = {"type": ["string", "null"]}
-    return {"title": "wecook.RunEvent", "type": "object", "description": "a step of the plan",
-            "properties": {"timestamp": _time("time of the event"),
-                           "kind": {"type": "string", "enum": kinds},
-                           "action_id": nullable, "primitive": nullable, "agent": nullable,
-                           "detail": {"type": "string", "description": "failure reason, retry count, ..."},
-                           "data": {"type": "object", "description": "extra values"}}}
+    return _object("wecook.RunEvent", "a step of the plan", {
+        "timestamp": _time("time of the event"), "kind": {"type": "string", "enum": kinds},
+        "action_id": nullable, "primitive": nullable, "agent": nullable,
+        "detail": {"type": "string", "description": "failure reason, retry count, ..."},
+        "data": {"type": "object", "description": "extra values"}})
 
 
 SCHEMAS: dict[str, dict[str, Any]] = {
@@ -160,7 +186,7 @@ SCHEMAS: dict[str, dict[str, Any]] = {
     "foxglove.SceneUpdate": scene_update_schema(),
     "foxglove.Log": log_schema(),
     "foxglove.CompressedImage": compressed_image_schema(),
-    "wecook.JointState": joint_state_schema(),
+    JOINT_STATE: joint_state_schema(),
     "wecook.RunEvent": run_event_schema(),
 }
 """Schema name -> JSON Schema."""
@@ -232,10 +258,7 @@ def scene_update(ns: int, frames: Iterable[FrameInfo]) -> dict[str, Any]:
     for frame in frames:
         if not frame.shapes:
             continue
-        entity: dict[str, Any] = {"timestamp": stamp(ns), "frame_id": frame.frame_id, "id": frame.frame_id,
-                                  "lifetime": {"sec": 0, "nsec": 0}, "frame_locked": True, "metadata": [],
-                                  "arrows": [], "cubes": [], "spheres": [], "cylinders": [], "lines": [],
-                                  "triangles": [], "texts": [], "models": []}
+        entity = _entity(ns, frame.frame_id)
         for shape in frame.shapes:
             key, primitive = _shape(shape)
             entity[key].append(primitive)
@@ -243,8 +266,37 @@ def scene_update(ns: int, frames: Iterable[FrameInfo]) -> dict[str, Any]:
     return {"deletions": [], "entities": entities}
 
 
-def joint_state(ns: int, agent: str, names: Sequence[str], positions: Sequence[float]) -> dict[str, Any]:
-    return {"timestamp": stamp(ns), "agent": agent, "name": list(names), "position": [float(p) for p in positions]}
+def joint_state(ns: int, names: Sequence[str], positions: Sequence[float],
+                velocities: Sequence[float] = ()) -> dict[str, Any]:
+    """A ROS 2 ``sensor_msgs/msg/JointState`` (JSON); non-finite numbers are written as 0."""
+    def finite(values: Sequence[float]) -> list[float]:
+        return [float(v) if math.isfinite(v) else 0.0 for v in values]
+
+    return {"header": {"stamp": {"sec": ns // 1_000_000_000, "nanosec": ns % 1_000_000_000}, "frame_id": ""},
+            "name": list(names), "position": finite(positions), "velocity": finite(velocities), "effort": []}
+
+
+def _entity(ns: int, frame_id: str) -> dict[str, Any]:
+    return {"timestamp": stamp(ns), "frame_id": frame_id, "id": frame_id, "lifetime": {"sec": 0, "nsec": 0},
+            "frame_locked": True, "metadata": [], "arrows": [], "cubes": [], "spheres": [], "cylinders": [],
+            "lines": [], "triangles": [], "texts": [], "models": []}
+
+
+def model_primitive(glb: bytes, pose: tuple[Vec3, Quat], scale: Vec3 = (1.0, 1.0, 1.0)) -> dict[str, Any]:
+    return {"pose": {"position": _vec(pose[0]), "orientation": _quat(pose[1])}, "scale": _vec(scale),
+            "color": {"r": 1.0, "g": 1.0, "b": 1.0, "a": 1.0}, "override_color": False, "url": "",
+            "media_type": "model/gltf-binary", "data": base64.b64encode(glb).decode("ascii")}
+
+
+def robot_update(ns: int, models: Mapping[str, Sequence[dict[str, Any]]]) -> dict[str, Any]:
+    """One entity per link (frame id -> its :func:`model_primitive` s), locked to the link's frame."""
+    entities = []
+    for frame_id, primitives in models.items():
+        if primitives:
+            entity = _entity(ns, frame_id)
+            entity["models"] = list(primitives)
+            entities.append(entity)
+    return {"deletions": [], "entities": entities}
 
 
 def run_event(ns: int, event: RunEvent) -> dict[str, Any]:

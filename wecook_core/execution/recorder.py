@@ -1,10 +1,14 @@
 """Recording a run into one MCAP file (JSON messages, Foxglove schemas), readable even if the run is killed.
 
-Topics: ``/tf`` (foxglove.FrameTransforms: every frame's pose in ``world``), ``/scene`` (foxglove.SceneUpdate:
-the shapes of every frame, so Foxglove's 3D panel draws the run without a URDF; repeated at every flush so a
-viewer that seeks still has it), ``/joint_states`` (wecook.JointState, one message per arm), ``/plan/events``
-(wecook.RunEvent), ``/log`` (foxglove.Log), ``/camera`` (foxglove.CompressedImage, at action boundaries). The
-plan goes in as the attachment ``plan.yaml``; versions, seed and the time origin as metadata ``wecook``.
+Topics: ``/tf`` (foxglove.FrameTransforms: every frame's pose in ``world``), ``/robot`` (foxglove.SceneUpdate:
+each arm link's meshes from its URDF as embedded GLB models, written once, see :mod:`.meshes`), ``/scene``
+(foxglove.SceneUpdate: the table's and the objects' shapes in their colours, and links without meshes; repeated
+at every flush so a viewer that seeks still has it), ``/joint_states`` (ROS 2 sensor_msgs/msg/JointState layout:
+both arms, names ``<pid>/<joint>``, positions and velocities), ``/plan/events`` (wecook.RunEvent), ``/log``
+(foxglove.Log), ``/camera`` (foxglove.CompressedImage: at action boundaries, or at ``--camera-hz``). The plan
+goes in as the attachment ``plan.yaml``; versions, seed and the time origin as metadata ``wecook``. A Foxglove
+layout (3D, camera, joint plot, events, log: ``assets/foxglove_layout.json``) is written beside the file as
+``<name>.layout.json``.
 
 Durability: at most every ``flush_every_s`` seconds of wall time the writer closes the chunk in progress and
 flushes the file (mcap 1.6.0 ``Writer.flush``), so a process killed with SIGKILL leaves every message up to the
@@ -20,8 +24,10 @@ the wall clock when recording starts unless given (pass 0 for byte-identical rec
 
 from __future__ import annotations
 
+import contextlib
 import json
 import platform
+import shutil
 import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -32,8 +38,18 @@ from typing import IO, Any, Literal
 from mcap.well_known import MessageEncoding, SchemaEncoding
 from mcap.writer import CompressionType, Writer
 
-from wecook_core.execution import foxglove
+from wecook_core.execution import foxglove, meshes
 from wecook_core.execution.observer import FrameInfo, Quat, RunEvent, Vec3
+from wecook_core.resources import ASSETS_DIR
+
+LAYOUT = ASSETS_DIR / "foxglove_layout.json"
+"""The Foxglove layout shipped with wecook (import it in Foxglove: Layouts > Import from file)."""
+
+
+def layout_path(recording: str | Path) -> Path:
+    """Where the layout of a recording is written: ``<name>.layout.json`` beside it."""
+    recording = Path(recording)
+    return recording.with_name(recording.stem + ".layout.json")
 
 PACKAGES: tuple[str, ...] = ("wecook", "pybullet", "ompl", "mcap")
 
@@ -63,9 +79,13 @@ class McapRecorder:
 
     def __init__(self, path: str | Path, *, flush_every_s: float = 1.0, time_origin_ns: int | None = None,
                  state_hz: float | None = 50.0, compression: Literal["zstd", "lz4", "none"] = "zstd",
-                 on_flush: Callable[[int], None] | None = None) -> None:
+                 on_flush: Callable[[int], None] | None = None, meshes: bool = True,
+                 layout: bool = True) -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.meshes = meshes
+        """Draw arm links with their URDF meshes (``/robot``); else as the boxes the executor gives."""
+        self.layout = layout
         self.flush_every_s = flush_every_s
         self.time_origin_ns = time.time_ns() if time_origin_ns is None else int(time_origin_ns)
         self.on_flush = on_flush
@@ -90,9 +110,13 @@ class McapRecorder:
         self._last_flush = time.monotonic()
         self._state_period = 1.0 / state_hz if state_hz else 0.0
         self._last_state: float | None = None
+        self._last_joints: tuple[float, list[float]] | None = None
         self._saw_run_end = False
         self._closed = False
         self._lock = threading.Lock()
+        if layout and LAYOUT.is_file():
+            with contextlib.suppress(OSError):  # the recording matters, the layout is a convenience
+                shutil.copyfile(LAYOUT, layout_path(self.path))
 
     # ------------------------------------------------------------------------------------ writing
 
@@ -133,13 +157,15 @@ class McapRecorder:
     def on_start(self, frames: Sequence[FrameInfo], plan_yaml: str, seed: int,
                  metadata: Mapping[str, str]) -> None:
         with self._lock:
-            self._frames = tuple(frames)
+            self._frames, robot = meshes.drawn_frames(frames, plan_yaml, meshes=self.meshes)
             ns = self._ns(0.0)
             self._writer.add_attachment(create_time=ns, log_time=ns, name="plan.yaml",
                                         media_type="application/yaml", data=plan_yaml.encode())
             info = {**software_versions(), "seed": str(seed), "time_origin_ns": str(self.time_origin_ns),
                     **{str(k): str(v) for k, v in metadata.items()}}
             self._writer.add_metadata("wecook", info)
+            if robot:
+                self._write("/robot", ns, foxglove.robot_update(ns, robot))
             self._write("/scene", ns, foxglove.scene_update(ns, self._frames))
             self._write("/log", ns, foxglove.log(ns, "info", f"run started: seed {seed}, {len(self._frames)} frames, "
                                                  f"wecook {info['wecook']}"))
@@ -153,9 +179,21 @@ class McapRecorder:
             self._last_state = t
             ns = self._ns(t)
             self._write("/tf", ns, foxglove.frame_transforms_json(ns, poses))
-            for agent, (names, positions) in joints.items():
-                self._write("/joint_states", ns, foxglove.joint_state(ns, agent, names, positions))
+            if joints:
+                self._write("/joint_states", ns, self._joint_state(t, ns, joints))
             self._maybe_flush()
+
+    def _joint_state(self, t: float, ns: int, joints: Mapping[str, tuple[Sequence[str], Sequence[float]]]
+                     ) -> dict[str, Any]:
+        names = [f"{agent}/{name}" for agent, (arm, _) in joints.items() for name in arm]
+        positions = [float(v) for _, values in joints.values() for v in values]
+        velocities = [0.0] * len(positions)
+        last = self._last_joints
+        if last is not None and t > last[0] and len(last[1]) == len(positions):
+            dt = t - last[0]
+            velocities = [(a - b) / dt for a, b in zip(positions, last[1], strict=True)]
+        self._last_joints = (t, positions)
+        return foxglove.joint_state(ns, names, positions, velocities)
 
     def on_event(self, t: float, event: RunEvent) -> None:
         with self._lock:

@@ -1,5 +1,4 @@
-"""`wecook execute`, `wecook runs check` and `wecook runs recover`: plans and their runs (`wecook export`: see
-:mod:`wecook_tui.commands.export`).
+"""`wecook execute`: run a plan (`wecook export` is in :mod:`.export`, `wecook runs` in :mod:`.runs`).
 
 - ``wecook execute PLAN [--record FILE.mcap | --no-record] [--seed N] [--realtime] [--jsonl]``: validate the
   plan (errors before anything runs, exit 2), run it headless with progress per action, record it (default
@@ -7,8 +6,9 @@
   the plan), print a table of every action; exit 0 only if every action succeeded, else 1. ``--jsonl`` prints
   one JSON object per line instead (``run_start``, every plan event, then ``summary``) for programs such as the
   workbench. SIGTERM or Ctrl-C stop the run with the recording closed properly (exit 130).
-- ``wecook runs check FILE.mcap``: exit 0 when the recording is sound, else list the problems, exit 1.
-- ``wecook runs recover FILE.mcap [-o OUT.mcap]``: rewrite the file of a killed run as a complete one.
+- ``--live [--port N]`` serves the run over Foxglove's WebSocket protocol on ``ws://127.0.0.1:N`` while it runs
+  (default 8765; 0: any free port; the address is printed first); ``--camera-hz HZ`` records a camera view at HZ
+  images per simulated second (default 2; 0: one image at each action's start and end instead).
 """
 
 from __future__ import annotations
@@ -40,18 +40,12 @@ def register(sub: Any) -> None:
     execute.add_argument("--realtime", action="store_true", help="pace the simulation at real time")
     execute.add_argument("--jsonl", action="store_true",
                          help="print one JSON object per line instead: every plan event, then the summary")
+    execute.add_argument("--live", action="store_true",
+                         help="serve the run to Foxglove over WebSocket on 127.0.0.1 while it runs")
+    execute.add_argument("--port", type=int, default=8765, help="port of --live (default: %(default)s; 0: any)")
+    execute.add_argument("--camera-hz", type=_rate, default=2.0, metavar="HZ",
+                         help="camera images per simulated second (default: %(default)s; 0: at action boundaries)")
     execute.set_defaults(func=run_execute)
-
-    runs = sub.add_parser("runs", help="check or recover run recordings (MCAP)",
-                          description="Check a run's recording, or recover the recording of a killed run.")
-    runs_sub = runs.add_subparsers(dest="runs_command", metavar="COMMAND", required=True)
-    check = runs_sub.add_parser("check", help="validate a recording (CRCs, summary, topics, events)")
-    check.add_argument("file", type=Path, help="recording (.mcap)")
-    check.set_defaults(func=run_check)
-    recover = runs_sub.add_parser("recover", help="rewrite the recording of a killed run as a complete file")
-    recover.add_argument("file", type=Path, help="recording (.mcap)")
-    recover.add_argument("-o", "--out", type=Path, help="output (default: FILE with .recovered.mcap)")
-    recover.set_defaults(func=run_recover)
 
 
 # --------------------------------------------------------------------------------------------- execute
@@ -253,11 +247,15 @@ def run_execute(args: argparse.Namespace) -> int:
         record_path = args.record or default_record_path(args.plan)
         recorder = McapRecorder(record_path)
         observers.insert(0, recorder)
+    server = _live_server(args, console)
+    if server is not None:
+        observers.append(server)
     clock = time.perf_counter()
     result = None
     _interrupt_on_sigterm()
     try:
-        result = execute_plan(plan, FanOut(*observers), seed=args.seed, realtime=args.realtime)
+        result = execute_plan(plan, _with_camera(FanOut(*observers), args.camera_hz), seed=args.seed,
+                              realtime=args.realtime, images=not args.camera_hz)
     except KeyboardInterrupt:
         for row in progress.rows.values():  # close the story in the recording and on the terminal
             if row.status == "running":
@@ -270,6 +268,8 @@ def run_execute(args: argparse.Namespace) -> int:
         raise
     finally:
         progress.stop()
+        if server is not None:
+            server.close()
         if recorder is not None:
             recorder.close()
             console.print(f"recording: {record_path}")
@@ -296,6 +296,36 @@ def run_execute(args: argparse.Namespace) -> int:
     return code
 
 
+def _live_server(args: argparse.Namespace, console: Console) -> Any:
+    """``--live``: the server (started, its address said), else None."""
+    if not args.live:
+        return None
+    from wecook_core.execution.live import LiveServer
+
+    server = LiveServer(args.port)
+    console.print(f"live view: {server.url} (Foxglove: Open connection > Foxglove WebSocket)")
+    return server
+
+
+def _rate(text: str) -> float:
+    try:
+        hz = float(text)
+    except ValueError:
+        hz = -1.0
+    if not 0 <= hz < float("inf"):
+        raise argparse.ArgumentTypeError(f"not a rate in Hz (0 or more): {text!r}")
+    return hz
+
+
+def _with_camera(observer: Any, hz: float) -> Any:
+    """``--camera-hz``: the observer wrapped by a camera rendering at ``hz`` images per simulated second."""
+    if not hz:
+        return observer
+    from wecook_core.execution.camera import CameraObserver
+
+    return CameraObserver(observer, hz)
+
+
 class RunStopped(KeyboardInterrupt):
     """A SIGTERM stopped the run. Handled wherever Ctrl-C is; a subclass, not KeyboardInterrupt itself, because
     CPython kills a process with SIGINT at exit when a bare KeyboardInterrupt once escaped code that an extension
@@ -313,37 +343,3 @@ def _interrupt_on_sigterm() -> None:
             raise RunStopped
 
         signal.signal(signal.SIGTERM, interrupt)
-
-
-# ------------------------------------------------------------------------------------------------ runs
-
-
-def run_check(args: argparse.Namespace) -> int:
-    from wecook_core.execution.runs import check_recording
-
-    report = check_recording(args.file)
-    counts = ", ".join(f"{topic} {n}" for topic, n in sorted(report.messages.items()))
-    statuses = [s.split(":")[0] for s in report.actions.values()]
-    actions = ", ".join(f"{statuses.count(s)} {s}" for s in ("done", "failed", "unfinished") if s in statuses)
-    print(f"{report.path}: {sum(report.messages.values())} messages ({counts}); {report.duration_s:.1f} s; "
-          f"actions: {actions or 'none'}")
-    if report.ok:
-        print("ok")
-        return 0
-    for problem in report.problems:
-        print(f"problem: {problem}")
-    return 1
-
-
-def run_recover(args: argparse.Namespace) -> int:
-    from wecook_core.execution.runs import recover_recording
-
-    out = args.out or args.file.with_name(args.file.stem + ".recovered.mcap")
-    report = recover_recording(args.file, out)
-    state = "the run had finished; nothing was lost" if report.complete else \
-        f"the run had not finished; read {report.bytes_read} of {report.bytes_total} bytes ({report.stopped})"
-    print(f"wrote {report.out}: {report.total} messages, {report.attachments} attachments, "
-          f"{report.metadata} metadata records; {state}")
-    if report.closed_actions:
-        print(f"marked as interrupted: {', '.join(report.closed_actions)}")
-    return 0

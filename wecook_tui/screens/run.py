@@ -55,6 +55,8 @@ def past_runs(session_path: Path) -> list[dict[str, Any]]:
     for mcap in sorted(folder.glob("*.mcap")):
         records[mcap.stem] = {"name": mcap.stem, "mcap": str(mcap), "returncode": None}
     for path in sorted(folder.glob("*.json")):
+        if path.name.endswith(".layout.json"):  # the Foxglove layout written beside each recording
+            continue
         try:
             record = json.loads(path.read_text())
         except (OSError, ValueError):
