@@ -12,6 +12,7 @@ from wecook_core.errors import InputError
 
 COMMAND_MODULES: tuple[str, ...] = (
     "session",  # new, sessions
+    "hands",
     "workbench",  # open, demo
     "analyze",
     "execute",  # export, execute, runs
