@@ -14,7 +14,7 @@ if TYPE_CHECKING:
     from wecook_core.observations.importer import Imported
     from wecook_core.session.store import SessionSummary
 
-OBJECT_FORMATS = ("cvat", "mot", "cocovid", "csv")
+OBJECT_FORMATS = ("cvat", "mot", "cocovid", "labelstudio", "csv")
 HAND_FORMATS = ("openpose", "csv")
 ROOT_HELP = "folder holding the sessions (default: $WECOOK_SESSIONS, else ./sessions)"
 
@@ -28,7 +28,7 @@ def register(sub: Any) -> None:
     new.add_argument("name", help="session name: letters, digits, '.', '_', '-'")
     new.add_argument("--video", required=True, help="the video (any file OpenCV reads)")
     new.add_argument("--objects", required=True,
-                     help="object boxes: CVAT video XML, MOT txt, COCO-VID JSON or wecook CSV")
+                     help="object boxes: CVAT video XML, MOT txt, COCO-VID JSON, Label Studio JSON or wecook CSV")
     new.add_argument("--hands", default=None,
                      help="hands: an OpenPose JSON folder or wecook CSV (default: found in the video by MediaPipe "
                           "and written to ROOT/NAME.hands.csv)")
