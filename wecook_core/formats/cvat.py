@@ -180,7 +180,8 @@ def _check_frames(path: Path, tracks: list[_Track], frame_count: int | None) -> 
         if not track.boxes:
             continue
         last = track.boxes[-1]
-        if frame_count is not None and last.frame >= frame_count:
+        # An outside box may sit on the frame just past the end (it closes a run that reaches the last frame).
+        if frame_count is not None and last.frame >= frame_count + last.outside:
             raise InputError(path, f"track {track.track_id} ({track.label}) has a box at frame {last.frame}, but "
                              f"the video has frames 0-{frame_count - 1}", place=f"line {last.line}")
         total += last.frame - track.boxes[0].frame + 1
