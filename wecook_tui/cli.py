@@ -13,6 +13,7 @@ from wecook_core.errors import InputError
 COMMAND_MODULES: tuple[str, ...] = (
     "session",  # new, sessions
     "hands",
+    "boxes",
     "workbench",  # open, demo
     "analyze",
     "execute",  # export, execute, runs

@@ -8,7 +8,9 @@ object really was); a correction at a frame becomes a keyframe and the tracker r
 The installed opencv-python-headless has ``TrackerMIL`` only: ``TrackerNano``, ``TrackerVit`` and
 ``TrackerDaSiamRPN`` need ONNX model files that no package ships, and KCF/CSRT live in opencv-contrib. MIL
 reports success nearly always, so loss is decided here too: the box leaving the picture, or the patch under it
-no longer looking like the keyframe's (colour histogram correlation below ``min_similarity``).
+looking neither like the keyframe's nor like the previous frame's (colour histogram correlation below
+``min_similarity`` for both): a hand covering the object changes it gradually, frame by frame, and is not a
+loss; the object vanishing changes it at once.
 
 Frames are streamed from the video (one in memory at a time), so memory does not grow with the video's
 length; only the boxes are kept.
@@ -54,8 +56,8 @@ class TrackParams:
     tracker: str = "MIL"
     """One of :func:`available_trackers`."""
     min_similarity: float = 0.3
-    """The object is lost when the colour histogram under the box correlates less than this with the
-    keyframe's."""
+    """The object is lost when the colour histogram under the box correlates less than this with both the
+    keyframe's and the previous frame's."""
     max_seconds: float | None = None
     """Stop after this long even if the object is still followed (None: to the end or until lost)."""
 
@@ -166,13 +168,13 @@ def propagate(video: str | Path, frame: int, box: Box, fps: float, params: Track
     tracker = make_tracker(params.tracker)
     limit = None if params.max_seconds is None else frame + round(params.max_seconds * fps)
     result: dict[int, Box] = {}
-    reference = None
+    reference = previous = None
     for index, image in _frames_from(video, frame):
         h, w = image.shape[:2]
         if reference is None:
             x1, y1, x2, y2 = box
             tracker.init(image, (int(x1), int(y1), max(1, int(x2 - x1)), max(1, int(y2 - y1))))
-            reference = _histogram(image, box)
+            reference = previous = _histogram(image, box)
             continue
         if limit is not None and index > limit:
             return result, None
@@ -180,11 +182,13 @@ def propagate(video: str | Path, frame: int, box: Box, fps: float, params: Track
         found: Box = (float(x), float(y), float(x + bw), float(y + bh))
         outside = found[2] <= 0 or found[3] <= 0 or found[0] >= w or found[1] >= h
         similar = True
-        if ok and not outside and reference is not None:
-            hist = _histogram(image, found)
-            similar = hist is not None and cv2.compareHist(reference, hist, cv2.HISTCMP_CORREL) >= params.min_similarity
-        if not ok or outside or not similar:
+        hist = _histogram(image, found) if ok and not outside else None
+        if hist is not None and reference is not None and previous is not None:
+            similar = max(cv2.compareHist(reference, hist, cv2.HISTCMP_CORREL),
+                          cv2.compareHist(previous, hist, cv2.HISTCMP_CORREL)) >= params.min_similarity
+        if not ok or outside or hist is None or not similar:
             return result, index
+        previous = hist
         result[index] = (max(0.0, found[0]), max(0.0, found[1]), min(float(w), found[2]), min(float(h), found[3]))
         if progress is not None:
             progress(index)

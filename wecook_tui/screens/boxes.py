@@ -126,8 +126,11 @@ class BoxScreen(Screen[None]):
     frame: var[int] = var(0, init=False)
 
     def __init__(self, video: BoxVideo, out_dir: Path, *, source: FrameSource | None = None,
-                 labels: Callable[[], list[str]] = known_labels, params: TrackParams | None = None) -> None:
+                 labels: Callable[[], list[str]] = known_labels, params: TrackParams | None = None,
+                 exit_on_back: bool = False) -> None:
         super().__init__()
+        self.exit_on_back = exit_on_back
+        """Back quits the app (`wecook boxes`) instead of returning to the workbench."""
         self.video = video
         self.out_dir = Path(out_dir)
         self.source = source if source is not None else FrameSource(video.path)
@@ -319,7 +322,10 @@ class BoxScreen(Screen[None]):
         return xml, csv
 
     def action_back(self) -> None:
-        self.app.pop_screen()
+        if self.exit_on_back:
+            self.app.exit()
+        else:
+            self.app.pop_screen()
 
     # --------------------------------------------------------------------------------- mouse
 
