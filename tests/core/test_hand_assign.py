@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from wecook_core.observations.hand_assign import AssignParams, HandDetection, assign_hands, deduplicate
 
 FPS = 10.0
@@ -92,3 +94,22 @@ def test_parameters_are_seconds_the_same_hands_at_another_frame_rate() -> None:
     assert names(tracks_fast) == {"LH_P1": 20, "RH_P1": 20}
     assert names(tracks_slow) == {"LH_P1": 10, "RH_P1": 10}
     assert len({a.tracklet for a in a_fast}) == len({a.tracklet for a in a_slow}) == 2
+
+
+def test_a_short_lived_third_hand_is_no_second_person() -> None:
+    # Two hands for 3 s, and for 0.5 s (a sixth of the frames) a ghost where they crossed.
+    frames = [[det(f, 100, 200, "Left"), det(f, 450, 200, "Right")] for f in range(30)]
+    for f in range(10, 15):
+        frames[f].append(det(f, 280, 120, "Right", 0.7))
+    tracks, _ = assign_hands(frames, FPS, SIZE)
+    assert {t.hand for t in tracks} == {"LH_P1", "RH_P1"}
+    assert len({t.hand for t in tracks if t.hand.endswith("P2")}) == 0
+
+
+def test_crossing_hands_keep_their_names() -> None:
+    # The hands pass each other at frame 10 (same place): the handedness keeps them apart, not the distance.
+    frames = [[det(f, 100 + 20 * f, 200, "Left"), det(f, 500 - 20 * f, 205, "Right")] for f in range(21)]
+    tracks, _ = assign_hands(frames, FPS, SIZE)
+    by_name = {t.hand: t for t in tracks}
+    assert np.all(np.diff(by_name["RH_P1"].xy[:, 0]) > 0)  # the "Left"-labelled one moves right throughout
+    assert np.all(np.diff(by_name["LH_P1"].xy[:, 0]) < 0)

@@ -7,11 +7,13 @@ hands with the same side. So the names are not taken from one frame but from the
 1. **duplicates** in a frame (boxes overlapping by more than ``duplicate_iou``) are one hand: the best scored
    stays;
 2. **tracklets**: frame by frame, detections join the tracklets seen within ``max_gap_seconds`` by
-   :func:`scipy.optimize.linear_sum_assignment` on the centre distance; a detection farther than the hand can
-   move in the time since (``max_speed`` frame diagonals a second, at least its own size) starts a tracklet;
-3. **persons**: two when at least ``two_person_fraction`` of the frames with hands show more than two, else
-   one (or as given); with two, tracklets are split by their mean x into the two groups that are tightest
-   (exact 1-D two-means), P1 the left one, P2 the right one (DESIGN.md: persons from left to right);
+   :func:`scipy.optimize.linear_sum_assignment` on the centre distance (plus ``label_cost`` when the
+   detection's handedness disagrees with the tracklet's); a detection farther than the hand can move in the
+   time since (``max_speed`` frame diagonals a second, at least its own size) starts a tracklet;
+3. **persons**: two when at least ``two_person_fraction`` of the frames with hands show more than two hands
+   that each last ``min_track_seconds``, else one (or as given); with two, tracklets are split by their mean x
+   into the two groups that are tightest (exact 1-D two-means), P1 the left one, P2 the right one (DESIGN.md:
+   persons from left to right);
 4. **sides**: each tracklet's side is its score-weighted vote of handedness (un-mirrored unless the video is
    mirrored); tracklets are given sides most confident first, and one whose side is already taken at the same
    time by its person's other tracklet takes the other side;
@@ -54,10 +56,16 @@ class AssignParams:
     """Two detections of one frame overlapping more than this (intersection over union) are one hand."""
     max_speed: float = 1.5
     """Fastest a hand moves, in frame diagonals a second."""
+    label_cost: float = 0.1
+    """Matching a detection to a tracklet whose handedness so far disagrees with it costs as much as this
+    distance, in frame diagonals: enough to keep crossing hands apart, too little to swap distant ones."""
     max_gap_seconds: float = 1.0
     """A tracklet not seen for longer than this ends."""
     two_person_fraction: float = 0.05
-    """Frames with more than two hands, among frames with hands, from which on two persons are assumed."""
+    """Frames with more than two lasting hands, among frames with hands, from which on two persons are
+    assumed."""
+    min_track_seconds: float = 1.0
+    """A hand seen for less than this (first to last detection) does not count towards a second person."""
     mirrored: bool = False
     """The video is mirrored (a selfie camera): the detector's handedness is then taken as it is."""
 
@@ -140,7 +148,9 @@ def track(
                 distance = float(np.hypot(d.xy[0] - t.last.xy[0], d.xy[1] - t.last.xy[1]))
                 reach = max(params.max_speed * diagonal * seconds, _diagonal(d.box))
                 if distance <= reach:
-                    costs[i, j] = distance / diagonal
+                    # Where hands cross, distance cannot tell them apart; the detector's handedness can.
+                    disagrees = (t.vote(True) >= 0) != (d.label.lower() == "right")
+                    costs[i, j] = distance / diagonal + (params.label_cost if disagrees else 0.0)
         matched: set[int] = set()
         if active:
             rows, cols = linear_sum_assignment(costs)
@@ -156,12 +166,22 @@ def track(
     return tracklets
 
 
-def count_persons(frames: Sequence[Sequence[HandDetection]], params: AssignParams) -> int:
-    with_hands = [len(f) for f in frames if f]
-    if not with_hands:
+def count_persons(tracklets: Sequence[_Tracklet], fps: float, params: AssignParams) -> int:
+    """Two when, in at least ``two_person_fraction`` of the frames with hands, more than two hands that each
+    stay at least ``min_track_seconds`` are seen at once; else one. (A short-lived extra detection, such as a
+    ghost MediaPipe's tracking leaves where two hands crossed, is no second person.)"""
+    frames_with_hands: set[int] = set()
+    lasting: dict[int, int] = {}
+    for t in tracklets:
+        frames = t.frames()
+        frames_with_hands |= frames
+        if (max(frames) - min(frames) + 1) / fps >= params.min_track_seconds:
+            for f in frames:
+                lasting[f] = lasting.get(f, 0) + 1
+    if not frames_with_hands:
         return 1
-    crowded = sum(1 for n in with_hands if n > 2)
-    return 2 if crowded >= params.two_person_fraction * len(with_hands) else 1
+    crowded = sum(1 for n in lasting.values() if n > 2)
+    return 2 if crowded >= params.two_person_fraction * len(frames_with_hands) else 1
 
 
 def split_persons(tracklets: Sequence[_Tracklet], persons: int) -> dict[int, str]:
@@ -218,7 +238,7 @@ def assign_hands(
     params = params or AssignParams()
     clean = [deduplicate(f, params.duplicate_iou) for f in frames]
     tracklets = track(clean, fps, size, params)
-    count = persons if persons is not None else count_persons(clean, params)
+    count = persons if persons is not None else count_persons(tracklets, fps, params)
     if count not in (1, 2):
         raise ValueError(f"persons must be 1 or 2, got {count}")
     person_of = split_persons(tracklets, count)
