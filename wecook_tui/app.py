@@ -11,7 +11,7 @@ import time
 from collections.abc import Callable, Iterable
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 from textual import work
 from textual.app import App, SystemCommand
@@ -31,6 +31,8 @@ from wecook_tui.workspace import Opened, analyze_workspace, open_workspace
 class WecookApp(App[None]):
     CSS_PATH = "workbench.tcss"
     TITLE = "wecook"
+
+    BINDINGS: ClassVar = [Binding("B", "boxes", "Box mode", show=False, id="box-mode")]
 
     pending: var[bool] = var(False, init=False)
     """An analysis is being recomputed for the latest corrections."""
@@ -247,6 +249,14 @@ class WecookApp(App[None]):
 
         command = {"command": self.run_command} if self.run_command is not None else {}
         self.push_screen(RunScreen(self.session_path, self.analysis if start else None, self.obs, **command))
+
+    def action_boxes(self) -> None:
+        """Box mode (screens/boxes.py): draw and track boxes on the session's video, exported to its boxes/."""
+        from wecook_tui.screens.boxes import BoxScreen, box_video
+
+        video = box_video(self)
+        if video is not None and not isinstance(self.screen, BoxScreen):
+            self.push_screen(BoxScreen(video, self.session_path / "boxes"))
 
     def get_system_commands(self, screen: Screen) -> Iterable[SystemCommand]:
         yield from super().get_system_commands(screen)

@@ -12,6 +12,8 @@ from wecook_core.errors import InputError
 
 COMMAND_MODULES: tuple[str, ...] = (
     "session",  # new, sessions
+    "hands",
+    "boxes",
     "workbench",  # open, demo
     "analyze",
     "export",

@@ -120,9 +120,13 @@ def test_hand_gaps_past_the_allowed_length_are_an_error_when_asked(tmp_path: Pat
     assert not (tmp_path / "sessions" / "s").exists()
 
 
-def test_uncategorised_labels_are_an_input_error(tmp_path: Path) -> None:
-    with pytest.raises(InputError, match=r"objects.csv: cannot categorise 'spatula'"):
-        load_observations(*write_inputs(tmp_path, [*OBJECTS, "0,9,spatula,0,0,5,5"], HANDS), categories=TABLE)
+def test_labels_the_table_lacks_never_stop_the_import(tmp_path: Path) -> None:
+    # Neither this table nor the corpus says what a spatula or a gizmo is: taken as ingredients, and said.
+    rows = [*OBJECTS, "0,9,spatula,0,0,5,5", "0,10,gizmo,0,0,5,5"]
+    imported = import_observations(*write_inputs(tmp_path, rows, HANDS), categories=TABLE)
+    assert imported.uncategorised == ("spatula", "gizmo")
+    assert imported.observations.categories["gizmo"] == "ingredient"
+    assert any("no category known for 'spatula', 'gizmo'" in w for w in imported.warnings)
 
 
 def test_a_truncated_video_limits_the_frames_and_says_so(tmp_path: Path) -> None:

@@ -3,8 +3,10 @@
 Semantics follow CVAT's interpolation mode: a box holds from its frame until the track's next box, with the
 coordinates interpolated linearly in between (CVAT exports usually list every frame, so there is nothing to
 fill); ``outside="1"`` means the object is absent from that frame on. Nothing is extended past a track's last
-box. Tracks of other shapes (polygons, points...) are skipped with a warning; a "CVAT for images" file (boxes
-under ``<image>``) is refused with a hint. Errors name the line of the element.
+box. Every box's frame is checked against the video's frame count (without a video, the interpolation's
+size is bounded) before anything is interpolated. Tracks of other shapes (polygons, points...) are skipped
+with a warning; a "CVAT for images" file (boxes under ``<image>``) is refused with a hint. Errors name the
+line of the element.
 """
 
 from __future__ import annotations
@@ -124,13 +126,19 @@ class _Reader:
         boxes.append(_Box(self.parser.CurrentLineNumber, frame, box, outside == "1"))
 
 
+MAX_INTERPOLATED = 5_000_000
+"""Most boxes interpolated when no video bounds the frames (days of video at 30 fps for a few tracks)."""
+
+
 def read_cvat(
-    path: str | Path, *, frame_size: tuple[int, int] | None = None, warn: Warn = ignore_warning
+    path: str | Path, *, frame_size: tuple[int, int] | None = None, frame_count: int | None = None,
+    warn: Warn = ignore_warning,
 ) -> tuple[ObjectTrack, ...]:
     """Object tracks of a CVAT for video XML file.
 
     ``frame_size`` (width, height) of the video, when given, must match the ``<original_size>`` the file was
-    annotated on (boxes of another resolution would land in the wrong place).
+    annotated on (boxes of another resolution would land in the wrong place). ``frame_count``, the frames of
+    the video, bounds the frames of the boxes: one past it is an error, found before interpolating.
     """
     path = Path(path)
     reader = _Reader(path)
@@ -151,6 +159,7 @@ def read_cvat(
         raise InputError(path, "this is CVAT for images XML (boxes under <image>); export the task as "
                          "'CVAT for video 1.1' so boxes come in tracks")
     _check_size(path, reader.size, frame_size)
+    _check_frames(path, reader.tracks, frame_count)
     rows: list[tuple[int, str, int, Box]] = []
     for track in reader.tracks:
         if track.other_shapes and not track.boxes:
@@ -161,6 +170,24 @@ def read_cvat(
     if not rows:
         raise InputError(path, "no boxes: no <track> holds a <box> that is not outside")
     return object_tracks(rows, path)
+
+
+def _check_frames(path: Path, tracks: list[_Track], frame_count: int | None) -> None:
+    """Boxes within the video (boxes are in increasing frame order, so a track's last is its latest), and
+    the interpolation bounded when there is no video."""
+    total = 0
+    for track in tracks:
+        if not track.boxes:
+            continue
+        last = track.boxes[-1]
+        # An outside box may sit on the frame just past the end (it closes a run that reaches the last frame).
+        if frame_count is not None and last.frame >= frame_count + last.outside:
+            raise InputError(path, f"track {track.track_id} ({track.label}) has a box at frame {last.frame}, but "
+                             f"the video has frames 0-{frame_count - 1}", place=f"line {last.line}")
+        total += last.frame - track.boxes[0].frame + 1
+        if frame_count is None and total > MAX_INTERPOLATED:
+            raise InputError(path, f"the tracks span more than {MAX_INTERPOLATED:,} frames between their "
+                             "keyframes; give the video so the frames can be checked", place=f"line {last.line}")
 
 
 def _frames(track: _Track) -> list[tuple[int, Box]]:

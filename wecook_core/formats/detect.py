@@ -1,8 +1,13 @@
 """Which importer reads a file: detection from the content (not the name), or a format the user forces.
 
-Objects: ``cvat`` (XML), ``mot`` (numeric comma-separated rows), ``cocovid`` (a JSON object), ``csv`` (wecook's
+Objects: ``cvat`` (XML), ``mot`` (numeric comma-separated rows), ``cocovid`` (a JSON object), ``labelstudio``
+(Label Studio's video export: a JSON list of tasks, or a task, with keyframe sequences), ``csv`` (wecook's
 native CSV with the header ``frame,track_id,label,x1,y1,x2,y2``). Hands: ``openpose`` (a folder of
 ``*_keypoints.json``), ``csv`` (native, header ``frame,hand,x,y,x1,y1,x2,y2``).
+
+Given the video, every box's frame is checked against its frame count before anything is interpolated (a box
+at frame 1,000,000,000 is one line, not a run out of memory), and sparse tracks (a box only every so many
+frames, as YouCook2-BB's one a second) are filled in between (:func:`wecook_core.formats.tracks.fill_sparse`).
 """
 
 from __future__ import annotations
@@ -12,9 +17,11 @@ from pathlib import Path
 
 from wecook_core.errors import InputError
 from wecook_core.formats.fields import Warn, ignore_warning
+from wecook_core.formats.tracks import fill_sparse
+from wecook_core.formats.video import usable_frames
 from wecook_core.model import HandTrack, ObjectTrack, VideoInfo
 
-OBJECT_FORMATS: tuple[str, ...] = ("cvat", "mot", "cocovid", "csv")
+OBJECT_FORMATS: tuple[str, ...] = ("cvat", "mot", "cocovid", "labelstudio", "csv")
 HAND_FORMATS: tuple[str, ...] = ("openpose", "csv")
 
 _MOT_ROW = re.compile(r"^\s*-?\d+(\.\d*)?\s*(,\s*-?[\d.eE+-]+\s*){5,}(,.*)?$")
@@ -51,13 +58,16 @@ def detect_objects_format(path: str | Path) -> str:
     if head.startswith("<"):
         return "cvat"
     if head.startswith(("{", "[")):
-        return "cocovid"
+        from wecook_core.formats.labelstudio import looks_like_labelstudio
+
+        return "labelstudio" if head.startswith("[") or looks_like_labelstudio(head) else "cocovid"
     line = _first_line(head)
     if line.replace(" ", "").lower().startswith("frame,track_id,label"):
         return "csv"
     if _MOT_ROW.match(line):
         return "mot"
-    raise InputError(path, "unknown object box format: expected CVAT video XML, MOT text, COCO-VID JSON or the "
+    raise InputError(path, "unknown object box format: expected CVAT video XML, MOT text, COCO-VID JSON, Label "
+                     "Studio JSON or the "
                      "CSV header frame,track_id,label,x1,y1,x2,y2 (force one with --objects-format)",
                      place="line 1")
 
@@ -103,24 +113,44 @@ def read_objects(
     chosen = check_format(format, OBJECT_FORMATS, "objects") if format else detect_objects_format(path)
     if labels is not None and chosen != "mot":
         warn(f"{labels}: a labels file only applies to MOT boxes; ignored for {chosen}")
-    if select is not None and chosen != "cocovid":
+    if select is not None and chosen not in ("cocovid", "labelstudio"):
         warn(f"choosing a video ({select!r}) only applies to COCO-VID boxes; ignored for {chosen}")
+    count = usable_frames(video) if video is not None else None
     if chosen == "cvat":
         from wecook_core.formats.cvat import read_cvat
 
         size = (video.width, video.height) if video is not None else None
-        return read_cvat(path, frame_size=size, warn=warn), chosen
+        return read_cvat(path, frame_size=size, frame_count=count, warn=warn), chosen
+    if chosen == "labelstudio":
+        from wecook_core.formats.labelstudio import read_labelstudio
+
+        return read_labelstudio(path, video=video, select=select, warn=warn), chosen
     if chosen == "mot":
         from wecook_core.formats.mot import read_mot
 
-        return read_mot(path, labels, warn=warn), chosen
-    if chosen == "cocovid":
+        tracks = read_mot(path, labels, warn=warn)
+    elif chosen == "cocovid":
         from wecook_core.formats.cocovid import read_cocovid
 
-        return read_cocovid(path, video=select, video_path=video.path if video else None, warn=warn), chosen
-    from wecook_core.formats.native import read_objects_csv
+        tracks = read_cocovid(path, video=select, video_path=video.path if video else None, warn=warn)
+    else:
+        from wecook_core.formats.native import read_objects_csv
 
-    return read_objects_csv(path), chosen
+        tracks = read_objects_csv(path)
+    if video is None:
+        return tracks, chosen
+    check_frame_range(path, tracks, video)
+    return fill_sparse(tracks, warn=warn, source=path), chosen
+
+
+def check_frame_range(path: str | Path, tracks: tuple[ObjectTrack, ...], video: VideoInfo) -> None:
+    """InputError when a box lies in a frame the video does not have."""
+    count = usable_frames(video)
+    for track in tracks:
+        if len(track.frames) and (track.frames[0] < 0 or track.frames[-1] >= count):
+            bad = int(track.frames[-1] if track.frames[-1] >= count else track.frames[0])
+            raise InputError(path, f"track {track.track_id} ({track.label}) is in frame {bad}, but the video "
+                             f"{Path(video.path).name} has frames 0-{count - 1}", place=f"frame {bad}")
 
 
 def read_hands(

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import re
 from collections import defaultdict
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -86,3 +86,40 @@ def hand_tracks(
             np.asarray(boxes[hand], dtype=np.float64).reshape(-1, 4)[order],
         ))
     return tuple(tracks)
+
+
+def fill_sparse(
+    tracks: Sequence[ObjectTrack], *, factor: float = 1.5, warn: Callable[[str], None] | None = None,
+    source: str | Path = "",
+) -> tuple[ObjectTrack, ...]:
+    """Sparse tracks filled in between their boxes; dense ones (boxes on consecutive frames) as they are.
+
+    A track is sparse when its median step between boxes is more than one frame: it was annotated every so
+    many frames (YouCook2-BB: one box a second), so the object is there between two boxes and its box is
+    interpolated linearly, as CVAT interpolates between keyframes. A gap longer than ``factor`` times the
+    track's own step is a sample where the object was absent, and stays a gap. Relative to each track's
+    sampling, so it holds at any frame rate.
+    """
+    result = []
+    for track in tracks:
+        steps = np.diff(track.frames)
+        if len(steps) == 0 or float(np.median(steps)) <= 1:
+            result.append(track)
+            continue
+        step = float(np.median(steps))
+        frames: list[np.ndarray] = [track.frames[:1]]
+        boxes: list[np.ndarray] = [track.boxes[:1]]
+        for i, gap in enumerate(steps.tolist()):
+            if 1 < gap <= factor * step:
+                t = np.arange(1, gap, dtype=np.float64)[:, None] / gap
+                frames.append(track.frames[i] + np.arange(1, gap, dtype=np.int64))
+                boxes.append(track.boxes[i] + t * (track.boxes[i + 1] - track.boxes[i]))
+            frames.append(track.frames[i + 1:i + 2])
+            boxes.append(track.boxes[i + 1:i + 2])
+        filled = ObjectTrack(track.track_id, track.label, track.name, np.concatenate(frames),
+                             np.concatenate(boxes).reshape(-1, 4))
+        if warn is not None:
+            warn(f"{source}: track {track.track_id} ({track.label}) has a box every {step:g} frames; "
+                 f"interpolated to {len(filled.frames)} frames")
+        result.append(filled)
+    return tuple(result)

@@ -22,6 +22,7 @@ import os
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import yaml
 
@@ -202,3 +203,112 @@ def format_categories(entries: Mapping[str, Category], header: str = "") -> str:
     lines += ["wecook_categories: 1", "objects:"]
     lines += [f"  {name}: {category.value}" for name, category in sorted(entries.items())]
     return "\n".join(lines) + "\n"
+
+
+# ------------------------------------------------------------------------------ labels the table lacks
+
+DEFAULT_CATEGORY = Category.INGREDIENT
+"""What a label nothing knows is taken as until the user says: the category that claims least (it neither acts
+on other objects, as a tool does, nor holds them, as a container does)."""
+
+_OF = " of "
+
+
+@dataclass(frozen=True)
+class Categorised:
+    """Every label's category and how it was found."""
+
+    categories: Mapping[str, Category]
+    """Label (as given) -> category, for every label; unknown ones have :data:`DEFAULT_CATEGORY`."""
+    how: Mapping[str, str]
+    """Label -> how its category was found, for a person: ``table``, ``head noun 'bowl'``, ``corpus noun
+    'colander'`` or ``unknown``."""
+    unknown: tuple[str, ...]
+    """Labels nothing categorised, in first-seen order."""
+
+
+def _phrases(label: str) -> list[str]:
+    """The label, then for ``X of Y`` its head ``X`` and then ``Y`` ("bowl of rice" is a bowl; "slice of
+    bread", whose head is no object, is bread)."""
+    text = " ".join(label.replace("_", " ").split())
+    lower = f" {text.lower()} "
+    if _OF not in lower:
+        return [label]
+    head, _, rest = lower.strip().partition(_OF.strip() + " ")
+    return [head.strip(), rest.strip(), label]
+
+
+def categorise_labels(labels: Iterable[str], table: CategoryTable | None = None,
+                      knowledge: Any | None = None) -> Categorised:
+    """Every label's category, never an error: from the table (the label, its head noun, ``X of Y``'s head),
+    else from the commonsense corpus (the corpus noun that the label or its head names through the corpus's
+    aliases, "sieve" -> colander, and that noun's category), else :data:`DEFAULT_CATEGORY`, listed in
+    :attr:`Categorised.unknown`. (Guessing from the actions a corpus noun is used with was tried and dropped:
+    leaving each categorised noun out in turn, its five most alike nouns' majority was right for 67%, below
+    the 73% of always answering the most common category.)
+
+    ``knowledge`` is a :class:`~wecook_core.knowledge.recognize.Knowledge` (default: the shipped one)."""
+    table = table if table is not None else load_categories()
+    categories: dict[str, Category] = {}
+    how: dict[str, str] = {}
+    unknown: list[str] = []
+    corpus = None
+    for label in labels:
+        if label in categories:
+            continue
+        found = _from_table(label, table)
+        if found is None:
+            if corpus is None:
+                corpus = _Corpus(table, knowledge)
+            found = corpus.categorise(label)
+        if found is None:
+            categories[label], how[label] = DEFAULT_CATEGORY, "unknown"
+            unknown.append(label)
+        else:
+            categories[label], how[label] = found
+    return Categorised(categories, how, tuple(unknown))
+
+
+def _from_table(label: str, table: CategoryTable) -> tuple[Category, str] | None:
+    phrases = _phrases(label)
+    for phrase in phrases:
+        category = table.categorize(phrase)
+        if category is not None:
+            exact = normalise(phrase) in table.entries and phrase == label
+            return category, "table" if exact else f"head noun {_head(phrase, table)!r}"
+    return None
+
+
+def _head(phrase: str, table: CategoryTable) -> str:
+    """The tail of ``phrase`` that the table knows (for saying how a label was categorised)."""
+    from wecook_core.knowledge.nouns import suffixes, variants
+
+    for tail in suffixes(normalise(phrase)):
+        for candidate in variants(tail):
+            if candidate in table.entries:
+                return candidate.replace("_", " ")
+    return normalise(phrase).replace("_", " ")
+
+
+class _Corpus:
+    """The commonsense corpus's nouns, for labels the table does not know."""
+
+    def __init__(self, table: CategoryTable, knowledge: Any | None) -> None:
+        if knowledge is None:
+            from wecook_core.knowledge.recognize import load_knowledge
+
+            knowledge = load_knowledge()
+        self.table = table
+        self.knowledge = knowledge
+        self.names = {name: name for name in knowledge.objects}
+        self.names.update({alias: name for alias, name in knowledge.aliases.items() if name in self.names})
+
+    def categorise(self, label: str) -> tuple[Category, str] | None:
+        for phrase in _phrases(label):
+            noun = match(phrase, self.names)
+            if noun is None:
+                continue
+            category = self.table.categorize(noun)
+            if category is not None:
+                return category, f"corpus noun {noun.replace('_', ' ')!r}"
+        return None

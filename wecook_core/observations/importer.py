@@ -11,7 +11,9 @@ Checks, each an :class:`InputError` naming the file and the frame and track, unl
   segmentation interpolates): a gap longer than ``max_gap_seconds`` is reported as a warning and listed in
   :attr:`Imported.gaps` so the user sees what will be interpolated; one longer than ``gap_error_seconds``,
   when set (`wecook new --max-gap`), is an error;
-- every object label has a category (the shipped table plus the user's additions).
+- every object label gets a category (the shipped table plus the user's additions, else the commonsense corpus:
+  :func:`wecook_core.knowledge.categories.categorise_labels`); a label nothing knows never stops the import:
+  it is taken as an ingredient, listed in :attr:`Imported.uncategorised` and reported as a warning.
 """
 
 from __future__ import annotations
@@ -69,6 +71,9 @@ class Imported:
     """Gaps longer than ``InputChecks.max_gap_seconds``, by hand then frame."""
     missing: dict[str, int] = field(default_factory=dict)
     """Hand -> frames missing between its first and last detection (all gaps, short ones too)."""
+    uncategorised: tuple[str, ...] = ()
+    """Object labels that neither the category table nor the commonsense corpus knows (taken as ingredients
+    until the user says)."""
     video_problem: str | None = None
     """Why the video itself could not be opened, when its recorded facts stood in (see
     :meth:`wecook_core.session.Session.import_observations`); None: the video was probed."""
@@ -131,9 +136,15 @@ def import_observations(
     for gap in gaps:
         warnings.append(f"{hands}: {gap.hand} is missing for {gap.seconds:.1f} s, frames {gap.start}-{gap.end - 1}"
                         " (interpolated)")
-    names = _categorise(Path(objects), checked_objects, categories)
+    names, unknown = _categorise(checked_objects, categories)
+    if unknown:
+        from wecook_core.knowledge.categories import DEFAULT_CATEGORY, EXTEND_HINT
+
+        warnings.append(f"{objects}: no category known for {', '.join(repr(u) for u in unknown)}: taken as "
+                        f"{DEFAULT_CATEGORY.value} for now; {EXTEND_HINT}")
     observations = Observations(info, tuple(checked_objects), tuple(checked_hands), names)
-    return Imported(observations, chosen_objects, chosen_hands, tuple(warnings), tuple(gaps), missing)
+    return Imported(observations, chosen_objects, chosen_hands, tuple(warnings), tuple(gaps), missing,
+                    uncategorised=unknown)
 
 
 def unique_names(tracks: Iterable[ObjectTrack]) -> tuple[ObjectTrack, ...]:
@@ -263,10 +274,9 @@ def _check_hands(
 
 
 def _categorise(
-    path: Path, tracks: Sequence[ObjectTrack], table: CategoryTable | None
-) -> dict[str, Category]:
-    from wecook_core.knowledge.categories import load_categories
+    tracks: Sequence[ObjectTrack], table: CategoryTable | None
+) -> tuple[dict[str, Category], tuple[str, ...]]:
+    from wecook_core.knowledge.categories import categorise_labels
 
-    table = table if table is not None else load_categories()
-    by_label = table.categorize_all([t.label for t in tracks], str(path))
-    return {t.name: by_label[t.label] for t in tracks}
+    found = categorise_labels([t.label for t in tracks], table)
+    return {t.name: found.categories[t.label] for t in tracks}, found.unknown

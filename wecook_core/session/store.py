@@ -333,6 +333,7 @@ def create_session(
                    for role, item in inputs.items()},
         "video": dataclasses.asdict(imported.observations.video),
         "params": dataclasses.asdict(params or Params()),
+        "uncategorised": list(imported.uncategorised),  # labels taken as ingredients until the user says
     }
     root.mkdir(parents=True, exist_ok=True)
     building = Path(tempfile.mkdtemp(prefix=f".{name}.creating-", dir=root))

@@ -14,7 +14,7 @@ if TYPE_CHECKING:
     from wecook_core.observations.importer import Imported
     from wecook_core.session.store import SessionSummary
 
-OBJECT_FORMATS = ("cvat", "mot", "cocovid", "csv")
+OBJECT_FORMATS = ("cvat", "mot", "cocovid", "labelstudio", "csv")
 HAND_FORMATS = ("openpose", "csv")
 ROOT_HELP = "folder holding the sessions (default: $WECOOK_SESSIONS, else ./sessions)"
 
@@ -28,8 +28,10 @@ def register(sub: Any) -> None:
     new.add_argument("name", help="session name: letters, digits, '.', '_', '-'")
     new.add_argument("--video", required=True, help="the video (any file OpenCV reads)")
     new.add_argument("--objects", required=True,
-                     help="object boxes: CVAT video XML, MOT txt, COCO-VID JSON or wecook CSV")
-    new.add_argument("--hands", required=True, help="hands: an OpenPose JSON folder or wecook CSV")
+                     help="object boxes: CVAT video XML, MOT txt, COCO-VID JSON, Label Studio JSON or wecook CSV")
+    new.add_argument("--hands", default=None,
+                     help="hands: an OpenPose JSON folder or wecook CSV (default: found in the video by MediaPipe "
+                          "and written to ROOT/NAME.hands.csv)")
     new.add_argument("--objects-format", choices=OBJECT_FORMATS, default=None,
                      help="force the object format (default: detected from the content)")
     new.add_argument("--hands-format", choices=HAND_FORMATS, default=None,
@@ -46,6 +48,9 @@ def register(sub: Any) -> None:
                      help="refuse hand tracks missing for longer than this inside the track "
                           "(default: such gaps are interpolated and reported)")
     new.add_argument("--root", default=None, help=ROOT_HELP)
+    from wecook_tui.commands.hands import add_detection_options
+
+    add_detection_options(new)
     new.set_defaults(func=run_new)
 
     listing = sub.add_parser("sessions", help="list the sessions", description="List the sessions under the root.")
@@ -59,9 +64,9 @@ def run_new(args: argparse.Namespace) -> int:
 
     check_name(args.name)
     root = sessions_root(args.root)
-    if (root / args.name).exists():
-        from wecook_core.errors import InputError
+    from wecook_core.errors import InputError
 
+    if (root / args.name).exists():
         raise InputError(root / args.name, "a session of that name already exists")
     table = None
     if args.categories:
@@ -71,6 +76,21 @@ def run_new(args: argparse.Namespace) -> int:
     from wecook_core.observations.importer import InputChecks
 
     checks = InputChecks(gap_error_seconds=args.max_gap)
+    detected = None
+    if args.hands is None:  # hands from the pixels, kept beside the session (its recorded input)
+        from wecook_core.formats.detect import read_objects
+        from wecook_core.formats.video import probe_video
+        from wecook_tui.commands.hands import detect_to_csv, summary
+
+        detected = root / f"{args.name}.hands.csv"
+        if detected.exists():
+            raise InputError(detected, "exists; give it with --hands, or remove it to detect the hands again")
+        # The boxes are checked before the (slow) detection; the detected hands stay if the import fails later.
+        read_objects(args.objects, args.objects_format, labels=args.labels, video=probe_video(args.video),
+                     select=args.select_video)
+        root.mkdir(parents=True, exist_ok=True)
+        print(summary(detect_to_csv(args.video, detected, args)))
+        args.hands = str(detected)
     imported = import_observations(args.video, args.objects, args.hands, objects_format=args.objects_format,
                                    hands_format=args.hands_format, labels=args.labels, select=args.select_video,
                                    categories=table, checks=checks)

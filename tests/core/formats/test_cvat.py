@@ -120,3 +120,32 @@ def test_missing_file_and_folder(tmp_path: Path) -> None:
         read_cvat(tmp_path / "nope.xml")
     with pytest.raises(InputError, match="directory"):
         read_cvat(tmp_path)
+
+
+KEYFRAMES = """<?xml version="1.0" encoding="utf-8"?>
+<annotations>
+  <version>1.1</version>
+  <track id="3" label="spoon" source="manual">
+    <box frame="0" keyframe="1" outside="0" occluded="0" xtl="0" ytl="0" xbr="10" ybr="10"></box>
+    <box frame="{far}" keyframe="1" outside="0" occluded="0" xtl="100" ytl="0" xbr="110" ybr="10"></box>
+    <box frame="{end}" keyframe="1" outside="1" occluded="0" xtl="100" ytl="0" xbr="110" ybr="10"></box>
+  </track>
+</annotations>
+"""
+
+
+def test_keyframes_only_are_interpolated_as_cvat_does(tmp_path: Path) -> None:
+    (spoon,) = read_cvat(write(tmp_path, KEYFRAMES.format(far=10, end=11)), frame_count=20)
+    assert spoon.frames.tolist() == list(range(11))  # outside from frame 11 on
+    np.testing.assert_allclose(spoon.boxes[:, 0], np.arange(11) * 10.0)
+
+
+def test_a_keyframe_far_past_the_video_is_refused_before_interpolating(tmp_path: Path) -> None:
+    # Issue 13: boxes at frame 0 and 1,000,000,000 grew memory until the process was killed.
+    path = write(tmp_path, KEYFRAMES.format(far=1_000_000_000, end=1_000_000_001))
+    with pytest.raises(InputError, match=r"boxes.xml:line 7: track 3 \(spoon\) has a box at frame 1000000001, but "
+                                         r"the video has frames 0-19") as error:
+        read_cvat(path, frame_count=20)
+    assert "\n" not in str(error.value)
+    with pytest.raises(InputError, match="span more than 5,000,000 frames"):
+        read_cvat(path)  # no video: the interpolation is bounded all the same

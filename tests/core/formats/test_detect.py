@@ -71,7 +71,8 @@ def test_forced_formats(tmp_path: Path) -> None:
     path.write_text("frame,track_id,label,x1,y1,x2,y2\n3,1,Knife,0,0,10,10\n")
     tracks, chosen = read_objects(path, "csv")
     assert chosen == "csv" and tracks[0].name == "knife" and tracks[0].frames.tolist() == [3]
-    with pytest.raises(InputError, match="unknown objects format 'yolo'; choose one of cvat, mot, cocovid, csv"):
+    with pytest.raises(InputError,
+                       match="unknown objects format 'yolo'; choose one of cvat, mot, cocovid, labelstudio, csv"):
         read_objects(path, "yolo")
     with pytest.raises(InputError, match="malformed XML"):
         read_objects(path, "cvat")  # forcing a wrong format gives that format's error

@@ -1,0 +1,65 @@
+"""Boxes drawn by the user and carried by OpenCV's tracker; keyframes interpolated as CVAT does; CVAT XML and
+wecook CSV out."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from tests.square_video import moving_square
+from wecook_core.formats.cvat import read_cvat
+from wecook_core.formats.cvat_write import write_cvat
+from wecook_core.formats.native import read_objects_csv, write_objects_csv
+from wecook_core.observations.hand_assign import iou
+from wecook_core.observations.tracking import BoxTrack, TrackParams, available_trackers, track_from_last_keyframe
+
+
+def test_mil_is_available() -> None:
+    assert "MIL" in available_trackers()
+
+
+def test_a_drawn_box_is_followed_until_the_object_is_gone(tmp_path: Path) -> None:
+    video = tmp_path / "square.avi"
+    truth = moving_square(video)
+    track = BoxTrack(1, "tomato").with_keyframe(0, truth[0])
+    tracked = track_from_last_keyframe(video, track, 10.0)
+    boxes = tracked.boxes()
+    assert tracked.lost_at is not None and 29 <= tracked.lost_at <= 31  # lost when the square vanished
+    followed = [f for f in range(1, 30) if f in boxes and iou(boxes[f], truth[f]) > 0.5]
+    assert len(followed) >= 25
+    assert max(boxes) < 31
+
+
+def test_max_seconds_bounds_the_tracking(tmp_path: Path) -> None:
+    video = tmp_path / "square.avi"
+    truth = moving_square(video, vanish=None)
+    tracked = track_from_last_keyframe(video, BoxTrack(1, "x").with_keyframe(5, truth[5]), 10.0,
+                                       TrackParams(max_seconds=1.0))
+    assert max(tracked.tracked) == 15 and tracked.lost_at is None
+
+
+def test_keyframes_interpolate_and_a_correction_drops_the_stale_run() -> None:
+    track = BoxTrack(1, "bowl").with_keyframe(0, (0, 0, 10, 10))
+    track = BoxTrack(1, "bowl", track.keyframes, {f: (f, 0, f + 10, 10) for f in range(1, 20)})
+    assert track.boxes()[19] == (19, 0, 29, 10)
+    corrected = track.with_keyframe(10, (20, 0, 30, 10))
+    boxes = corrected.boxes()
+    assert boxes[5] == (10.0, 0.0, 20.0, 10.0)  # half way between the keyframes
+    assert max(boxes) == 10  # the tracker's run after the correction is stale: track again from it
+    earlier = track.with_keyframe(19, (19, 0, 29, 10)).with_keyframe(5, (0, 0, 10, 10))
+    assert sorted(earlier.keyframes) == [0, 5, 19]
+    assert earlier.without_keyframe(5).boxes()[10] == (10.0, 0.0, 20.0, 10.0)
+
+
+def test_cvat_and_csv_round_trip(tmp_path: Path) -> None:
+    track = BoxTrack(3, "chopping board", {0: (0, 0, 10, 10), 4: (4, 0, 14, 10)},
+                     {f: (4.0, 0.0, 14.0, 10.0) for f in range(5, 8)})
+    objects = [track.object_track()]
+    write_cvat(tmp_path / "boxes.xml", objects, size=(320, 240), keyframes={3: track.keyframes})
+    (back,) = read_cvat(tmp_path / "boxes.xml", frame_size=(320, 240), frame_count=8)
+    assert back.frames.tolist() == list(range(8)) and back.label == "chopping board"
+    np.testing.assert_allclose(back.boxes, objects[0].boxes)
+    write_objects_csv(tmp_path / "boxes.csv", objects)
+    (csv,) = read_objects_csv(tmp_path / "boxes.csv")
+    np.testing.assert_allclose(csv.boxes, objects[0].boxes)

@@ -1,0 +1,74 @@
+"""From a video alone to a tree, in a real terminal: `wecook boxes` (two boxes drawn with keys and tracked by
+OpenCV), `wecook new` without --hands (MediaPipe finds the hand), `wecook analyze`. The video holds a real
+hand (tests/data/hand_four.png, Apache-2.0) carrying a drawn tomato into a drawn bowl."""
+
+from __future__ import annotations
+
+import os
+import shlex
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from test_tmux import Terminal
+
+from tests.hand_video import hand_and_tomato
+from wecook_core.formats.cvat import read_cvat
+from wecook_core.observations.hand_assign import iou
+from wecook_core.trees.treefile import read_tree_file
+
+WECOOK = Path(sys.executable).with_name("wecook")
+
+
+@pytest.fixture
+def term(tmp_path: Path) -> Iterator[Terminal]:
+    terminal = Terminal(f"wecook-boxes-{os.getpid()}-{tmp_path.name}", "boxes")
+    yield terminal
+    terminal.tmux("kill-server")
+
+
+def draw(terminal: Terminal, label: str, keys: str) -> None:
+    """b: a new box in the middle and the name prompt; the label; then the keys that fit it to the object;
+    then t: track it, and wait for the tracker to finish."""
+    terminal.keys("b")
+    terminal.wait_text("Name the box")
+    terminal.keys(label, "Enter")
+    terminal.wait(lambda: "Name the box" not in terminal.screen(), "the name prompt stayed")
+    for key in keys:
+        terminal.keys(key)
+    terminal.keys("t")
+    terminal.wait(lambda: f"{label}: followed" in terminal.screen() or "tracked to frame" in terminal.screen(),
+                  f"{label} was never tracked", timeout=60)
+
+
+@pytest.mark.tmux
+def test_video_alone_to_a_tree(tmp_path: Path, term: Terminal) -> None:
+    video = tmp_path / "kitchen.avi"
+    truth = hand_and_tomato(video)  # 640x360: the box mode's new box is 256-384 x 144-216
+    out = tmp_path / "boxes"
+    env = "TERM=xterm-256color COLORTERM=truecolor"
+    term.start(f"exec env -u COLUMNS -u LINES {env} {shlex.quote(str(WECOOK))} boxes {shlex.quote(str(video))} "
+               f"--out {shlex.quote(str(out))}; sleep 30")
+    term.wait_text("frame 1/60")
+    draw(term, "tomato", "AAAAAWW" + "a" * 11 + "s" * 8)  # onto the tomato, about 115-179 x 202-259
+    draw(term, "bowl", "D" + "S" * 9 + "d" * 11 + "ss")  # onto the bowl, about 397-538 x 158-295
+    term.keys("e")
+    term.wait(lambda: (out / "boxes.xml").exists() and (out / "boxes.csv").exists(), "nothing was exported")
+    term.keys("q")
+    tomato, bowl = read_cvat(out / "boxes.xml", frame_size=(640, 360), frame_count=60)
+    assert (tomato.label, bowl.label) == ("tomato", "bowl")
+    assert iou(tomato.boxes[0], truth["tomato"]) > 0.6 and iou(bowl.boxes[0], truth["bowl"]) > 0.6
+    assert len(tomato.frames) > 40  # carried into the bowl and followed
+
+    root = tmp_path / "sessions"
+    made = subprocess.run([str(WECOOK), "new", "kitchen", "--video", str(video), "--objects", str(out / "boxes.xml"),
+                           "--root", str(root), "--hand-model", "lite"], capture_output=True, text=True, timeout=300)
+    assert made.returncode == 0, made.stderr
+    assert "RH_P1" in (root / "kitchen.hands.csv").read_text()
+    analysed = subprocess.run([str(WECOOK), "analyze", "kitchen", "--root", str(root)], capture_output=True,
+                              text=True, timeout=300)
+    assert analysed.returncode == 0, analysed.stderr
+    trees = read_tree_file(root / "kitchen" / "trees.yaml")
+    assert any("tomato" in str(t.tree) and "RH_P1" in str(t.tree) for t in trees), trees

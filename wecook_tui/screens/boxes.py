@@ -1,0 +1,369 @@
+"""Box mode: draw a box on the frame (mouse drag, or keys to move and resize it), name it, let OpenCV's tracker
+carry it through the video until it loses the object, correct it at any frame (a keyframe; boxes between
+keyframes are interpolated), export the boxes as CVAT for video XML and wecook CSV.
+
+The core is :mod:`wecook_core.observations.tracking`; this screen only edits :class:`BoxTrack` values (every
+edit is kept for undo) and runs the tracker in a worker.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any, ClassVar
+
+from textual import events, work
+from textual.app import ComposeResult
+from textual.binding import Binding
+from textual.containers import Vertical
+from textual.reactive import var
+from textual.screen import ModalScreen, Screen
+from textual.widgets import Footer, Input, OptionList, Static
+from textual.widgets.option_list import Option
+
+from wecook_core.observations.tracking import Box, BoxTrack, TrackParams, track_from_last_keyframe
+from wecook_tui.frames import BoxMark, FrameSource, Overlay, fit
+from wecook_tui.widgets.frame_view import FrameView
+
+STEP = 0.02
+"""A key moves or resizes the box by this fraction of the frame."""
+
+COLOURS = ((230, 90, 60), (80, 170, 240), (120, 210, 90), (240, 200, 60), (200, 110, 230), (90, 220, 210))
+
+BOX_BINDINGS: list[Binding] = [
+    Binding("right,l", "step(1)", "Next frame", id="boxes-next-frame"),
+    Binding("left,h", "step(-1)", "Prev frame", id="boxes-prev-frame"),
+    Binding("shift+right,L", "step(10)", "+10 frames", show=False, id="boxes-forward-10"),
+    Binding("shift+left,H", "step(-10)", "-10 frames", show=False, id="boxes-back-10"),
+    Binding("b", "new_box", "New box", id="boxes-new"),
+    Binding("w", "move(0,-1)", "Up", show=False, id="boxes-up"),
+    Binding("s", "move(0,1)", "Down", show=False, id="boxes-down"),
+    Binding("a", "move(-1,0)", "Left", show=False, id="boxes-left"),
+    Binding("d", "move(1,0)", "Right", show=False, id="boxes-right"),
+    Binding("D", "resize(1,0)", "Wider", show=False, id="boxes-wider"),
+    Binding("A", "resize(-1,0)", "Narrower", show=False, id="boxes-narrower"),
+    Binding("S", "resize(0,1)", "Taller", show=False, id="boxes-taller"),
+    Binding("W", "resize(0,-1)", "Shorter", show=False, id="boxes-shorter"),
+    Binding("n", "name", "Name", id="boxes-name"),
+    Binding("t", "track", "Track", id="boxes-track"),
+    Binding("tab", "next_box", "Next box", show=False, id="boxes-next"),
+    Binding("x", "drop_keyframe", "Drop keyframe", show=False, id="boxes-drop"),
+    Binding("z,ctrl+z", "undo", "Undo", id="boxes-undo"),
+    Binding("e", "export", "Export", id="boxes-export"),
+    Binding("escape,q", "back", "Back", id="boxes-back"),
+]
+
+
+@dataclass(frozen=True)
+class BoxVideo:
+    """What the box mode works on."""
+
+    path: str
+    size: tuple[int, int]
+    """(width, height) pixels."""
+    fps: float
+    frame_count: int
+
+
+class NameScreen(ModalScreen[str | None]):
+    """Type a label (any new one is allowed) or pick one of the known labels, best first."""
+
+    BINDINGS: ClassVar = [Binding("escape", "cancel", "Cancel", id="name-cancel")]
+
+    def __init__(self, labels: Sequence[str], current: str = "") -> None:
+        super().__init__()
+        self.labels = list(labels)
+        self.current = current
+
+    def compose(self) -> ComposeResult:
+        with Vertical(id="picker"):
+            yield Static("Name the box: type a label, or pick one (enter)", id="picker-title")
+            yield Input(value=self.current, placeholder="label", id="name-input")
+            yield OptionList(*(Option(label, id=label) for label in self.labels[:200]), id="picker-options")
+
+    def on_mount(self) -> None:
+        self.query_one(Input).focus()
+
+    def on_input_changed(self, event: Input.Changed) -> None:
+        text = event.value.strip().lower()
+        options = self.query_one(OptionList)
+        options.clear_options()
+        matching = [label for label in self.labels if text in label.lower()] if text else self.labels
+        options.add_options([Option(label, id=label) for label in matching[:200]])
+
+    def on_input_submitted(self, event: Input.Submitted) -> None:
+        event.stop()
+        value = event.value.strip()
+        self.dismiss(value or None)
+
+    def on_option_list_option_selected(self, event: OptionList.OptionSelected) -> None:
+        event.stop()
+        self.dismiss(event.option.id)
+
+    def action_cancel(self) -> None:
+        self.dismiss(None)
+
+
+def known_labels() -> list[str]:
+    """Labels to name a box from: the commonsense corpus's objects, most often seen first, then the rest of
+    the category table, alphabetically."""
+    from wecook_core.knowledge.categories import load_categories
+    from wecook_core.knowledge.recognize import load_knowledge
+
+    knowledge = load_knowledge()
+    counts = knowledge.pair_counts.sum(axis=0)
+    ranked = [knowledge.objects[i].replace("_", " ") for i in sorted(range(len(knowledge.objects)),
+                                                                      key=lambda i: (-int(counts[i]), i))]
+    seen = set(ranked)
+    rest = sorted(name.replace("_", " ") for name in load_categories().entries if name.replace("_", " ") not in seen)
+    return ranked + rest
+
+
+class BoxScreen(Screen[None]):
+    BINDINGS = BOX_BINDINGS
+
+    frame: var[int] = var(0, init=False)
+
+    def __init__(self, video: BoxVideo, out_dir: Path, *, source: FrameSource | None = None,
+                 labels: Callable[[], list[str]] = known_labels, params: TrackParams | None = None,
+                 exit_on_back: bool = False) -> None:
+        super().__init__()
+        self.exit_on_back = exit_on_back
+        """Back quits the app (`wecook boxes`) instead of returning to the workbench."""
+        self.video = video
+        self.out_dir = Path(out_dir)
+        self.source = source if source is not None else FrameSource(video.path)
+        self.labels = labels
+        self.params = params or TrackParams()
+        self.tracks: list[BoxTrack] = []
+        self.selected: int | None = None
+        self.history: list[tuple[list[BoxTrack], int | None]] = []
+        self.editing: Box | None = None
+        """The box being placed at the current frame, before it becomes a keyframe."""
+        self._drag: tuple[float, float] | None = None
+        self.tracking = False
+
+    def compose(self) -> ComposeResult:
+        yield FrameView(id="box-frame")
+        yield Static("", id="box-status")
+        yield Footer()
+
+    def on_mount(self) -> None:
+        view = self.query_one(FrameView)
+        view.set_source(self.source, self.video.size)
+        self._show()
+
+    # --------------------------------------------------------------------------------- state
+
+    def _remember(self) -> None:
+        self.history.append((list(self.tracks), self.selected))
+
+    def _set(self, index: int, track: BoxTrack) -> None:
+        self._remember()
+        self.tracks[index] = track
+
+    def current(self) -> BoxTrack | None:
+        return self.tracks[self.selected] if self.selected is not None else None
+
+    def box_at(self, track: BoxTrack, frame: int) -> Box | None:
+        return track.boxes().get(frame)
+
+    def _overlay(self) -> Overlay:
+        marks = []
+        for i, track in enumerate(self.tracks):
+            box = self.box_at(track, self.frame)
+            if box is not None:
+                key = " *" if self.frame in track.keyframes else ""
+                marks.append(BoxMark(f"{track.label}{key}", box, COLOURS[i % len(COLOURS)], held=i == self.selected))
+        return Overlay(boxes=tuple(marks))
+
+    def _show(self) -> None:
+        self.query_one(FrameView).show(self.frame, self._overlay())
+        track = self.current()
+        parts = [f"frame {self.frame + 1}/{self.video.frame_count}"]
+        if track is not None:
+            keys = ", ".join(str(f + 1) for f in sorted(track.keyframes))
+            state = "tracking..." if self.tracking else (
+                f"lost at frame {track.lost_at + 1}" if track.lost_at is not None else
+                f"tracked to frame {max(track.tracked) + 1}" if track.tracked else "not tracked")
+            parts.append(f"{track.label} (keyframes {keys}; {state})")
+        parts.append(f"{len(self.tracks)} boxes")
+        self.query_one("#box-status", Static).update("   ".join(parts))
+
+    def watch_frame(self) -> None:
+        self._show()
+
+    # ------------------------------------------------------------------------------- actions
+
+    def action_step(self, delta: int) -> None:
+        self.frame = max(0, min(self.video.frame_count - 1, self.frame + delta))
+
+    def action_new_box(self) -> None:
+        w, h = self.video.size
+        box = (0.4 * w, 0.4 * h, 0.6 * w, 0.6 * h)
+        self.add_box(box)
+
+    def add_box(self, box: Box, label: str = "object") -> None:
+        self._remember()
+        track_id = max((t.track_id for t in self.tracks), default=0) + 1
+        self.tracks.append(BoxTrack(track_id, label).with_keyframe(self.frame, box))
+        self.selected = len(self.tracks) - 1
+        self._show()
+        if label == "object":
+            self.action_name()
+
+    def _edit(self, change: Callable[[Box], Box]) -> None:
+        track = self.current()
+        if track is None:
+            self.notify("No box: draw one (b or a mouse drag).", severity="warning")
+            return
+        box = self.box_at(track, self.frame)
+        if box is None:
+            box = track.keyframes[max(f for f in track.keyframes if f <= self.frame)] if any(
+                f <= self.frame for f in track.keyframes) else track.keyframes[min(track.keyframes)]
+        self._set(self.selected, track.with_keyframe(self.frame, self._clip(change(box))))  # type: ignore[arg-type]
+        self._show()
+
+    def _clip(self, box: Box) -> Box:
+        w, h = self.video.size
+        x1, y1, x2, y2 = box
+        x1, x2 = sorted((min(max(x1, 0.0), w), min(max(x2, 0.0), w)))
+        y1, y2 = sorted((min(max(y1, 0.0), h), min(max(y2, 0.0), h)))
+        return (x1, y1, max(x2, x1 + 1), max(y2, y1 + 1))
+
+    def action_move(self, dx: int, dy: int) -> None:
+        w, h = self.video.size
+        self._edit(lambda b: (b[0] + dx * STEP * w, b[1] + dy * STEP * h, b[2] + dx * STEP * w, b[3] + dy * STEP * h))
+
+    def action_resize(self, dx: int, dy: int) -> None:
+        w, h = self.video.size
+        self._edit(lambda b: (b[0], b[1], b[2] + dx * STEP * w, b[3] + dy * STEP * h))
+
+    def action_next_box(self) -> None:
+        if self.tracks:
+            self.selected = 0 if self.selected is None else (self.selected + 1) % len(self.tracks)
+            self._show()
+
+    def action_name(self) -> None:
+        track = self.current()
+        if track is None:
+            return
+        index = self.selected
+
+        def named(label: str | None) -> None:
+            if label and index is not None and index < len(self.tracks):
+                self._set(index, replace(self.tracks[index], label=label))
+                self._show()
+
+        self.app.push_screen(NameScreen(self.labels(), "" if track.label == "object" else track.label), named)
+
+    def action_drop_keyframe(self) -> None:
+        track = self.current()
+        if track is None or self.frame not in track.keyframes:
+            return
+        if len(track.keyframes) == 1:
+            self._remember()
+            del self.tracks[self.selected]  # type: ignore[arg-type]
+            self.selected = (len(self.tracks) - 1) if self.tracks else None
+        else:
+            self._set(self.selected, track.without_keyframe(self.frame))  # type: ignore[arg-type]
+        self._show()
+
+    def action_undo(self) -> None:
+        if self.history:
+            self.tracks, self.selected = self.history.pop()
+            self._show()
+
+    def action_track(self) -> None:
+        track = self.current()
+        if track is None or self.tracking:
+            return
+        self.tracking = True
+        self._show()
+        self._track(self.selected, track)
+
+    @work(thread=True, exclusive=True, group="box-track", exit_on_error=False)
+    def _track(self, index: int, track: BoxTrack) -> None:
+        try:
+            result = track_from_last_keyframe(self.video.path, track, self.video.fps, self.params)
+        except Exception as error:  # say what failed, never a traceback
+            self.app.call_from_thread(self._tracked, index, track, f"{type(error).__name__}: {error}")
+            return
+        self.app.call_from_thread(self._tracked, index, result, None)
+
+    def _tracked(self, index: int, result: BoxTrack, error: str | None) -> None:
+        self.tracking = False
+        if error is not None:
+            self.notify(f"Tracking failed: {error}", severity="error")
+        elif index < len(self.tracks) and self.tracks[index].keyframes == result.keyframes:
+            self._set(index, result)
+            end = result.lost_at if result.lost_at is not None else "the end"
+            self.notify(f"{result.label}: followed {len(result.tracked)} frames (to {end})")
+        self._show()
+
+    def action_export(self) -> None:
+        paths = self.export()
+        if paths:
+            self.notify(f"Wrote {paths[0]} and {paths[1]}")
+
+    def export(self) -> tuple[Path, Path] | None:
+        from wecook_core.formats.cvat_write import write_cvat
+        from wecook_core.formats.native import write_objects_csv
+
+        if not self.tracks:
+            self.notify("No boxes to export.", severity="warning")
+            return None
+        objects = [t.object_track() for t in self.tracks]
+        self.out_dir.mkdir(parents=True, exist_ok=True)
+        xml, csv = self.out_dir / "boxes.xml", self.out_dir / "boxes.csv"
+        write_cvat(xml, objects, size=self.video.size, keyframes={t.track_id: t.keyframes for t in self.tracks})
+        write_objects_csv(csv, objects)
+        return xml, csv
+
+    def action_back(self) -> None:
+        if self.exit_on_back:
+            self.app.exit()
+        else:
+            self.app.pop_screen()
+
+    # --------------------------------------------------------------------------------- mouse
+
+    def pixel(self, x: int, y: int) -> tuple[float, float] | None:
+        """The video pixel under cell (x, y) of the frame view, or None outside the picture."""
+        view = self.query_one(FrameView)
+        width, height = fit(self.video.size, (view.size.width, view.size.height))
+        pad = max(0, (view.size.width - width) // 2)
+        px, py = (x - pad) / width * self.video.size[0], (2 * y + 1) / height * self.video.size[1]
+        if not (0 <= px <= self.video.size[0] and 0 <= py <= self.video.size[1]):
+            return None
+        return (px, py)
+
+    def on_mouse_down(self, event: events.MouseDown) -> None:
+        offset = event.get_content_offset(self.query_one(FrameView))
+        self._drag = self.pixel(offset.x, offset.y) if offset is not None else None
+
+    def on_mouse_up(self, event: events.MouseUp) -> None:
+        start, self._drag = self._drag, None
+        offset = event.get_content_offset(self.query_one(FrameView))
+        end = self.pixel(offset.x, offset.y) if offset is not None else None
+        if start is None or end is None or abs(end[0] - start[0]) < 2 or abs(end[1] - start[1]) < 2:
+            return
+        box = self._clip((min(start[0], end[0]), min(start[1], end[1]), max(start[0], end[0]),
+                          max(start[1], end[1])))
+        track = self.current()
+        if track is not None and self.box_at(track, self.frame) is not None:
+            self._set(self.selected, track.with_keyframe(self.frame, box))  # type: ignore[arg-type]
+            self._show()
+        else:
+            self.add_box(box)
+
+
+def box_video(app: Any) -> BoxVideo | None:
+    """The video of the workbench's open session (None before it opened)."""
+    obs = getattr(app, "obs", None)
+    if obs is None:
+        return None
+    video = obs.video
+    return BoxVideo(video.path, (video.width, video.height), float(video.fps),
+                    max(1, video.decoded_frames or video.frame_count))
