@@ -41,7 +41,7 @@ def test_ingredient_lies_in_the_container_with_the_best_jaccard_index():
     assert assoc.containment == {"tomato": "bowl"}
 
 
-def test_hand_takes_the_closest_of_overlapping_objects_and_a_contained_ingredient_means_its_container():
+def test_a_still_hand_on_an_ingredient_in_its_container_holds_the_container():
     hand = (195, 335, 225, 365)  # on the tomato, inside the board
     obs = observations(20, {
         "chopping_board": (Category.CONTAINER, [still(0, 20, BOARD)]),
@@ -49,8 +49,7 @@ def test_hand_takes_the_closest_of_overlapping_objects_and_a_contained_ingredien
     }, {"LH_P1": [still(0, 20, hand)]})
     links = frame_links(obs, 0, 20, Params())
     names = links.boxes.names
-    assert names[links.touched[0, 0]] == "tomato"  # closest centre among board and tomato
-    assert names[links.held[0, 0]] == "chopping_board"  # the tomato lies on the board
+    assert names[links.held[0, 0]] == "chopping_board"  # nothing moves: the tomato lies on the board
     (assoc,) = associate(obs, one_segment(obs), Params())
     assert assoc.hand_object == {"LH_P1": "chopping_board"}
 
@@ -73,7 +72,7 @@ def test_links_shorter_than_min_frames_are_dropped():
     on = (290, 95, 320, 125)
     obs = observations(40, {"knife": (Category.TOOL, [still(0, 40, knife)])},
                        {"RH_P1": [still(0, 10, away), still(10, 15, on), still(15, 28, away), still(28, 40, on)]})
-    short, long = associate(obs, Segmentation({}, (Segment(0, 20), Segment(20, 40))), Params(min_frames=8))
+    short, long = associate(obs, Segmentation({}, (Segment(0, 20), Segment(20, 40))), Params(min_link_s=8 / 30))
     assert short.hand_object == {}
     assert long.hand_object == {"RH_P1": "knife"}
 
@@ -138,9 +137,9 @@ def test_a_hand_the_detector_misses_for_a_few_frames_keeps_its_object():
     on = (290, 95, 320, 125)
     obs = observations(30, {"knife": (Category.TOOL, [still(0, 30, knife)])},
                        {"RH_P1": [still(0, 12, on), still(18, 30, on)]})  # frames 12..17 missing
-    links = frame_links(obs, 0, 30, Params(fill_gap=10))
+    links = frame_links(obs, 0, 30, Params(fill_gap_s=10 / 30))
     assert (links.held[:, 1] == 0).all()
-    assert (frame_links(obs, 0, 30, Params(fill_gap=0)).held[12:18, 1] == NONE).all()
+    assert (frame_links(obs, 0, 30, Params(fill_gap_s=0)).held[12:18, 1] == NONE).all()
 
 
 def test_an_object_carried_past_another_does_not_act_on_it():

@@ -132,18 +132,19 @@ def _hand_share(knowledge: Knowledge, ingredient: str) -> float:
 
 def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, diagonal: float) -> bool:
     """The hand stays put (:func:`~wecook_core.associate.dwelling` within ``still_fraction`` of the image
-    diagonal) for ``min_frames`` consecutive frames of the segment: it works what it holds, it does not just
+    diagonal) for ``min_link_s`` without a break of the segment: it works what it holds, it does not just
     grasp it on the way somewhere."""
     track = obs.hand(hand)
     if track is None:
         return False
-    window = params.dwell_frames
+    rate = params.at(obs.video.fps)
+    window = rate.dwell_frames
     lo, hi = segment.start - window, segment.end + window
     a, b = np.searchsorted(track.frames, [lo, hi])
     xy = np.full((hi - lo, 2), np.nan)
     xy[track.frames[a:b] - lo] = track.xy[a:b]
     still = dwelling_points(xy, window, params.still_fraction * diagonal)[window : window + len(segment)]
-    return bool(longest_runs(still[:, None])[0] >= min(params.min_frames, len(segment)))
+    return bool(longest_runs(still[:, None])[0] >= min(rate.min_frames, len(segment)))
 
 
 # ------------------------------------------------------------------------------------------- segments
@@ -195,7 +196,7 @@ def _same_object_holding(acts: dict[str, Action], assoc: Associations, timeline:
 
         def grasped(hand: str, column: int = column) -> int:
             labels = timeline.held[: segment.end, HANDS.index(hand)]
-            spans = hold_spans(labels, column, params.min_frames)
+            spans = hold_spans(labels, column, params.at(timeline.fps).min_frames)
             return spans[-1][0] if spans else segment.start
 
         ordered = sorted(hands, key=lambda h: (grasped(h), HANDS.index(h)))

@@ -2,19 +2,21 @@
 object-object.
 
 Everything is computed per frame (:mod:`wecook_core.perception.frame_links`: dense arrays aligned on frame index, one
-row per frame, NaN where a box is absent; gaps of at most ``params.fill_gap`` frames interpolated), gathered in
+row per frame, NaN where a box is absent; gaps of at most ``params.fill_gap_s`` interpolated), gathered in
 blocks of :data:`~wecook_core.frame_links.BLOCK_FRAMES` so memory does not grow with the video, then summarised
-per segment (here): a link is kept only when it holds for at least ``params.min_frames`` consecutive frames
-inside the segment (a segment shorter than that is judged on the ``min_frames`` around it).
+per segment (here): a link is kept only when it holds for at least ``params.min_link_s`` without a break
+inside the segment (a segment shorter than that is judged on the ``min_link_s`` around it).
 
 - Ingredient-container: an ingredient lies in a container when most of its box is inside the container's box
   (``params.contain_fraction``); among several, the highest Jaccard index wins.
-- Hand-object: the objects whose boxes overlap the hand's box; among several, the one overlapped longest
-  without a break (a grasp persists while the hand carries the object over others), then the closest box
-  centre; a contained ingredient is replaced by its container.
+- Hand-object: among the objects whose boxes overlap the hand's box, the one that moves with the hand,
+  smoothed over time by Viterbi (:mod:`wecook_core.perception.holding`: motion coherence of hand and box as
+  the emission, a switching cost as hysteresis). The container under a held bottle, spoon or bread does not
+  move with the hand: it is the held object's destination (object-object below), never the held object; a
+  bowl carried with an ingredient in it is held rather than the ingredient.
 - Object-object: from each held object to the containers and ingredients whose boxes come within
   ``params.near_fraction`` of the image diagonal of it while it dwells there (``params.dwell_*``: passing by
-  is not acting), for ``min_frames`` and ``params.min_share`` of the segment; closest first; never a tool.
+  is not acting), for ``min_link_s`` and ``params.min_share`` of the segment; closest first; never a tool.
 
 :func:`associate_segments` also returns the :class:`Timeline`: the per-frame links of the whole video, which
 transfer and collaboration detection track over time (:mod:`wecook_core.perception.actions`).
@@ -52,7 +54,7 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True, eq=False)
 class Timeline:
-    """Per-frame links of the whole video, row = frame index, before the ``min_frames`` filter (what transfer
+    """Per-frame links of the whole video, row = frame index, before the ``min_link_s`` filter (what transfer
     and collaboration detection track over time), with a segment's corrected hand-object links written in."""
 
     names: tuple[str, ...]
@@ -63,6 +65,8 @@ class Timeline:
     """int16 ``(frames, hands)``: see :attr:`FrameLinks.held`; hands in :data:`HANDS` order."""
     touched: np.ndarray
     """int16 ``(frames, hands)``: see :attr:`FrameLinks.touched`."""
+    fps: float = 30.0
+    """The video's frame rate."""
 
     def column(self, name: str) -> int:
         return self.names.index(name)
@@ -76,14 +80,14 @@ def associations_of(
     corrections: Corrections | None = None,
     window: Segment | None = None,
 ) -> Associations:
-    """The links of one segment that last ``min_frames`` consecutive frames, from its per-frame links, with
+    """The links of one segment that last ``min_link_s`` consecutive frames, from its per-frame links, with
     the user's hand-object and object-object corrections for this segment applied. ``window``: the frames
-    to summarise when not the segment's own (a segment shorter than ``min_frames`` is judged on the
-    ``min_frames`` around it)."""
+    to summarise when not the segment's own (a segment shorter than ``min_link_s`` is judged on the
+    ``min_link_s`` around it)."""
     window = window or segment
     lo, hi = window.start - links.start, window.end - links.start
     names = links.boxes.names
-    min_frames = min(params.min_frames, hi - lo)  # a link that lasts a whole short segment counts
+    min_frames = min(params.at(links.boxes.fps).min_frames, hi - lo)  # a link that lasts a whole short segment counts
     containment: dict[str, str] = {}
     for column, category in enumerate(links.boxes.categories):
         if category is Category.INGREDIENT:
@@ -114,7 +118,7 @@ def associations_of(
 def near_objects(
     links: FrameLinks, held: int, params: Params, rows: np.ndarray, video_diagonal: float
 ) -> tuple[int, ...]:
-    """Containers and ingredients near object column ``held`` for ``min_frames`` consecutive frames (and at
+    """Containers and ingredients near object column ``held`` for ``min_link_s`` consecutive frames (and at
     least ``min_share`` of the frames) among ``rows`` (a boolean mask over the rows of ``links``), closest
     first (mean box gap).
 
@@ -123,14 +127,15 @@ def near_objects(
     itself are never linked."""
     boxes = links.boxes
     gap = box_gap(boxes.objects[:, held : held + 1, :], boxes.objects)
+    rate = params.at(boxes.fps)
     near = (gap <= params.near_fraction * video_diagonal) & rows[:, None] & dwelling(
-        boxes.objects[:, held, :], params.dwell_frames, params.dwell_fraction * video_diagonal)[:, None]
+        boxes.objects[:, held, :], rate.dwell_frames, params.dwell_fraction * video_diagonal)[:, None]
     for column, category in enumerate(boxes.categories):
         if category is Category.TOOL or column == held:
             near[:, column] = False
     longest = longest_runs(near)
     frames = int(rows.sum())
-    needed = max(min(params.min_frames, frames), params.min_share * frames)
+    needed = max(min(rate.min_frames, frames), params.min_share * frames)
     keep = np.flatnonzero((longest >= needed) & (longest > 0))
     if not len(keep):
         return ()
@@ -192,6 +197,7 @@ def associate_segments(
     """Associations of each segment, with the user's corrections applied, and the whole video's per-frame
     links. Works one segment at a time: memory holds one segment's boxes, not the video's."""
     diagonal = video_diagonal(obs)
+    rate = params.at(obs.video.fps)
     names = tuple(track.name for track in obs.objects)
     categories = tuple(Category(obs.categories.get(name, Category.INGREDIENT)) for name in names)
     total = frame_count(obs, segments)
@@ -216,19 +222,18 @@ def associate_segments(
         for segment in segments[first : last + 1]:
             # a segment too short to hold a link of min_frames is judged on the min_frames around it, once
             # the frames after it are known
-            short = len(segment) < params.min_frames
+            short = len(segment) < rate.min_frames
             associations.append(None if short else associations_of(
                 crop_links(links, segment.start, segment.end), segment, params, diagonal, corrections))
         first = last + 1
     for i, segment in enumerate(segments):
         if associations[i] is None:
-            pad = (params.min_frames - len(segment) + 1) // 2
+            pad = (rate.min_frames - len(segment) + 1) // 2
             window = Segment(max(0, segment.start - pad), min(total, segment.end + pad))
             rows = slice(window.start, window.end)
-            boxes = frame_boxes(obs, window.start, window.end, params.fill_gap)
+            boxes = frame_boxes(obs, window.start, window.end, rate.fill_gap)
             around = FrameLinks(boxes, container[rows].astype(np.int32), held[rows].astype(np.int32),
-                                touched[rows].astype(np.int32),
-                                np.full((2, len(HANDS), len(names)), NONE, dtype=np.int64))
+                                touched[rows].astype(np.int32), None)
             associations[i] = associations_of(around, segment, params, diagonal, corrections, window)
     done = tuple(a for a in associations if a is not None)
     if corrections is not None:
@@ -237,7 +242,7 @@ def associate_segments(
                 if (segment.start, hand) in corrections.hand_object:
                     chosen = association.hand_object.get(hand)
                     held[segment.start : segment.end, column] = names.index(chosen) if chosen is not None else NONE
-    return done, Timeline(names, categories, container, held, touched)
+    return done, Timeline(names, categories, container, held, touched, obs.video.fps or 30.0)
 
 
 def associate(
