@@ -101,13 +101,21 @@ def test_hold_spans_bridge_short_gaps():
     assert hold_spans(labels, 0, 8) == [(0, 23)]
 
 
-def test_a_still_hand_on_a_bottle_with_nothing_near_only_grasps_it(knowledge):
-    # hands squeeze lemons, they do not squeeze oil: the commonsense share of hand verbs decides
+def test_a_brief_still_hand_on_a_bottle_only_grasps_it_a_long_one_on_an_egg_peels_it(knowledge):
+    # hands squeeze lemons, not oil: a short pause on a bottle is a grasp, since the commonsense share of the
+    # hand verbs is small; an ingredient held still for longer than min_action_s is worked by the hand
+    # whatever that share (peel the egg), and rolling, which moves the hand, is never what a still hand does
     bottle = (300, 150, 320, 190)
-    obs = observations(90, {"oil": (Category.INGREDIENT, [still(0, 90, bottle)])},
-                       {"RH_P1": [still(0, 90, (295, 160, 325, 190))]})
+    obs = observations(20, {"oil": (Category.INGREDIENT, [still(0, 20, bottle)])},
+                       {"RH_P1": [still(0, 20, (295, 160, 325, 190))]})
     (only,) = recognise(obs, [], knowledge)
     assert [(a.kind, a.held) for a in only.actions] == [(ActionKind.GRASP, "oil")]
+    egg = observations(90, {"egg": (Category.INGREDIENT, [still(0, 90, bottle)])},
+                       {"RH_P1": [still(0, 90, (295, 160, 325, 190))]})
+    (only,) = recognise(egg, [], knowledge)
+    (action,) = only.actions
+    assert action.kind is ActionKind.HAND and action.targets == ("egg",)
+    assert action.verb in ("squeeze", "peel", "wrap") and "roll" not in dict(action.scores)
 
 
 def test_a_lemon_carried_across_the_table_is_grasped_not_squeezed(knowledge):

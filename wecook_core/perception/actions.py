@@ -46,7 +46,13 @@ if TYPE_CHECKING:
     from wecook_core.perception.params import Params
 
 HAND_VERBS: tuple[str, ...] = ("squeeze", "peel", "roll", "wrap")
-"""Verbs a bare hand performs on the ingredient it holds (the candidates of a HAND action)."""
+"""Verbs a bare hand performs on the ingredient it holds."""
+STILL_HAND_VERBS: tuple[str, ...] = ("squeeze", "peel", "wrap")
+"""The candidates of a HAND action: a hand works an ingredient by itself only while it stays put
+(:func:`hand_still`), and rolling moves the hand back and forth."""
+HELD_VERBS: tuple[str, ...] = ("pour", "sprinkle", "dip")
+"""The candidates of a held ingredient acting on a container (DESIGN.md's "held" case): without a tool
+it cannot cut, peel or stir."""
 
 
 # ------------------------------------------------------------------------------------------ individual
@@ -76,15 +82,22 @@ def individual_action(
     categories: Mapping[str, Category],
     knowledge: Knowledge,
     *,
-    still: bool | Callable[[], bool] = True,
+    still: bool | Callable[[bool], bool] = True,
     verb: str | None = None,
     hand_share: float = 0.3,
+    moves: Callable[[str], frozenset[str] | None] | None = None,
 ) -> tuple[Action | None, Ranking]:
     """The action of one hand in one segment from its associations (no transfer, no collaboration).
 
     ``still``: the hand hardly moves during the segment (a held ingredient is worked, not carried); a
-    callable is asked only when it matters.
-    ``verb``: the user's choice, replacing the recognised verb. ``hand_share``: see ``Params.hand_share``."""
+    callable is asked only when it matters, with ``True`` when the hand must stay put for a whole
+    ``Params.min_action_s`` (an ingredient worked by hand whatever the commonsense share of the hand verbs),
+    ``False`` for ``Params.min_link_s`` (enough when the hand verbs get ``hand_share``).
+    ``verb``: the user's choice, replacing the recognised verb. ``hand_share``: see ``Params.hand_share``.
+    ``moves``: object name -> the verbs its own motion in the segment allows (:mod:`.motion`; None: no say);
+    the candidates are narrowed to those when any is left. A held ingredient over a container is poured,
+    sprinkled or dipped (:data:`HELD_VERBS`); a hand that works an ingredient by itself while staying put
+    squeezes, peels or wraps it (:data:`STILL_HAND_VERBS`)."""
     segment = assoc.segment
     held = assoc.hand_object.get(hand)
     if held is None:
@@ -104,17 +117,21 @@ def individual_action(
             targets = (containers[0],)
     elif category is Category.INGREDIENT:
         if containers:  # poured, sprinkled, dipped into a container
-            targets = (containers[0],)
+            targets, allowed = (containers[0],), HELD_VERBS
         elif ingredients:
             pass  # an ingredient held beside another is not acting on it
-        elif _hand_share(knowledge, held) >= hand_share and (still() if callable(still) else still):
-            kind, targets, allowed = ActionKind.HAND, (held,), HAND_VERBS
+        elif _worked_by_hand(knowledge, held, hand_share, still):
+            kind, targets, allowed = ActionKind.HAND, (held,), STILL_HAND_VERBS
     if not targets:
         if verb is None:
             return grasp, ()
         # the user named a verb for a hand that only holds: the hand works the object it holds
         return Action(ActionKind.HAND, hand, segment.start, segment.end, verb=verb, targets=(held,)), ()
     objects = targets if kind is ActionKind.HAND else (held, *targets)
+    moved = moves(held) if moves is not None and kind is not ActionKind.HAND else None
+    if moved is not None:
+        narrowed = [v for v in (allowed if allowed is not None else knowledge.verbs) if v in moved]
+        allowed = narrowed or allowed
     ranking = _rank(knowledge, objects, allowed)
     chosen = verb or (ranking[0][0] if ranking else None)
     if chosen is None:
@@ -125,15 +142,27 @@ def individual_action(
                   scores=ranking), ranking
 
 
+def _worked_by_hand(knowledge: Knowledge, held: str, hand_share: float, still: bool | Callable[[bool], bool]) -> bool:
+    """A held ingredient with nothing near is worked by the hand when the hand stays put on it: briefly when
+    the commonsense model says hands work it, for ``min_action_s`` whatever it says (an egg held still for
+    seconds is being peeled, not carried)."""
+    if not callable(still):
+        return still and _hand_share(knowledge, held) >= hand_share
+    if _hand_share(knowledge, held) >= hand_share:
+        return still(False)
+    return still(True)
+
+
 def _hand_share(knowledge: Knowledge, ingredient: str) -> float:
     """How much of P(A | ingredient) the verbs of a bare hand take (lemon: squeeze; oil: hardly any)."""
     return sum(p for verb, p in _rank(knowledge, [ingredient]) if verb in HAND_VERBS)
 
 
-def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, diagonal: float) -> bool:
+def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, diagonal: float,
+               long: bool = False) -> bool:
     """The hand stays put (:func:`~wecook_core.associate.dwelling` within ``still_fraction`` of the image
-    diagonal) for ``min_link_s`` without a break of the segment: it works what it holds, it does not just
-    grasp it on the way somewhere."""
+    diagonal) for ``min_link_s`` (``long``: ``min_action_s``) without a break in the segment: it works what it
+    holds, it does not just grasp it on the way somewhere."""
     track = obs.hand(hand)
     if track is None:
         return False
@@ -144,7 +173,19 @@ def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, d
     xy = np.full((hi - lo, 2), np.nan)
     xy[track.frames[a:b] - lo] = track.xy[a:b]
     still = dwelling_points(xy, window, params.still_fraction * diagonal)[window : window + len(segment)]
-    return bool(longest_runs(still[:, None])[0] >= min(rate.min_frames, len(segment)))
+    needed = rate.min_action_frames if long else min(rate.min_frames, len(segment))
+    return bool(longest_runs(still[:, None])[0] >= needed)
+
+
+def _moves(obs: Observations, segment: Segment, name: str) -> frozenset[str] | None:
+    """The verbs object ``name``'s own motion over ``segment`` allows (:func:`.motion.verbs_of`)."""
+    from wecook_core.perception.frame_links import frame_boxes
+    from wecook_core.perception.motion import motion_of, verbs_of
+
+    boxes = frame_boxes(obs, segment.start, segment.end)
+    if name not in boxes.names:
+        return None
+    return verbs_of(motion_of(boxes.objects[:, boxes.names.index(name)], obs.video.fps))
 
 
 # ------------------------------------------------------------------------------------------- segments
@@ -236,7 +277,8 @@ def recognize_actions(
             verb = corrections.verbs.get((segment.start, hand))
             still = partial(hand_still, obs, hand, segment, params, diagonal)
             action, ranking = individual_action(hand, assoc, categories, knowledge, still=still, verb=verb,
-                                                hand_share=params.hand_share)
+                                                hand_share=params.hand_share,
+                                                moves=partial(_moves, obs, segment))
             if action is not None:
                 acts[hand] = action
             if ranking:

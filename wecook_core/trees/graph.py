@@ -75,7 +75,10 @@ def _ingredients(action: Action, categories: Mapping[str, Category]) -> tuple[st
 
 
 def _skeleton(action: Action, categories: Mapping[str, Category]) -> tuple[Any, ...]:
-    """An action with its ingredient targets left out (what must agree for two segments to merge)."""
+    """An action with its ingredient targets and its verb left out (what must agree for two segments to
+    merge). The verb is left out when the hand keeps the same object on the same targets: GGS cuts one
+    action into several segments, and the first strokes of a stir may not yet show its circles (the block's
+    verb is the one recognised over most of its frames, :meth:`_Block.best`). A transfer keeps its verb."""
     partner = None
     if action.partner is not None:
         inner = action.partner
@@ -84,11 +87,18 @@ def _skeleton(action: Action, categories: Mapping[str, Category]) -> tuple[Any, 
         partner = _skeleton(inner, categories)
     kept = tuple(sorted(
         t for t in action.targets if categories.get(t, Category.INGREDIENT) is not Category.INGREDIENT))
-    return (action.kind, action.hand, action.verb, action.held, kept, partner)
+    verb = action.verb if action.kind is ActionKind.TRANSFER else None
+    return (action.kind, action.hand, verb, action.held, kept, partner)
+
+
+def _verbs(action: Action) -> tuple[str | None, ...]:
+    """The verbs of an action and of its partner, outermost first."""
+    return (action.verb, *(_verbs(action.partner) if action.partner is not None else ()))
 
 
 def compatible(a: Action, b: Action, categories: Mapping[str, Category]) -> bool:
-    """Identical up to ingredients that are not visible in one of them (one's ingredients contain the other's)."""
+    """Identical up to ingredients that are not visible in one of them (one's ingredients contain the other's)
+    and up to the verb (see :func:`_skeleton`)."""
     if _skeleton(a, categories) != _skeleton(b, categories):
         return False
     ia, ib = set(_ingredients(a, categories)), set(_ingredients(b, categories))
@@ -113,14 +123,20 @@ class _Block:
         self.variants[key] = (old[0] if old else action, (old[1] if old else 0) + frames)
 
     def best(self, categories: Mapping[str, Category]) -> Action:
-        """The variant naming the most ingredients (seen in the fewest segments when they do not agree), then
-        the most targets, then the most frames."""
+        """Among the variants with the verbs recognised over the most frames, the one naming the most
+        ingredients (seen in the fewest segments when they do not agree), then the most targets, then the
+        most frames."""
+        frames: dict[tuple[str | None, ...], int] = {}
+        for action, count in self.variants.values():
+            frames[_verbs(action)] = frames.get(_verbs(action), 0) + count
+        verbs = max(frames, key=lambda v: frames[v])
+
         def rank(v: tuple[Action, int]) -> tuple[int, int, int]:
             a = v[0]
             targets = len(a.targets) + (len(a.partner.targets) if a.partner is not None else 0)
             return (len(_ingredients(a, categories)), targets, v[1])
 
-        action, _ = max(self.variants.values(), key=rank)
+        action, _ = max((v for v in self.variants.values() if _verbs(v[0]) == verbs), key=rank)
         return _span(action, self.start, self.end)
 
     def sample(self) -> Action:
