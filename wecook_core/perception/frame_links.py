@@ -186,6 +186,7 @@ def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None)
         best = np.argmax(score, axis=2)
         found = np.take_along_axis(score, best[..., None], axis=2)[..., 0] > 0
         container[:, ingredients] = np.where(found, containers[best], NONE)
+        _drop_passing(container, objects, params.at(boxes.fps).dwell_frames, params.pass_fraction)
 
     # hand-object: what moves with the hand among the boxes it overlaps, smoothed over time
     # (wecook_core.perception.holding)
@@ -200,3 +201,23 @@ def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None)
             coherent_fraction=params.coherent_fraction, switch=rate.hold_switch_frames, start=since)
     touched = held
     return FrameLinks(boxes, container, held, touched, last)
+
+
+def _drop_passing(container: np.ndarray, objects: np.ndarray, window: int, fraction: float) -> None:
+    """Unlink (in place) an ingredient from a container it only passes over: one it moves across by more
+    than ``fraction`` of the container's diagonal between ``window`` frames before and after (a tomato
+    carried from the pan to the plate over the pot is never in the pot). An ingredient riding in a bowl
+    moves with the bowl, one stirred in a pan stays inside it: both stay linked."""
+    rows, columns = np.nonzero(container >= 0)
+    if not len(rows):
+        return
+    length = len(container)
+    holders = container[rows, columns]
+    before, after = np.maximum(rows - window, 0), np.minimum(rows + window, length - 1)
+    centre = box_centres(objects)
+    relative = (centre[after, columns] - centre[after, holders]) - (centre[before, columns] - centre[before, holders])
+    box = objects[rows, holders]
+    with np.errstate(invalid="ignore"):
+        size = np.hypot(box[:, 2] - box[:, 0], box[:, 3] - box[:, 1])
+        passing = np.linalg.norm(relative, axis=1) > fraction * size
+    container[rows[passing], columns[passing]] = NONE

@@ -46,6 +46,9 @@ class Params:
     contain_fraction: float = 0.5
     """An ingredient lies in a container when at least this fraction of its box is inside the container's box
     (among several such containers, the highest Jaccard index wins)."""
+    pass_fraction: float = 0.5
+    """An ingredient is not in a container it moves across by more than this fraction of the container's
+    diagonal over ``dwell_s`` before and after (carried over it on the way somewhere)."""
     min_share: float = 0.3
     """An object-object link must also last this fraction of its segment (consecutively): a tool passing
     over a board on its way does not act on it."""

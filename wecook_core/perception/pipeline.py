@@ -123,7 +123,8 @@ def analyze(
 
     clock = time.perf_counter()
     rejected = {start for start, status in corrections.status.items() if status is SegmentStatus.REJECTED}
-    actions = merge_actions(segment_actions, obs.categories, rejected)
+    actions = merge_actions(segment_actions, obs.categories, rejected,
+                            min_hold=params.at(obs.video.fps).min_action_frames)
     trees = tree_spans(actions)
     graph = build_graph(actions)
     seconds["graph"] = time.perf_counter() - clock

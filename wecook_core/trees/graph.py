@@ -209,9 +209,15 @@ def merge_actions(
     segment_actions: Sequence[SegmentActions],
     categories: Mapping[str, Category],
     rejected: Iterable[int] = (),
+    *,
+    min_hold: int = 0,
 ) -> tuple[Action, ...]:
     """The merged actions of a video, in order of start frame (then hand). Segments whose start frame is in
-    ``rejected`` give nothing and break merges."""
+    ``rejected`` give nothing and break merges. A bare hold (a grasp with no action) shorter than
+    ``min_hold`` frames is left out: a hand touching a pot for a moment on its way to the knife, or lingering
+    on the board after a cut, is the reach or release of an action, not an action, a graph node or a step of
+    the plan. Nor is a bare hold of the object a collaboration's partner holds while the collaboration lasts:
+    it is that partner's part of the collaboration."""
     rejected = set(rejected)
     merged: list[Action] = []
     for hand in HANDS:
@@ -224,7 +230,11 @@ def merge_actions(
                 items.append((segment.start, segment.end, PARTNER))
             else:
                 items.append((segment.start, segment.end, entry.action_of(hand)))
-        merged += merge_lane(items, categories)
+        merged += [a for a in merge_lane(items, categories)
+                   if a.kind is not ActionKind.GRASP or a.end - a.start >= min_hold]
+    partners = [(a.partner, a) for a in merged if a.partner is not None]
+    merged = [a for a in merged if not (a.kind is ActionKind.GRASP and any(
+        p.hand == a.hand and _grip(p) == a.held and c.start < a.end and a.start < c.end for p, c in partners))]
     return tuple(sorted(merged, key=lambda a: (a.start, HANDS.index(a.hand), a.end)))
 
 
