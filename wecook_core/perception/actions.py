@@ -179,13 +179,14 @@ def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, d
 
 def _moves(obs: Observations, segment: Segment, name: str) -> frozenset[str] | None:
     """The verbs object ``name``'s own motion over ``segment`` allows (:func:`.motion.verbs_of`)."""
-    from wecook_core.perception.frame_links import frame_boxes
     from wecook_core.perception.motion import motion_of, verbs_of
 
-    boxes = frame_boxes(obs, segment.start, segment.end)
-    if name not in boxes.names:
+    try:
+        track = obs.object(name)
+    except KeyError:
         return None
-    return verbs_of(motion_of(boxes.objects[:, boxes.names.index(name)], obs.video.fps))
+    lo, hi = np.searchsorted(track.frames, [segment.start, segment.end])
+    return verbs_of(motion_of(track.boxes[lo:hi], obs.video.fps))
 
 
 # ------------------------------------------------------------------------------------------- segments

@@ -198,7 +198,8 @@ def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None)
         rate = params.at(boxes.fps)
         held, last = held_objects(
             hands, objects, overlap, container, window=rate.dwell_frames, moving_fraction=params.moving_fraction,
-            coherent_fraction=params.coherent_fraction, switch=rate.hold_switch_frames, start=since)
+            coherent_fraction=params.coherent_fraction, switch=rate.hold_switch_frames, start=since,
+            step=rate.decode_step)
     touched = held
     return FrameLinks(boxes, container, held, touched, last)
 

@@ -44,7 +44,8 @@ class Motion:
     tilt: float
     """Largest over smallest width-to-height ratio of the box (1: no change)."""
     roundness: float = 1.0
-    """Smaller over larger principal spread of the centre around its running mean (1: as wide as long)."""
+    """Smaller over larger principal spread of the centre around its running mean (1: as wide as long;
+    measured only when ``turns`` reaches :data:`CIRCLE_TURNS`)."""
 
 
 def motion_of(boxes: np.ndarray, fps: float) -> Motion | None:
@@ -64,17 +65,19 @@ def motion_of(boxes: np.ndarray, fps: float) -> Motion | None:
     jitter = float(np.median(second)) / np.sqrt(6.0) if len(second) else 0.0
     # running mean over about a second removes the drift of the stroke's centre
     half = max(1, round(0.5 * (fps if fps > 0 else 30.0)))
-    kernel = np.ones(2 * half + 1)
-    padded = np.pad(centre, ((half, half), (0, 0)), mode="edge")
-    mean = np.stack([np.convolve(padded[:, k], kernel, mode="valid") / kernel.size for k in range(2)], axis=1)
+    padded = np.pad(centre, ((half + 1, half), (0, 0)), mode="edge")
+    running = np.cumsum(padded, axis=0)
+    mean = (running[2 * half + 1 :] - running[: -2 * half - 1]) / (2 * half + 1)
     offset = centre - mean
     radius = np.linalg.norm(offset, axis=1)
     angle = np.arctan2(offset[:, 1], offset[:, 0])
     step = np.angle(np.exp(1j * np.diff(angle)))
     counted = (radius[1:] > JITTER_TIMES * max(jitter, 0.5)) & (radius[:-1] > JITTER_TIMES * max(jitter, 0.5))
     turns = float(abs(step[counted].sum()) / (2 * np.pi))
-    spread = np.sqrt(np.clip(np.linalg.eigvalsh(np.cov(offset.T)), 0, None)) if len(offset) > 2 else np.ones(2)
-    roundness = float(spread[0] / spread[1]) if spread[1] > 0 else 1.0
+    roundness = 1.0
+    if turns >= CIRCLE_TURNS:  # only then does it matter
+        spread = np.sqrt(np.clip(np.linalg.eigvalsh(np.cov(offset.T)), 0, None))
+        roundness = float(spread[0] / spread[1]) if spread[1] > 0 else 1.0
     return Motion(turns=turns, tilt=tilt, roundness=roundness)
 
 

@@ -13,6 +13,9 @@ from dataclasses import dataclass, field
 
 DEFAULT_FPS = 30.0
 """Frame rate assumed when a video does not say its own."""
+DECODE_S = 0.1
+"""Seconds per bin of the held-object decoder (:func:`wecook_core.perception.holding.held_objects`): a
+resolution of the computation, not a tunable."""
 
 
 def frames(seconds: float, fps: float, least: int = 1) -> int:
@@ -98,6 +101,7 @@ class Params:
             handover_overlap=frames(self.handover_overlap_s, fps),
             min_action_frames=frames(self.min_action_s, fps),
             hold_switch_frames=self.hold_switch_s * (fps if fps > 0 else DEFAULT_FPS),
+            decode_step=frames(DECODE_S, fps),
         )
 
 
@@ -112,3 +116,5 @@ class FrameParams:
     handover_overlap: int
     min_action_frames: int
     hold_switch_frames: float
+    decode_step: int
+    """Frames per bin of the held-object decoder (:data:`DECODE_S`)."""
