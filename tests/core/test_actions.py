@@ -124,3 +124,33 @@ def test_a_lemon_carried_across_the_table_is_grasped_not_squeezed(knowledge):
     obs = observations(60, {"lemon": (Category.INGREDIENT, lemon)}, {"LH_P1": hand})
     (only,) = recognise(obs, [], knowledge)
     assert [(a.kind, a.held) for a in only.actions] == [(ActionKind.GRASP, "lemon")]
+
+
+def circling(frame_count: int = 150, *, with_hand: bool = True):
+    """A whisk goes round in circles (radius 15 px, one turn a second) inside a pot over 30-120, brought there
+    and taken back by RH_P1 (or, without the hand, the detector never sees the hand)."""
+    import math
+
+    pot = (300, 300, 450, 420)
+    rest, centre = (100, 100, 120, 160), (375, 330)
+    whisk = [(0, 30, rest, (365, 300, 385, 360))]
+    hand = [(0, 30, (95, 95, 125, 125), (360, 295, 390, 325))]
+    for frame in range(30, 120):
+        angle = 2 * math.pi * (frame - 30) / 30
+        x, y = centre[0] + 15 * math.cos(angle), centre[1] + 15 * math.sin(angle)
+        whisk.append(still(frame, frame + 1, (x - 10, y - 30, x + 10, y + 30)))
+        hand.append(still(frame, frame + 1, (x - 15, y - 35, x + 15, y - 5)))
+    whisk.append((120, frame_count, whisk[-1][2], rest))
+    hand.append((120, frame_count, hand[-1][2], (95, 95, 125, 125)))
+    return observations(frame_count, {"pot": (Category.CONTAINER, [still(0, frame_count, pot)]),
+                                      "whisk": (Category.TOOL, whisk)}, {"RH_P1": hand} if with_hand else {})
+
+
+def test_a_tool_going_round_in_circles_in_a_pot_stirs_it(knowledge):
+    from wecook_core.knowledge.recognize import rank
+
+    per_segment = recognise(circling(), [30, 120], knowledge)
+    action = per_segment[1].action_of("RH_P1")
+    assert action is not None and (action.verb, action.held, action.targets) == ("stir", "whisk", ("pot",))
+    # what commonsense alone would have said for a whisk over a pot (pour, on the EPIC tables)
+    assert rank(knowledge, ["whisk", "pot"], ["stir", "pour"])[0][0] in ("stir", "pour")

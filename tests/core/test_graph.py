@@ -117,3 +117,35 @@ def test_tree_spans_and_cases():
     spans = tree_spans(actions)
     assert [(s.start, s.end) for s in spans] == [(0, 10), (0, 10), (0, 5), (0, 9), (0, 10)]
     assert all(parse_tree(format_tree(s.tree)) == s.tree for s in spans)
+
+
+def stir(start, end, *targets, hand="RH_P1"):
+    return Action(ActionKind.TOOL, hand, start, end, verb="stir", held="spoon", targets=targets)
+
+
+def test_one_grasp_on_the_same_targets_is_one_action_with_the_verb_of_most_frames():
+    # the first strokes of a stir do not show its circles yet: GGS's first segment is recognised as a pour
+    pour = Action(ActionKind.TOOL, "RH_P1", 0, 20, verb="pour", held="spoon", targets=("pot",))
+    items = [(0, 20, pour), (20, 60, stir(20, 60, "pot")), (60, 70, grasp(60, 70, "spoon"))]
+    (merged,) = merge_lane(items, CATEGORIES)
+    assert (merged.verb, merged.start, merged.end) == ("stir", 0, 70)
+    transfer = Action(ActionKind.TRANSFER, "RH_P1", 20, 60, verb="transfer", held="spoon",
+                      targets=("onion", "pot", "chopping_board"))
+    assert len(merge_lane([(0, 20, pour), (20, 60, transfer)], CATEGORIES)) == 2
+
+
+def test_short_bare_holds_and_a_partners_own_hold_are_not_actions():
+    from wecook_core.model import Segment, SegmentActions
+    from wecook_core.trees.graph import merge_actions
+
+    held = holding_action(40, 100)
+    per_segment = [
+        SegmentActions(Segment(0, 20), (grasp(0, 20, "pot"),)),  # a touch on the way: 20 frames
+        SegmentActions(Segment(20, 40), (cut(20, 40, "tomato"), grasp(20, 40, "knife", hand="RH_P2"))),
+        SegmentActions(Segment(40, 100), (held,), partners=("RH_P2",)),
+        SegmentActions(Segment(100, 140), (grasp(100, 140, "knife", hand="RH_P2"),)),
+    ]
+    kept = merge_actions(per_segment, CATEGORIES, min_hold=30)
+    assert [(a.kind, a.hand) for a in kept] == [(ActionKind.TOOL, "RH_P1"), (ActionKind.HOLDING, "LH_P1")]
+    everything = merge_actions(per_segment, CATEGORIES)
+    assert (ActionKind.GRASP, "RH_P1") in [(a.kind, a.hand) for a in everything]

@@ -17,8 +17,9 @@ tracking-by-detection's data association over time):
     moves the same way on either side (``Params.coherent_fraction``; one side suffices, since at a grasp the
     hand will carry the object and at a release it has), 1 for one that stays behind, 0.9 for nothing (a
     hand moving over static boxes carries none of them);
-  - when the hand is still (or a box is not seen at both ends of the window) motion says nothing: 0 for
-    every overlapping object and 0.5 for nothing (a still hand on an object is taken to hold it);
+  - when the hand is still (or it came from afar, or a box is not seen at both ends of the window) motion
+    says nothing: 0 for every overlapping object and 1 for nothing (a hand that stays on an object for
+    longer than the switching cost is taken to hold it);
   - a tie-break of at most :data:`TIE` per frame, too small to outweigh motion: closer box centres (over
     the two boxes' sizes), smaller boxes (a hand on a knife lying on a board holds the knife; a pan's box
     covers the whole close-up), and a container before an ingredient it contains that it overlaps too (a
@@ -45,7 +46,7 @@ from wecook_core.perception.label_runs import NONE
 
 TIE = 0.01
 """Most cost per frame the tie-breaks add: over ``hold_switch_s`` seconds, a hundred times less than motion."""
-MOVING_WITH, STAYING, NOTHING_MOVING, NOTHING_STILL = 0.0, 1.0, 0.9, 0.5
+MOVING_WITH, STAYING, NOTHING_MOVING, NOTHING_STILL = 0.0, 1.0, 0.9, 1.0
 """Emission costs (see the module docstring)."""
 OUTSIDE = 10.0
 """Cost of a frame where an object does not overlap the hand, inside a bin that is decoded as one (see
@@ -116,7 +117,8 @@ def emission_costs(
     costs = np.empty((length, n_hands, 1 + n_objects))
     costs[:, :, 1:] = np.where(overlap, object_cost, np.inf)
     anything = overlap.any(axis=2)
-    costs[:, :, 0] = np.where(anything, np.where(moving, NOTHING_MOVING, NOTHING_STILL), 0.0)
+    said = informative.any(axis=2)
+    costs[:, :, 0] = np.where(anything, np.where(said, NOTHING_MOVING, NOTHING_STILL), 0.0)
     return costs
 
 
