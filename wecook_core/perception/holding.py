@@ -103,7 +103,7 @@ def emission_costs(
     shape: the object is an ingredient whose container the hand overlaps too."""
     length, n_hands = hands.shape[:2]
     n_objects = objects.shape[1]
-    moving, together, informative = motion_coherence(hands, objects, overlap, window, moving_fraction,
+    _, together, informative = motion_coherence(hands, objects, overlap, window, moving_fraction,
                                                        coherent_fraction)
     object_cost = np.where(informative, np.where(together, MOVING_WITH, STAYING), MOVING_WITH)
     # tie-breaks: closer centres, smaller boxes, a container before the ingredient it holds
