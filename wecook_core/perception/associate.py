@@ -35,8 +35,10 @@ from wecook_core.perception.frame_links import (
     BLOCK_FRAMES,
     FrameBoxes,
     FrameLinks,
+    box_area,
     box_centres,
     box_gap,
+    box_intersection,
     crop,
     crop_links,
     frame_boxes,
@@ -47,6 +49,7 @@ from wecook_core.perception.label_runs import NONE, dominant, kept_runs, longest
 
 if TYPE_CHECKING:
     from wecook_core.perception.params import Params
+    from wecook_core.perception.unseen import UnseenHold
 
 
 # ------------------------------------------------------------------------------------------- segments
@@ -120,16 +123,23 @@ def near_objects(
 ) -> tuple[int, ...]:
     """Containers and ingredients near object column ``held`` for ``min_link_s`` consecutive frames (and at
     least ``min_share`` of the frames) among ``rows`` (a boolean mask over the rows of ``links``), closest
-    first (mean box gap).
+    first (mean box gap, then the larger share of the other's box covered by the held one).
 
     Near means a box gap of at most ``params.near_fraction * video_diagonal`` pixels while the held object
-    dwells there (:func:`dwelling`): passing by on the way somewhere is not acting. Tools and the held object
+    dwells there (:func:`dwelling`, within ``dwell_fraction`` of the diagonal or ``dwell_own_fraction`` of its
+    own size, whichever is more: a big spoon's strokes in a close-up are long): passing by on the way
+    somewhere is not acting. Tools and the held object
     itself are never linked."""
     boxes = links.boxes
     gap = box_gap(boxes.objects[:, held : held + 1, :], boxes.objects)
     rate = params.at(boxes.fps)
+    own = boxes.objects[:, held, :]
+    with np.errstate(invalid="ignore"):
+        size = np.nanmedian(np.hypot(own[rows, 2] - own[rows, 0], own[rows, 3] - own[rows, 1])) \
+            if np.isfinite(own[rows]).any() else 0.0
+    stay = max(params.dwell_fraction * video_diagonal, params.dwell_own_fraction * float(size))
     near = (gap <= params.near_fraction * video_diagonal) & rows[:, None] & dwelling(
-        boxes.objects[:, held, :], rate.dwell_frames, params.dwell_fraction * video_diagonal)[:, None]
+        own, rate.dwell_frames, stay)[:, None]
     for column, category in enumerate(boxes.categories):
         if category is Category.TOOL or column == held:
             near[:, column] = False
@@ -142,7 +152,14 @@ def near_objects(
     with np.errstate(invalid="ignore"):
         sums = np.where(near[:, keep], gap[:, keep], 0.0).sum(axis=0)
     mean_gap = sums / np.maximum(near[:, keep].sum(axis=0), 1)
-    order = np.lexsort((keep, mean_gap))
+    # among boxes that touch it (gap 0), the one the held object covers most of, on average: a spoon
+    # stirring the spinach just tipped over the squash covers more of the spinach's box
+    held_boxes = boxes.objects[:, held : held + 1, :]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        covered = box_intersection(held_boxes, boxes.objects[:, keep, :]) / box_area(boxes.objects[:, keep, :])
+        covered = np.where(near[:, keep], np.nan_to_num(covered), 0.0).sum(axis=0) / np.maximum(
+            near[:, keep].sum(axis=0), 1)
+    order = np.lexsort((keep, -covered, mean_gap))
     return tuple(int(keep[i]) for i in order)
 
 
@@ -193,9 +210,14 @@ def associate_segments(
     segments: Sequence[Segment],
     params: Params,
     corrections: Corrections | None = None,
+    *,
+    shots: Sequence[int] = (),
+    unseen: Sequence[UnseenHold] = (),
 ) -> tuple[tuple[Associations, ...], Timeline]:
     """Associations of each segment, with the user's corrections applied, and the whole video's per-frame
-    links. Works one segment at a time: memory holds one segment's boxes, not the video's."""
+    links. Works one segment at a time: memory holds one segment's boxes, not the video's. ``shots``: shot
+    cuts, across which no motion is compared; ``unseen``: holds by hands the detector missed
+    (:mod:`wecook_core.perception.unseen`), written in where their hand holds nothing."""
     diagonal = video_diagonal(obs)
     rate = params.at(obs.video.fps)
     names = tuple(track.name for track in obs.objects)
@@ -213,8 +235,13 @@ def associate_segments(
         while last + 1 < len(segments) and segments[last + 1].end - segments[first].start <= BLOCK_FRAMES:
             last += 1
         start, end = segments[first].start, segments[last].end
-        links = frame_links(obs, start, end, params, since if previous_end == start else None)
+        links = frame_links(obs, start, end, params, since if previous_end == start else None, shots=shots)
         since, previous_end = links.since, end
+        for hold in unseen:
+            lo, hi = max(hold.start, start), min(hold.end, end)
+            if lo < hi and hold.obj in names:
+                rows = links.held[lo - start : hi - start, HANDS.index(hold.hand)]
+                rows[rows == NONE] = names.index(hold.obj)
         rows = slice(start, end)
         container[rows] = links.container
         held[rows] = links.held

@@ -5,6 +5,7 @@ segment."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -83,11 +84,11 @@ def _scatter(out: np.ndarray, frames: np.ndarray, values: np.ndarray, start: int
             out[todo, k] = np.interp(t, near_frames, near_values[:, k])
 
 
-def _area(boxes: np.ndarray) -> np.ndarray:
+def box_area(boxes: np.ndarray) -> np.ndarray:
     return np.clip(boxes[..., 2] - boxes[..., 0], 0, None) * np.clip(boxes[..., 3] - boxes[..., 1], 0, None)
 
 
-def _intersection(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def box_intersection(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Intersection areas of broadcast box arrays ``a[..., 4]`` and ``b[..., 4]`` (NaN where either is absent)."""
     width = np.minimum(a[..., 2], b[..., 2]) - np.maximum(a[..., 0], b[..., 0])
     height = np.minimum(a[..., 3], b[..., 3]) - np.maximum(a[..., 1], b[..., 1])
@@ -134,7 +135,7 @@ class FrameLinks:
 
 def frame_links(
     obs: Observations, start: int, end: int, params: Params, since: np.ndarray | None = None,
-    block: FrameBoxes | None = None,
+    block: FrameBoxes | None = None, shots: Sequence[int] = (),
 ) -> FrameLinks:
     """Ingredient-container and hand-object links of every frame of ``[start, end)``; ``since`` carries the
     held-object smoother's state on from the frame before ``start`` (:attr:`FrameLinks.since` of the previous range).
@@ -143,7 +144,7 @@ def frame_links(
         boxes = crop(block, start, end)
     else:
         boxes = frame_boxes(obs, start, end, params.at(obs.video.fps).fill_gap)
-    return links_of(boxes, params, since)
+    return links_of(boxes, params, since, shots)
 
 
 def crop_links(links: FrameLinks, start: int, end: int) -> FrameLinks:
@@ -164,7 +165,8 @@ def crop(boxes: FrameBoxes, start: int, end: int) -> FrameBoxes:
                       boxes.hand_boxes[a:b], boxes.fps)
 
 
-def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None) -> FrameLinks:
+def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None,
+             shots: Sequence[int] = ()) -> FrameLinks:
     cats = np.array([str(c) for c in boxes.categories])
     length, n_objects = boxes.objects.shape[:2]
     objects = boxes.objects
@@ -176,10 +178,10 @@ def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None)
     if len(ingredients) and len(containers) and length:
         ing = objects[:, ingredients, None, :]
         con = objects[:, None, containers, :]
-        inter = _intersection(ing, con)
-        ing_area = _area(ing)
+        inter = box_intersection(ing, con)
+        ing_area = box_area(ing)
         with np.errstate(invalid="ignore", divide="ignore"):
-            jaccard = inter / (ing_area + _area(con) - inter)
+            jaccard = inter / (ing_area + box_area(con) - inter)
             inside = inter / ing_area
         ok = (inside >= params.contain_fraction) & (jaccard > 0)
         score = np.where(ok, jaccard, -1.0)
@@ -194,12 +196,13 @@ def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None)
     held = np.full((length, len(boxes.hands)), NONE, dtype=np.int32)
     last = since
     if n_objects and length:
-        overlap = _intersection(hands[:, :, None, :], objects[:, None, :, :]) > 0
+        overlap = box_intersection(hands[:, :, None, :], objects[:, None, :, :]) > 0
         rate = params.at(boxes.fps)
         held, last = held_objects(
             hands, objects, overlap, container, window=rate.dwell_frames, moving_fraction=params.moving_fraction,
             coherent_fraction=params.coherent_fraction, switch=rate.hold_switch_frames, start=since,
-            step=rate.decode_step)
+            step=rate.decode_step, shot=np.searchsorted(np.asarray(sorted(shots), dtype=np.int64),
+                                                        np.arange(boxes.start, boxes.end), side="right"))
     touched = held
     return FrameLinks(boxes, container, held, touched, last)
 

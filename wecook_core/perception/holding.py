@@ -58,12 +58,14 @@ def centres(boxes: np.ndarray) -> np.ndarray:
 
 
 def motion_coherence(hands: np.ndarray, objects: np.ndarray, overlap: np.ndarray, window: int,
-                     moving_fraction: float, coherent_fraction: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                     moving_fraction: float, coherent_fraction: float, shot: np.ndarray | None = None,
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(moving (frames, hands), together, informative (frames, hands, objects))``, each judged over the
     ``window`` frames before a frame and over the ``window`` frames after it: where the hand moves on either
     side, where an object's box moves along with it on a side where the hand moves, and where that side says
     anything (the hand moves, and overlaps the object at both ends: a hand coming to an object from afar
-    says nothing about holding it). One side suffices: at a grasp the hand has
+    says nothing about holding it; both ends in the same shot, ``shot`` giving each frame's: a cut is not
+    motion). One side suffices: at a grasp the hand has
     not carried the object yet but will, at a release it has but will not."""
     length = hands.shape[0]
     index = np.arange(length)
@@ -82,6 +84,8 @@ def motion_coherence(hands: np.ndarray, objects: np.ndarray, overlap: np.ndarray
             apart = np.linalg.norm(object_step[:, None, :, :] - hand_step[:, :, None, :], axis=-1)
             side_together = side_moving[:, :, None] & (apart < coherent_fraction * hand_move[:, :, None])
             side_informative = side_moving[:, :, None] & np.isfinite(apart) & overlap[a] & overlap[b]
+            if shot is not None:
+                side_informative &= (shot[a] == shot[b])[:, None, None]
             side_together &= side_informative
         moving |= side_moving
         together |= side_together
@@ -97,6 +101,7 @@ def emission_costs(
     window: int,
     moving_fraction: float,
     coherent_fraction: float,
+    shot: np.ndarray | None = None,
 ) -> np.ndarray:
     """float64 ``(frames, hands, 1 + objects)``: state 0 is "nothing", state ``1 + k`` object column ``k``;
     ``inf`` where impossible. ``overlap``: bool ``(frames, hands, objects)``; ``contained``: bool, the same
@@ -104,7 +109,7 @@ def emission_costs(
     length, n_hands = hands.shape[:2]
     n_objects = objects.shape[1]
     _, together, informative = motion_coherence(hands, objects, overlap, window, moving_fraction,
-                                                       coherent_fraction)
+                                                coherent_fraction, shot)
     object_cost = np.where(informative, np.where(together, MOVING_WITH, STAYING), MOVING_WITH)
     # tie-breaks: closer centres, smaller boxes, a container before the ingredient it holds
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -159,6 +164,7 @@ def held_objects(
     switch: float,
     start: np.ndarray | None = None,
     step: int = 1,
+    shot: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """int32 ``(frames, hands)``: the object column each hand holds on each frame (:data:`NONE`: nothing),
     and the forward costs to pass on as ``start`` of the next block of frames.
@@ -174,7 +180,7 @@ def held_objects(
     holder = np.maximum(container, 0)
     contained = ((container >= 0)[:, None, :] & overlap[rows, :, holder].transpose(0, 2, 1))[:, :, columns]
     costs = emission_costs(hands, objects[:, columns], overlap[:, :, columns], contained, window, moving_fraction,
-                           coherent_fraction)
+                           coherent_fraction, shot)
     length = len(costs)
     if step > 1 and length > step:
         bins = -(-length // step)

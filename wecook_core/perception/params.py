@@ -63,6 +63,9 @@ class Params:
     a hand's and an object's motions are compared (:attr:`moving_fraction`)."""
     dwell_fraction: float = 0.05
     """See ``dwell_s``."""
+    dwell_own_fraction: float = 0.5
+    """A held object also dwells while it moves less than this fraction of its own box's diagonal (see
+    ``dwell_s``): working strokes scale with the tool, and a close-up makes everything big."""
     moving_fraction: float = 0.25
     """A hand moves (over ``dwell_s`` before and after a frame) when its centre travels more than this
     fraction of its own box's diagonal; only then does it say which object moves along with it."""
@@ -87,6 +90,9 @@ class Params:
     """Seconds: a handover's receiver grasps the object at most this long after the giver releases it."""
     handover_overlap_s: float = 2.0
     """Seconds: two persons holding one object longer than this together is a holding, not a handover."""
+    seen_share: float = 0.5
+    """A segment whose hands are detected on less than this share of its frames is marked unsure (the
+    reviewer should look), and so is one where a hold was inferred from an object's own motion."""
     min_action_s: float = 1.0
     """Seconds: a bare hold (a grasp with no action) shorter than this, next to an action of the same hand,
     is part of that action's reach or release, not a tree, graph node or plan entry of its own."""

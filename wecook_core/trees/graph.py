@@ -97,12 +97,16 @@ def _verbs(action: Action) -> tuple[str | None, ...]:
 
 
 def compatible(a: Action, b: Action, categories: Mapping[str, Category]) -> bool:
-    """Identical up to ingredients that are not visible in one of them (one's ingredients contain the other's)
-    and up to the verb (see :func:`_skeleton`)."""
+    """Identical up to the verb (see :func:`_skeleton`) and the ingredients: one grasp of a tool on one
+    container is one action, whichever ingredient in it the tool was nearest in each segment (a spoon
+    stirring a pan of squash and turkey); the block names the ingredients seen over most of its frames. A
+    transfer's ingredients must agree (one's contain the other's: an ingredient not visible in a segment)."""
     if _skeleton(a, categories) != _skeleton(b, categories):
         return False
-    ia, ib = set(_ingredients(a, categories)), set(_ingredients(b, categories))
-    return ia <= ib or ib <= ia
+    if a.kind is ActionKind.TRANSFER:
+        ia, ib = set(_ingredients(a, categories)), set(_ingredients(b, categories))
+        return ia <= ib or ib <= ia
+    return True
 
 
 def _span(action: Action, start: int, end: int) -> Action:
@@ -136,7 +140,18 @@ class _Block:
             targets = len(a.targets) + (len(a.partner.targets) if a.partner is not None else 0)
             return (len(_ingredients(a, categories)), targets, v[1])
 
-        action, _ = max((v for v in self.variants.values() if _verbs(v[0]) == verbs), key=rank)
+        same = [v for v in self.variants.values() if _verbs(v[0]) == verbs]
+        by_ingredients: dict[tuple[str, ...], int] = {}
+        for action, count in same:
+            key = tuple(sorted(_ingredients(action, categories)))
+            by_ingredients[key] = by_ingredients.get(key, 0) + count
+        # ingredient sets nested in one another are one (an ingredient not seen in some segments); else the
+        # set seen over most frames
+        def weight(key: tuple[str, ...]) -> int:
+            return sum(n for other, n in by_ingredients.items() if set(other) <= set(key))
+
+        chosen = max(by_ingredients, key=lambda key: (weight(key), len(key)))
+        action, _ = max((v for v in same if tuple(sorted(_ingredients(v[0], categories))) == chosen), key=rank)
         return _span(action, self.start, self.end)
 
     def sample(self) -> Action:
@@ -213,11 +228,11 @@ def merge_actions(
     min_hold: int = 0,
 ) -> tuple[Action, ...]:
     """The merged actions of a video, in order of start frame (then hand). Segments whose start frame is in
-    ``rejected`` give nothing and break merges. A bare hold (a grasp with no action) shorter than
-    ``min_hold`` frames is left out: a hand touching a pot for a moment on its way to the knife, or lingering
-    on the board after a cut, is the reach or release of an action, not an action, a graph node or a step of
-    the plan. Nor is a bare hold of the object a collaboration's partner holds while the collaboration lasts:
-    it is that partner's part of the collaboration."""
+    ``rejected`` give nothing and break merges. An action or bare hold shorter than ``min_hold`` frames is
+    left out: a hand touching a pot for a moment on its way to the knife, or lingering on the board after a
+    cut, is the reach or release of an action, not an action, a graph node or a step of the plan. Nor is a
+    bare hold of the object a collaboration's partner holds while the collaboration lasts: it is that
+    partner's part of the collaboration."""
     rejected = set(rejected)
     merged: list[Action] = []
     for hand in HANDS:
@@ -230,8 +245,7 @@ def merge_actions(
                 items.append((segment.start, segment.end, PARTNER))
             else:
                 items.append((segment.start, segment.end, entry.action_of(hand)))
-        merged += [a for a in merge_lane(items, categories)
-                   if a.kind is not ActionKind.GRASP or a.end - a.start >= min_hold]
+        merged += [a for a in merge_lane(items, categories) if a.end - a.start >= min_hold]
     partners = [(a.partner, a) for a in merged if a.partner is not None]
     merged = [a for a in merged if not (a.kind is ActionKind.GRASP and any(
         p.hand == a.hand and _grip(p) == a.held and c.start < a.end and a.start < c.end for p, c in partners))]
