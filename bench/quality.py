@@ -70,15 +70,19 @@ def _count(tally: Tally, name: str, obs: Observations, trees: Sequence[TreeSpan]
     tally.failures += [f"{name} spurious {t.start}-{t.end} {format_tree(t.tree)}" for t in result.spurious]
 
 
-def _analyse(tally: Tally, name: str, obs: Observations, truth: Sequence[TreeSpan]) -> None:
+def _analyse(tally: Tally, name: str, obs: Observations, truth: Sequence[TreeSpan], shots: bool = False) -> None:
+    """Analyse one video (``shots``: find its shot cuts in the video first, as ``wecook analyze`` does) and
+    count its trees."""
     import time
+
+    from wecook_core.perception.shots import shot_cuts
 
     from wecook_core.knowledge.recognize import load_knowledge
     from wecook_core.perception.params import Params
     from wecook_core.perception.pipeline import analyze
 
     started = time.perf_counter()
-    analysis = analyze(obs, load_knowledge(), Params())
+    analysis = analyze(obs, load_knowledge(), Params(), shots=shot_cuts(obs.video.path) if shots else ())
     tally.seconds += time.perf_counter() - started
     _count(tally, name, obs, analysis.trees, truth)
 
@@ -124,7 +128,7 @@ def score_shared(names: Iterable[str]) -> dict[str, Tally]:
         if found is None:
             continue
         tally = Tally()
-        _analyse(tally, name, *found)
+        _analyse(tally, name, *found, shots=True)
         tallies[name] = tally
     return tallies
 

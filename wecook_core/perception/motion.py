@@ -8,8 +8,8 @@ read from the held object's box over a segment, each robust to box jitter and to
 - **turns**: the winding number of the box centre around its own running mean (the signed angle it sweeps,
   over 2 pi), counted only while the centre is farther from the mean than :data:`JITTER_TIMES` times the
   track's own jitter (estimated from its second differences, so a still box jittering in place winds
-  nowhere). Circling at least :data:`CIRCLE_TURNS` times is stirring; sawing, rolling and shaking reverse
-  and wind back to about zero.
+  nowhere). Circling at least :data:`CIRCLE_TURNS` times, mostly one way round (:data:`ROUND`), is
+  stirring; sawing, rolling and shaking reverse and wind back to about zero.
 - **tilt**: the ratio between the largest and smallest width-to-height ratio of the box (a bottle or a bowl
   tipped over a pan turns in the image plane). Measured and reported, not yet used: on thin boxes (knives,
   spoons) a few pixels of jitter change the ratio as much as a tilt does.
@@ -30,8 +30,8 @@ CIRCLE_TURNS = 1.5
 """Winding at least this many turns is circling (sawing and carrying wind back and forth by up to about one
 turn, jitter counted out)."""
 ROUND = 0.5
-"""Circling also spreads the centre about as much across as along: the smaller principal spread at least
-this fraction of the larger (a saw's strokes are long and thin)."""
+"""Circling also turns one way: the net angle swept is at least this fraction of all the angle swept (a
+saw's strokes flip the centre from one side of its mean to the other, sweeping half turns either way)."""
 CIRCLE_VERBS = frozenset({"stir"})
 
 
@@ -44,8 +44,7 @@ class Motion:
     tilt: float
     """Largest over smallest width-to-height ratio of the box (1: no change)."""
     roundness: float = 1.0
-    """Smaller over larger principal spread of the centre around its running mean (1: as wide as long;
-    measured only when ``turns`` reaches :data:`CIRCLE_TURNS`)."""
+    """Net angle swept over all the angle swept, around the running mean (1: always the same way round)."""
 
 
 def motion_of(boxes: np.ndarray, fps: float) -> Motion | None:
@@ -73,11 +72,10 @@ def motion_of(boxes: np.ndarray, fps: float) -> Motion | None:
     angle = np.arctan2(offset[:, 1], offset[:, 0])
     step = np.angle(np.exp(1j * np.diff(angle)))
     counted = (radius[1:] > JITTER_TIMES * max(jitter, 0.5)) & (radius[:-1] > JITTER_TIMES * max(jitter, 0.5))
-    turns = float(abs(step[counted].sum()) / (2 * np.pi))
-    roundness = 1.0
-    if turns >= CIRCLE_TURNS:  # only then does it matter
-        spread = np.sqrt(np.clip(np.linalg.eigvalsh(np.cov(offset.T)), 0, None))
-        roundness = float(spread[0] / spread[1]) if spread[1] > 0 else 1.0
+    swept = step[counted]
+    turns = float(abs(swept.sum()) / (2 * np.pi))
+    total = float(np.abs(swept).sum())
+    roundness = float(abs(swept.sum()) / total) if total > 0 else 1.0
     return Motion(turns=turns, tilt=tilt, roundness=roundness)
 
 

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 from wecook_core.model import (
     Action,
     ActionGraph,
+    ActionKind,
     Associations,
     Corrections,
     Segment,
@@ -130,6 +131,21 @@ def unsure_segments(obs: Observations, segments: Sequence[Segment], unseen: Sequ
     return reasons
 
 
+def _without_thin_holds(actions: Sequence[Action], segments: Sequence[Segment], unsure: Mapping[int, str],
+                        ) -> tuple[Action, ...]:
+    """``actions`` without the bare holds that lie mostly in unsure segments: where the evidence is too thin,
+    the segment says so (``Analysis.unsure``) instead of a hold standing in for an action."""
+    if not unsure:
+        return tuple(actions)
+    thin = [s for s in segments if s.start in unsure]
+
+    def covered(action: Action) -> int:
+        return sum(max(0, min(s.end, action.end) - max(s.start, action.start)) for s in thin)
+
+    return tuple(a for a in actions
+                 if a.kind is not ActionKind.GRASP or 2 * covered(a) < a.end - a.start)
+
+
 def segmentation_params(obs: Observations, params: Params) -> Params:
     """``params`` with ``k_max`` raised to ``k_per_minute`` times the video's length in minutes."""
     import math
@@ -190,9 +206,10 @@ def analyze(
     rejected = {start for start, status in corrections.status.items() if status is SegmentStatus.REJECTED}
     actions = merge_actions(segment_actions, obs.categories, rejected,
                             min_hold=params.at(obs.video.fps).min_action_frames)
+    unsure = unsure_segments(obs, segmentation.segments, unseen, params.seen_share)
+    actions = _without_thin_holds(actions, segmentation.segments, unsure)
     trees = tree_spans(actions)
     graph = build_graph(actions)
     seconds["graph"] = time.perf_counter() - clock
-    unsure = unsure_segments(obs, segmentation.segments, unseen, params.seen_share)
     return Analysis(segmentation, associations, segment_actions, actions, trees, graph, corrections, seconds,
                     shots, unseen, unsure)

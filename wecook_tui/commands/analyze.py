@@ -1,7 +1,8 @@
 """`wecook analyze NAME [--root DIR]`: run the perception pipeline on a session and write its results.
 
-Loads the session's inputs and corrections, runs every stage (:func:`wecook_core.pipeline.analyze`), writes
-``trees.yaml`` and ``graph.yaml`` into the session folder and prints what was found, per tree case.
+Loads the session's inputs and corrections, finds the video's shot cuts (when the video is readable), runs
+every stage (:func:`wecook_core.pipeline.analyze`), writes ``trees.yaml`` and ``graph.yaml`` into the session
+folder and prints what was found, per tree case, and which segments are unsure and why.
 """
 
 from __future__ import annotations
@@ -52,7 +53,9 @@ def run(args: argparse.Namespace) -> int:
     knowledge = load_knowledge(Path(args.knowledge) if args.knowledge else None)
     params = getattr(session, "params", None) or Params()
     corrections = session.corrections
-    analysis = analyze(obs, knowledge, params, corrections)
+    from wecook_core.perception.shots import shot_cuts
+
+    analysis = analyze(obs, knowledge, params, corrections, shots=shot_cuts(obs.video.path))
     write_tree_file(session.trees_path, analysis.trees)
     write_graph_file(session.graph_path, analysis.graph)
 
@@ -65,5 +68,13 @@ def run(args: argparse.Namespace) -> int:
     print("  " + "  ".join(f"{case} {counts.get(case, 0)}" for case in CASES))
     if rejected:
         print(f"  {rejected} rejected segment(s) left out")
+    if analysis.shots:
+        print(f"  {len(analysis.shots)} shot cut(s) at frames {', '.join(map(str, analysis.shots))}")
+    if analysis.unsure:
+        print(f"  {len(analysis.unsure)} segment(s) unsure, for review:")
+        for start, reason in list(analysis.unsure.items())[:10]:
+            print(f"    frame {start}: {reason}")
+        if len(analysis.unsure) > 10:
+            print(f"    ... and {len(analysis.unsure) - 10} more")
     print(f"  wrote {session.trees_path} and {session.graph_path}")
     return 0
