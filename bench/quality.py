@@ -75,11 +75,10 @@ def _analyse(tally: Tally, name: str, obs: Observations, truth: Sequence[TreeSpa
     count its trees."""
     import time
 
-    from wecook_core.perception.shots import shot_cuts
-
     from wecook_core.knowledge.recognize import load_knowledge
     from wecook_core.perception.params import Params
     from wecook_core.perception.pipeline import analyze
+    from wecook_core.perception.shots import shot_cuts
 
     started = time.perf_counter()
     analysis = analyze(obs, load_knowledge(), Params(), shots=shot_cuts(obs.video.path) if shots else ())
