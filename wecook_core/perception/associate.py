@@ -127,17 +127,16 @@ def near_objects(
 
     Near means a box gap of at most ``params.near_fraction * video_diagonal`` pixels while the held object
     dwells there (:func:`dwelling`, within ``dwell_fraction`` of the diagonal or ``dwell_own_fraction`` of its
-    own size, whichever is more: a big spoon's strokes in a close-up are long): passing by on the way
-    somewhere is not acting. Tools and the held object
-    itself are never linked."""
+    own size (its box half way through), whichever is more: a big spoon's strokes in a close-up are long):
+    passing by on the way somewhere is not acting. Tools and the held object itself are never linked."""
     boxes = links.boxes
     gap = box_gap(boxes.objects[:, held : held + 1, :], boxes.objects)
     rate = params.at(boxes.fps)
     own = boxes.objects[:, held, :]
-    with np.errstate(invalid="ignore"):
-        size = np.nanmedian(np.hypot(own[rows, 2] - own[rows, 0], own[rows, 3] - own[rows, 1])) \
-            if np.isfinite(own[rows]).any() else 0.0
-    stay = max(params.dwell_fraction * video_diagonal, params.dwell_own_fraction * float(size))
+    seen = np.flatnonzero(rows & np.isfinite(own[:, 0]))
+    middle = own[seen[len(seen) // 2]] if len(seen) else None
+    size = float(np.hypot(middle[2] - middle[0], middle[3] - middle[1])) if middle is not None else 0.0
+    stay = max(params.dwell_fraction * video_diagonal, params.dwell_own_fraction * size)
     near = (gap <= params.near_fraction * video_diagonal) & rows[:, None] & dwelling(
         own, rate.dwell_frames, stay)[:, None]
     for column, category in enumerate(boxes.categories):
@@ -154,11 +153,13 @@ def near_objects(
     mean_gap = sums / np.maximum(near[:, keep].sum(axis=0), 1)
     # among boxes that touch it (gap 0), the one the held object covers most of, on average: a spoon
     # stirring the spinach just tipped over the squash covers more of the spinach's box
-    held_boxes = boxes.objects[:, held : held + 1, :]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        covered = box_intersection(held_boxes, boxes.objects[:, keep, :]) / box_area(boxes.objects[:, keep, :])
-        covered = np.where(near[:, keep], np.nan_to_num(covered), 0.0).sum(axis=0) / np.maximum(
-            near[:, keep].sum(axis=0), 1)
+    covered = np.zeros(len(keep))
+    if len(keep) > 1 and len(np.unique(mean_gap)) < len(keep):  # only ties need it
+        held_boxes = boxes.objects[:, held : held + 1, :]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            share = box_intersection(held_boxes, boxes.objects[:, keep, :]) / box_area(boxes.objects[:, keep, :])
+            covered = np.where(near[:, keep], np.nan_to_num(share), 0.0).sum(axis=0) / np.maximum(
+                near[:, keep].sum(axis=0), 1)
     order = np.lexsort((keep, -covered, mean_gap))
     return tuple(int(keep[i]) for i in order)
 

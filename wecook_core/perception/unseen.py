@@ -106,11 +106,15 @@ def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = ()) -
     dominant = _dominant_hand(obs)
     # seen: a detected hand is within the object's own size of it (the decoder judges what that hand holds;
     # an onion sliding off a plate that a seen hand tips is moved by the plate, not by a hand of its own)
-    with np.errstate(invalid="ignore"):
-        size = np.hypot(objects[..., 2] - objects[..., 0], objects[..., 3] - objects[..., 1])
-        gap = box_gap(boxes.hand_boxes[:, :, None, :], objects[:, None, :, :])
-        seen = (gap <= size[:, None, :]).any(axis=1)
-    unseen = moving & ~seen
+    unseen = np.zeros_like(moving)
+    rows, columns = np.nonzero(moving)
+    if len(rows):
+        box = objects[rows, columns]
+        with np.errstate(invalid="ignore"):
+            size = np.hypot(box[:, 2] - box[:, 0], box[:, 3] - box[:, 1])
+            gap = box_gap(boxes.hand_boxes[rows], box[:, None, :])
+            seen = (gap <= size[:, None]).any(axis=1)
+        unseen[rows[~seen], columns[~seen]] = True
     holds = []
     bridge = rate.min_action_frames
     for k, name in enumerate(boxes.names):
