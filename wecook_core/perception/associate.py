@@ -44,6 +44,7 @@ from wecook_core.perception.frame_links import (
     frame_boxes,
     frame_links,
     links_of,
+    video_diagonal,
 )
 from wecook_core.perception.label_runs import NONE, dominant, kept_runs, longest_runs, runs
 
@@ -181,18 +182,6 @@ def dwelling_points(centre: np.ndarray, window: int, distance: float) -> np.ndar
     after = centre[np.minimum(index + window, length - 1)]
     with np.errstate(invalid="ignore"):
         return np.asarray(np.linalg.norm(after - before, axis=1) < distance)
-
-
-def video_diagonal(obs: Observations) -> float:
-    """Image diagonal in pixels (from the video's size, else from the boxes' extent)."""
-    if obs.video.width > 0 and obs.video.height > 0:
-        return float(np.hypot(obs.video.width, obs.video.height))
-    width, height = 1.0, 1.0
-    for boxes in [t.boxes for t in obs.objects] + [t.boxes for t in obs.hands]:
-        if len(boxes):
-            width = max(width, float(np.max(boxes[:, 2])))
-            height = max(height, float(np.max(boxes[:, 3])))
-    return float(np.hypot(width, height))
 
 
 def frame_count(obs: Observations, segments: Sequence[Segment] = ()) -> int:

@@ -102,6 +102,18 @@ def box_gap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.hypot(dx, dy)
 
 
+def video_diagonal(obs: Observations) -> float:
+    """Image diagonal in pixels (from the video's size, else from the boxes' extent)."""
+    if obs.video.width > 0 and obs.video.height > 0:
+        return float(np.hypot(obs.video.width, obs.video.height))
+    width, height = 1.0, 1.0
+    for boxes in [t.boxes for t in obs.objects] + [t.boxes for t in obs.hands]:
+        if len(boxes):
+            width = max(width, float(np.max(boxes[:, 2])))
+            height = max(height, float(np.max(boxes[:, 3])))
+    return float(np.hypot(width, height))
+
+
 def box_centres(boxes: np.ndarray) -> np.ndarray:
     """Centres ``(..., 2)`` of boxes ``(..., 4)`` given as x1, y1, x2, y2."""
     return np.stack([(boxes[..., 0] + boxes[..., 2]) / 2, (boxes[..., 1] + boxes[..., 3]) / 2], axis=-1)

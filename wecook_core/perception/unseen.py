@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from wecook_core.model import HANDS, Category, Observations, person_of
-from wecook_core.perception.frame_links import box_centres, box_gap, box_intersection, frame_boxes
+from wecook_core.perception.frame_links import box_centres, box_gap, box_intersection, frame_boxes, video_diagonal
 from wecook_core.perception.label_runs import runs
 
 if TYPE_CHECKING:
@@ -81,8 +81,6 @@ def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = ()) -
     boxes = frame_boxes(obs, 0, total, rate.fill_gap)
     objects = boxes.objects
     shot = shot_index(total, shots)
-    from wecook_core.perception.associate import video_diagonal
-
     most = params.dwell_fraction * video_diagonal(obs)
     moving = moving_objects(objects, rate.dwell_frames, params.moving_fraction, shot, most)
     if not moving.any():
