@@ -154,3 +154,22 @@ def test_a_tool_going_round_in_circles_in_a_pot_stirs_it(knowledge):
     assert action is not None and (action.verb, action.held, action.targets) == ("stir", "whisk", ("pot",))
     # what commonsense alone would have said for a whisk over a pot (pour, on the EPIC tables)
     assert rank(knowledge, ["whisk", "pot"], ["stir", "pour"])[0][0] in ("stir", "pour")
+
+
+def test_salt_shaken_over_a_pan_is_sprinkled_a_bottle_tipped_over_it_is_poured(knowledge):
+    # commonsense (EPIC) ranks pour far above sprinkle for salt over a pan; the box's own motion decides
+    from handmade_scenes import at
+    from test_associate import PAN, shaking_over_the_pan
+
+    (shaking,) = recognise(shaking_over_the_pan(), [40, 90], knowledge)[1:2]
+    action = shaking.action_of("RH_P1")
+    assert action is not None and (action.verb, action.held, action.targets) == ("sprinkle", "salt", ("pan",))
+    upright, tipped = (360, 260, 380, 310), (375, 275, 425, 295)  # 20 x 50, then lying 50 x 20, moved on
+    hand = (355, 250, 385, 280)
+    bottle = [(0, 30, upright, upright), (30, 60, upright, tipped), (60, 90, tipped, tipped)]
+    obs = observations(90, {"pan": (Category.CONTAINER, [still(0, 90, PAN)]),
+                            "salt": (Category.INGREDIENT, bottle)},
+                       {"RH_P1": [still(0, 30, hand), (30, 60, hand, at(hand, 30, 0)), still(60, 90, at(hand, 30, 0))]})
+    (only,) = recognise(obs, [], knowledge)
+    action = only.action_of("RH_P1")
+    assert action is not None and (action.verb, action.held, action.targets) == ("pour", "salt", ("pan",))

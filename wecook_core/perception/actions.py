@@ -85,7 +85,7 @@ def individual_action(
     still: bool | Callable[[bool], bool] = True,
     verb: str | None = None,
     hand_share: float = 0.3,
-    moves: Callable[[str], frozenset[str] | None] | None = None,
+    moves: Callable[[str, bool], frozenset[str] | None] | None = None,
 ) -> tuple[Action | None, Ranking]:
     """The action of one hand in one segment from its associations (no transfer, no collaboration).
 
@@ -94,7 +94,8 @@ def individual_action(
     ``Params.min_action_s`` (an ingredient worked by hand whatever the commonsense share of the hand verbs),
     ``False`` for ``Params.min_link_s`` (enough when the hand verbs get ``hand_share``).
     ``verb``: the user's choice, replacing the recognised verb. ``hand_share``: see ``Params.hand_share``.
-    ``moves``: object name -> the verbs its own motion in the segment allows (:mod:`.motion`; None: no say);
+    ``moves``: (object name, held ingredient over a container?) -> the verbs its own motion in the segment
+    allows (:mod:`.motion`; None: no say);
     the candidates are narrowed to those when any is left. A held ingredient over a container is poured,
     sprinkled or dipped (:data:`HELD_VERBS`); a hand that works an ingredient by itself while staying put
     squeezes, peels or wraps it (:data:`STILL_HAND_VERBS`)."""
@@ -128,7 +129,7 @@ def individual_action(
         # the user named a verb for a hand that only holds: the hand works the object it holds
         return Action(ActionKind.HAND, hand, segment.start, segment.end, verb=verb, targets=(held,)), ()
     objects = targets if kind is ActionKind.HAND else (held, *targets)
-    moved = moves(held) if moves is not None and kind is not ActionKind.HAND else None
+    moved = moves(held, allowed is HELD_VERBS) if moves is not None and kind is not ActionKind.HAND else None
     if moved is not None:
         narrowed = [v for v in (allowed if allowed is not None else knowledge.verbs) if v in moved]
         allowed = narrowed or allowed
@@ -177,7 +178,7 @@ def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, d
     return bool(longest_runs(still[:, None])[0] >= needed)
 
 
-def _moves(obs: Observations, segment: Segment, name: str) -> frozenset[str] | None:
+def _moves(obs: Observations, segment: Segment, name: str, held_ingredient: bool = False) -> frozenset[str] | None:
     """The verbs object ``name``'s own motion over ``segment`` allows (:func:`.motion.verbs_of`)."""
     from wecook_core.perception.motion import motion_of, verbs_of
 
@@ -186,7 +187,7 @@ def _moves(obs: Observations, segment: Segment, name: str) -> frozenset[str] | N
     except KeyError:
         return None
     lo, hi = np.searchsorted(track.frames, [segment.start, segment.end])
-    return verbs_of(motion_of(track.boxes[lo:hi], obs.video.fps))
+    return verbs_of(motion_of(track.boxes[lo:hi], obs.video.fps), held_ingredient)
 
 
 # ------------------------------------------------------------------------------------------- segments
