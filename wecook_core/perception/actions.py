@@ -178,15 +178,28 @@ def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, d
     return bool(longest_runs(still[:, None])[0] >= needed)
 
 
-def _moves(obs: Observations, segment: Segment, name: str, held_ingredient: bool = False) -> frozenset[str] | None:
-    """The verbs object ``name``'s own motion over ``segment`` allows (:func:`.motion.verbs_of`)."""
+def _moves(obs: Observations, segment: Segment, timeline: Timeline | None, hand: str, name: str,
+           held_ingredient: bool = False) -> frozenset[str] | None:
+    """The verbs object ``name``'s own motion allows (:func:`.motion.verbs_of`), read over the whole hold
+    of it by ``hand`` that ``segment`` lies in (grasp to release, from ``timeline``; the segment alone when
+    unknown): an actuation pattern is the hold's, and the pauses at its ends, cut into segments of their
+    own, show none."""
     from wecook_core.perception.motion import motion_of, verbs_of
 
     try:
         track = obs.object(name)
     except KeyError:
         return None
-    lo, hi = np.searchsorted(track.frames, [segment.start, segment.end])
+    start, end = segment.start, segment.end
+    if timeline is not None and name in timeline.names:
+        holding = timeline.held[:, HANDS.index(hand)] == timeline.column(name)
+        if holding[start:end].any():
+            first = start + int(np.argmax(holding[start:end]))
+            before = np.flatnonzero(~holding[:first])
+            after = np.flatnonzero(~holding[first:])
+            start = int(before[-1]) + 1 if len(before) else 0
+            end = first + int(after[0]) if len(after) else len(holding)
+    lo, hi = np.searchsorted(track.frames, [start, end])
     return verbs_of(motion_of(track.boxes[lo:hi], obs.video.fps), held_ingredient)
 
 
@@ -280,7 +293,7 @@ def recognize_actions(
             still = partial(hand_still, obs, hand, segment, params, diagonal)
             action, ranking = individual_action(hand, assoc, categories, knowledge, still=still, verb=verb,
                                                 hand_share=params.hand_share,
-                                                moves=partial(_moves, obs, segment))
+                                                moves=partial(_moves, obs, segment, timeline, hand))
             if action is not None:
                 acts[hand] = action
             if ranking:
