@@ -223,3 +223,17 @@ def test_in_a_close_up_the_hand_holds_the_spoon_not_the_pan_whose_box_covers_eve
                             "spoon": (Category.TOOL, [still(0, 30, spoon)])}, {"RH_P1": [still(0, 30, hand)]})
     _, timeline = associate_segments(obs, (Segment(0, 30),), Params())
     assert (timeline.held[:, 1] == timeline.column("spoon")).all()
+
+
+def test_an_old_session_file_with_frame_counts_still_loads_with_the_defaults_in_seconds():
+    from wecook_core.session.store import _params
+
+    warnings: list[str] = []
+    params = _params({"min_frames": 8, "fill_gap": 10, "dwell_frames": 15, "handover_gap": 30, "lamb": 0.002},
+                     warnings)
+    assert params == Params(lamb=0.002)
+    assert len(warnings) == 1 and "min_frames" in warnings[0] and "ignored" in warnings[0]
+    rate = Params().at(30.0)
+    assert (rate.min_frames, rate.fill_gap, rate.dwell_frames, rate.handover_gap) == (8, 10, 15, 30)
+    slow = Params().at(5.0)
+    assert (slow.min_frames, slow.fill_gap, slow.dwell_frames, slow.handover_gap) == (1, 2, 2, 5)
