@@ -237,3 +237,25 @@ def test_an_old_session_file_with_frame_counts_still_loads_with_the_defaults_in_
     assert (rate.min_frames, rate.fill_gap, rate.dwell_frames, rate.handover_gap) == (8, 10, 15, 30)
     slow = Params().at(5.0)
     assert (slow.min_frames, slow.fill_gap, slow.dwell_frames, slow.handover_gap) == (1, 2, 2, 5)
+
+
+def test_wecook_analyze_keeps_the_shot_cuts_of_a_session_video_until_the_video_changes(tmp_path):
+    import json
+
+    import cv2
+    import numpy as np
+
+    from wecook_tui.commands.analyze import SHOTS_FILE, cached_shot_cuts
+
+    video = tmp_path / "v.mp4"
+    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"mp4v"), 10.0, (32, 32))
+    for frame in range(20):
+        writer.write(np.full((32, 32, 3), (30, 30, 220) if frame < 8 else (220, 140, 30), dtype=np.uint8))
+    writer.release()
+    assert cached_shot_cuts(tmp_path, str(video)) == (8,)
+    data = json.loads((tmp_path / SHOTS_FILE).read_text())
+    (tmp_path / SHOTS_FILE).write_text(json.dumps({**data, "cuts": [3]}))
+    assert cached_shot_cuts(tmp_path, str(video)) == (3,)  # read back, not recomputed
+    (tmp_path / SHOTS_FILE).write_text(json.dumps({**data, "size": 1, "cuts": [3]}))
+    assert cached_shot_cuts(tmp_path, str(video)) == (8,)  # another file: found again
+    assert cached_shot_cuts(tmp_path, str(tmp_path / "missing.mp4")) == ()
