@@ -38,7 +38,7 @@ from wecook_core.model import (
     person_of,
 )
 from wecook_core.perception.associate import Timeline, associate_segments, dwelling_points, video_diagonal
-from wecook_core.perception.label_runs import longest_runs
+from wecook_core.perception.label_runs import longest_runs, runs
 from wecook_core.perception.transfers import HandoverEvent, TransferEvent, handover_events, hold_spans, transfer_events
 
 if TYPE_CHECKING:
@@ -178,12 +178,15 @@ def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, d
     return bool(longest_runs(still[:, None])[0] >= needed)
 
 
-def _moves(obs: Observations, segment: Segment, timeline: Timeline | None, hand: str, name: str,
+def _moves(obs: Observations, segment: Segment, timeline: Timeline | None,
+           hold_runs: Mapping[str, list[tuple[int, int, int]]], hand: str, name: str,
            held_ingredient: bool = False) -> frozenset[str] | None:
     """The verbs object ``name``'s own motion allows (:func:`.motion.verbs_of`), read over the whole hold
-    of it by ``hand`` that ``segment`` lies in (grasp to release, from ``timeline``; the segment alone when
-    unknown): an actuation pattern is the hold's, and the pauses at its ends, cut into segments of their
-    own, show none."""
+    of it by ``hand`` that ``segment`` lies in (grasp to release: the run of ``hold_runs[hand]``, the runs
+    of the timeline's held labels; the segment alone when unknown): an actuation pattern is the hold's, and
+    the pauses at its ends, cut into segments of their own, show none."""
+    import bisect
+
     from wecook_core.perception.motion import motion_of, verbs_of
 
     try:
@@ -191,14 +194,16 @@ def _moves(obs: Observations, segment: Segment, timeline: Timeline | None, hand:
     except KeyError:
         return None
     start, end = segment.start, segment.end
-    if timeline is not None and name in timeline.names:
-        holding = timeline.held[:, HANDS.index(hand)] == timeline.column(name)
-        if holding[start:end].any():
-            first = start + int(np.argmax(holding[start:end]))
-            before = np.flatnonzero(~holding[:first])
-            after = np.flatnonzero(~holding[first:])
-            start = int(before[-1]) + 1 if len(before) else 0
-            end = first + int(after[0]) if len(after) else len(holding)
+    lane = hold_runs.get(hand)
+    if timeline is not None and lane and name in timeline.names:
+        column = timeline.column(name)
+        i = bisect.bisect_right([r[0] for r in lane], segment.start) - 1
+        for run_start, run_end, value in lane[max(i, 0):]:
+            if run_start >= segment.end:
+                break
+            if value == column and run_end > segment.start:
+                start, end = min(start, run_start), max(end, run_end)
+                break
     lo, hi = np.searchsorted(track.frames, [start, end])
     return verbs_of(motion_of(track.boxes[lo:hi], obs.video.fps), held_ingredient)
 
@@ -282,6 +287,7 @@ def recognize_actions(
     diagonal = video_diagonal(obs)
     transfers = transfer_events(obs, timeline, params)
     handovers = handover_events(timeline, params)
+    hold_runs = {hand: runs(timeline.held[:, column]) for column, hand in enumerate(HANDS)}
     result = []
     for assoc in associations:
         segment = assoc.segment
@@ -293,7 +299,7 @@ def recognize_actions(
             still = partial(hand_still, obs, hand, segment, params, diagonal)
             action, ranking = individual_action(hand, assoc, categories, knowledge, still=still, verb=verb,
                                                 hand_share=params.hand_share,
-                                                moves=partial(_moves, obs, segment, timeline, hand))
+                                                moves=partial(_moves, obs, segment, timeline, hold_runs, hand))
             if action is not None:
                 acts[hand] = action
             if ranking:
