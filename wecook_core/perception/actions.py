@@ -179,12 +179,14 @@ def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, d
 
 
 def _moves(obs: Observations, segment: Segment, timeline: Timeline | None,
-           hold_runs: Mapping[str, list[tuple[int, int, int]]], hand: str, name: str,
+           hold_runs: Mapping[str, list[tuple[int, int, int]]],
+           cache: dict[tuple[str, int, int, bool], frozenset[str] | None], hand: str, name: str,
            held_ingredient: bool = False) -> frozenset[str] | None:
     """The verbs object ``name``'s own motion allows (:func:`.motion.verbs_of`), read over the whole hold
     of it by ``hand`` that ``segment`` lies in (grasp to release: the run of ``hold_runs[hand]``, the runs
     of the timeline's held labels; the segment alone when unknown): an actuation pattern is the hold's, and
-    the pauses at its ends, cut into segments of their own, show none."""
+    the pauses at its ends, cut into segments of their own, show none. ``cache``: answers already found
+    for this video (a hold spans many segments)."""
     import bisect
 
     from wecook_core.perception.motion import motion_of, verbs_of
@@ -204,8 +206,11 @@ def _moves(obs: Observations, segment: Segment, timeline: Timeline | None,
             if value == column and run_end > segment.start:
                 start, end = min(start, run_start), max(end, run_end)
                 break
-    lo, hi = np.searchsorted(track.frames, [start, end])
-    return verbs_of(motion_of(track.boxes[lo:hi], obs.video.fps), held_ingredient)
+    key = (name, start, end, held_ingredient)
+    if key not in cache:
+        lo, hi = np.searchsorted(track.frames, [start, end])
+        cache[key] = verbs_of(motion_of(track.boxes[lo:hi], obs.video.fps), held_ingredient)
+    return cache[key]
 
 
 # ------------------------------------------------------------------------------------------- segments
@@ -288,6 +293,7 @@ def recognize_actions(
     transfers = transfer_events(obs, timeline, params)
     handovers = handover_events(timeline, params)
     hold_runs = {hand: runs(timeline.held[:, column]) for column, hand in enumerate(HANDS)}
+    motion_cache: dict[tuple[str, int, int, bool], frozenset[str] | None] = {}
     result = []
     for assoc in associations:
         segment = assoc.segment
@@ -299,7 +305,8 @@ def recognize_actions(
             still = partial(hand_still, obs, hand, segment, params, diagonal)
             action, ranking = individual_action(hand, assoc, categories, knowledge, still=still, verb=verb,
                                                 hand_share=params.hand_share,
-                                                moves=partial(_moves, obs, segment, timeline, hold_runs, hand))
+                                                moves=partial(_moves, obs, segment, timeline, hold_runs, motion_cache,
+                                                              hand))
             if action is not None:
                 acts[hand] = action
             if ranking:
