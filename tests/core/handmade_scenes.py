@@ -98,15 +98,19 @@ def squeezing(frame_count: int = 90) -> Observations:
 POT: Box = (300, 300, 450, 420)
 OIL_REST: Box = (100, 200, 130, 260)
 OIL_POUR: Box = (340, 240, 370, 300)
+OIL_TIPPED: Box = (325, 255, 385, 285)
+"""The bottle lying over the pot: a pour tips it."""
 
 
 def pouring(frame_count: int = 120) -> Observations:
-    """RH_P1 grasps the oil at 0, brings it over the pot by 30, pours until 90, puts it back by 120."""
+    """RH_P1 grasps the oil at 0, brings it over the pot by 30, tips it (30-45) and pours until 75, sets it
+    upright by 90, puts it back by 120."""
     grip = (105, 220, 135, 250)
     over = at(grip, 240, 40)
     return observations(
         frame_count,
-        {"oil": (Category.INGREDIENT, [(0, 30, OIL_REST, OIL_POUR), still(30, 90, OIL_POUR),
+        {"oil": (Category.INGREDIENT, [(0, 30, OIL_REST, OIL_POUR), (30, 45, OIL_POUR, OIL_TIPPED),
+                                       still(45, 75, OIL_TIPPED), (75, 90, OIL_TIPPED, OIL_POUR),
                                        (90, 120, OIL_POUR, OIL_REST)]),
          "pot": (Category.CONTAINER, [still(0, frame_count, POT)])},
         {"RH_P1": [(0, 30, grip, over), still(30, 90, over), (90, 120, over, grip)]},

@@ -41,7 +41,7 @@ def test_ingredient_lies_in_the_container_with_the_best_jaccard_index():
     assert assoc.containment == {"tomato": "bowl"}
 
 
-def test_hand_takes_the_closest_of_overlapping_objects_and_a_contained_ingredient_means_its_container():
+def test_a_still_hand_on_an_ingredient_in_its_container_holds_the_container():
     hand = (195, 335, 225, 365)  # on the tomato, inside the board
     obs = observations(20, {
         "chopping_board": (Category.CONTAINER, [still(0, 20, BOARD)]),
@@ -49,8 +49,7 @@ def test_hand_takes_the_closest_of_overlapping_objects_and_a_contained_ingredien
     }, {"LH_P1": [still(0, 20, hand)]})
     links = frame_links(obs, 0, 20, Params())
     names = links.boxes.names
-    assert names[links.touched[0, 0]] == "tomato"  # closest centre among board and tomato
-    assert names[links.held[0, 0]] == "chopping_board"  # the tomato lies on the board
+    assert names[links.held[0, 0]] == "chopping_board"  # nothing moves: the tomato lies on the board
     (assoc,) = associate(obs, one_segment(obs), Params())
     assert assoc.hand_object == {"LH_P1": "chopping_board"}
 
@@ -73,7 +72,7 @@ def test_links_shorter_than_min_frames_are_dropped():
     on = (290, 95, 320, 125)
     obs = observations(40, {"knife": (Category.TOOL, [still(0, 40, knife)])},
                        {"RH_P1": [still(0, 10, away), still(10, 15, on), still(15, 28, away), still(28, 40, on)]})
-    short, long = associate(obs, Segmentation({}, (Segment(0, 20), Segment(20, 40))), Params(min_frames=8))
+    short, long = associate(obs, Segmentation({}, (Segment(0, 20), Segment(20, 40))), Params(min_link_s=8 / 30))
     assert short.hand_object == {}
     assert long.hand_object == {"RH_P1": "knife"}
 
@@ -138,9 +137,9 @@ def test_a_hand_the_detector_misses_for_a_few_frames_keeps_its_object():
     on = (290, 95, 320, 125)
     obs = observations(30, {"knife": (Category.TOOL, [still(0, 30, knife)])},
                        {"RH_P1": [still(0, 12, on), still(18, 30, on)]})  # frames 12..17 missing
-    links = frame_links(obs, 0, 30, Params(fill_gap=10))
+    links = frame_links(obs, 0, 30, Params(fill_gap_s=10 / 30))
     assert (links.held[:, 1] == 0).all()
-    assert (frame_links(obs, 0, 30, Params(fill_gap=0)).held[12:18, 1] == NONE).all()
+    assert (frame_links(obs, 0, 30, Params(fill_gap_s=0)).held[12:18, 1] == NONE).all()
 
 
 def test_an_object_carried_past_another_does_not_act_on_it():
@@ -174,3 +173,66 @@ def test_a_knife_picked_up_from_the_board_is_held_though_the_hand_was_over_the_b
     assert (links.held[45:80, 1] == knife).all()  # carried since the overlap began: the knife, to the end
     (assoc,) = associate(obs, Segmentation({}, (Segment(30, 80),)), Params())
     assert assoc.hand_object == {"RH_P1": "knife"}
+
+
+PAN = (250, 200, 500, 420)
+
+
+def shaking_over_the_pan(frame_count: int = 120):
+    """RH_P1 takes the salt (0-10 still, 10-40 carried over the pan), shakes it there (40-90, up and down by
+    20 px every 5 frames; the salt's box lies inside the pan's, the hand's box overlaps both), carries it back."""
+    rest, over = (100, 100, 120, 130), (360, 280, 380, 310)
+    grip = (95, 105, 125, 135)
+    grip_over = at(grip, 260, 180)
+    salt = [still(0, 10, rest), (10, 40, rest, over)]
+    hand = [still(0, 10, grip), (10, 40, grip, grip_over)]
+    for first in range(40, 90, 10):
+        salt += [(first, first + 5, over, at(over, 0, -20)), (first + 5, first + 10, at(over, 0, -20), over)]
+        hand += [(first, first + 5, grip_over, at(grip_over, 0, -20)),
+                 (first + 5, first + 10, at(grip_over, 0, -20), grip_over)]
+    salt += [(90, frame_count, over, rest)]
+    hand += [(90, frame_count, grip_over, grip)]
+    return observations(frame_count, {"pan": (Category.CONTAINER, [still(0, frame_count, PAN)]),
+                                      "salt": (Category.INGREDIENT, salt)}, {"RH_P1": hand})
+
+
+def test_the_object_moving_with_the_hand_is_held_not_the_container_under_it():
+    obs = shaking_over_the_pan()
+    _, timeline = associate_segments(obs, (Segment(0, 120),), Params())
+    salt, pan = timeline.column("salt"), timeline.column("pan")
+    assert (timeline.container[45:85, salt] == pan).all()  # the salt lies inside the pan's box
+    assert (timeline.held[5:115, 1] == salt).all()  # never the pan: it does not move with the hand
+    (assoc,) = associate(obs, Segmentation({}, (Segment(40, 90),)), Params())
+    assert assoc.hand_object == {"RH_P1": "salt"} and assoc.object_object["salt"] == ("pan",)
+
+
+def resampled(obs, every: int):
+    """The same observations as a video of ``fps / every`` (every ``every``-th frame)."""
+    from dataclasses import replace
+
+    from wecook_core.model import HandTrack, ObjectTrack
+
+    def keep(frames):
+        return np.flatnonzero(frames % every == 0)
+
+    objects = tuple(ObjectTrack(t.track_id, t.label, t.name, t.frames[keep(t.frames)] // every,
+                                t.boxes[keep(t.frames)]) for t in obs.objects)
+    hands = tuple(HandTrack(t.hand, t.frames[keep(t.frames)] // every, t.xy[keep(t.frames)],
+                            t.boxes[keep(t.frames)]) for t in obs.hands)
+    video = replace(obs.video, fps=obs.video.fps / every, frame_count=-(-obs.video.frame_count // every))
+    return replace(obs, video=video, objects=objects, hands=hands)
+
+
+def test_parameters_are_seconds_so_5_fps_and_30_fps_agree():
+    # a knife lost for 8 frames at 30 fps (0.27 s) is lost for 1-2 frames at 5 fps: both fill the gap
+    knife = (300, 100, 380, 115)
+    on = (290, 95, 320, 125)
+    obs = observations(120, {"knife": (Category.TOOL, [still(0, 120, knife)])},
+                       {"RH_P1": [still(0, 50, on), still(58, 120, on)]})
+    for video in (obs, resampled(obs, 6)):
+        frames = video.video.frame_count
+        _, timeline = associate_segments(video, (Segment(0, frames),), Params())
+        assert (timeline.held[:, 1] == 0).all(), video.video.fps
+    slow = resampled(shaking_over_the_pan(), 6)
+    _, timeline = associate_segments(slow, (Segment(0, 20),), Params())
+    assert (timeline.held[2:18, 1] == timeline.column("salt")).all()

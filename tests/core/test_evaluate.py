@@ -72,3 +72,42 @@ def test_bad_tree_files(tmp_path: Path, text: str, expected: str, capsys: pytest
     assert main(["eval", str(path), str(path)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and str(path) in err
+
+
+BOWL_POUR = parse_tree("(HP (HP (H RH_P1) (O oil)) (AP (A pour) (O bowl)))")
+BOWL_2_POUR = parse_tree("(HP (HP (H RH_P1) (O oil)) (AP (A pour) (O bowl_2)))")
+
+
+def test_objects_match_by_class_unless_instances_are_asked_for() -> None:
+    truth = [TreeSpan(0, 100, BOWL_POUR)]
+    predicted = [TreeSpan(10, 90, BOWL_2_POUR)]
+    assert evaluate(predicted, truth).correct == 1
+    assert evaluate(predicted, truth, instances=True).correct == 0
+
+
+def test_report_lists_missed_and_spurious_trees_and_counts_per_case() -> None:
+    from wecook_core.perception.evaluation import report
+
+    truth = [TreeSpan(0, 100, CUT), TreeSpan(100, 200, STIR), TreeSpan(200, 300, BOWL_POUR)]
+    predicted = [TreeSpan(10, 90, CUT), TreeSpan(210, 290, BOWL_2_POUR), TreeSpan(300, 400, STIR),
+                 TreeSpan(0, 300, GRASP)]
+    result = report(predicted, truth)
+    assert (result.scores.correct, result.scores.predicted, result.scores.truth) == (2, 3, 3)
+    assert [s.start for s in result.missed] == [100] and [s.start for s in result.spurious] == [300]
+    assert result.truth == {"tool": 2, "held": 1} and result.correct == {"tool": 1, "held": 1}
+    assert result.predicted == {"tool": 2, "held": 1} and result.cases() == ["tool", "held"]
+
+
+def test_cli_prints_the_case_table_and_the_mistakes(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    import json
+
+    truth, pred = tmp_path / "truth.yaml", tmp_path / "pred.yaml"
+    write_tree_file(truth, [TreeSpan(0, 100, CUT), TreeSpan(100, 200, STIR)])
+    write_tree_file(pred, [TreeSpan(0, 100, CUT), TreeSpan(300, 400, STIR)])
+    assert main(["eval", str(pred), str(truth)]) == 0
+    out = capsys.readouterr().out
+    assert "tool" in out and "missed" in out and "spurious" in out and "(A stir)" in out
+    assert main(["eval", str(pred), str(truth), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["missed"] == [{"start": 100, "end": 200, "tree": "(HP (HP (H RH_P2) (O spoon)) (AP (A stir) (O pot)))"}]
+    assert data["spurious"][0]["start"] == 300 and data["cases"]["tool"] == {"predicted": 2, "truth": 2, "correct": 1}

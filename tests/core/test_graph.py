@@ -30,9 +30,15 @@ def grasp(start, end, held="knife", hand="RH_P1"):
     return Action(ActionKind.GRASP, hand, start, end, held=held)
 
 
-def test_actions_identical_up_to_an_unseen_ingredient_are_compatible():
+def test_actions_identical_up_to_their_ingredients_are_compatible():
+    # one grasp of a tool on one container is one action, whichever ingredient it was nearest to
     assert compatible(cut(0, 1, "tomato", "chopping_board"), cut(1, 2, "chopping_board"), CATEGORIES)
-    assert not compatible(cut(0, 1, "tomato", "chopping_board"), cut(1, 2, "onion", "chopping_board"), CATEGORIES)
+    assert compatible(cut(0, 1, "tomato", "chopping_board"), cut(1, 2, "onion", "chopping_board"), CATEGORIES)
+    transfer = Action(ActionKind.TRANSFER, "RH_P1", 0, 1, verb="transfer", held="spoon",
+                      targets=("tomato", "chopping_board", "pot"))
+    other = Action(ActionKind.TRANSFER, "RH_P1", 1, 2, verb="transfer", held="spoon",
+                   targets=("onion", "chopping_board", "pot"))
+    assert not compatible(transfer, other, CATEGORIES)
     assert not compatible(cut(0, 1, "chopping_board"), cut(1, 2, "pot"), CATEGORIES)
     assert not compatible(cut(0, 1, "tomato"), cut(1, 2, "tomato", hand="LH_P1"), CATEGORIES)
 
@@ -46,11 +52,12 @@ def test_a_lane_merges_consecutive_compatible_segments_from_grasp_to_release():
 
 
 def test_a_lane_splits_at_a_different_action_and_at_an_empty_segment():
-    items = [(0, 10, cut(0, 10, "tomato")), (10, 20, cut(10, 20, "onion")), (20, 30, None),
-             (30, 40, cut(30, 40, "onion"))]
+    items = [(0, 10, cut(0, 10, "tomato")), (10, 30, cut(10, 30, "onion")), (30, 40, cut(30, 40, "pot")),
+             (40, 50, None), (50, 60, cut(50, 60, "onion"))]
     merged = merge_lane(items, CATEGORIES)
-    assert [(a.start, a.end, a.targets) for a in merged] == [(0, 10, ("tomato",)), (10, 20, ("onion",)),
-                                                           (30, 40, ("onion",))]
+    # the ingredient seen over most frames names the first action; another container is another action
+    assert [(a.start, a.end, a.targets) for a in merged] == [(0, 30, ("onion",)), (30, 40, ("pot",)),
+                                                           (50, 60, ("onion",))]
 
 
 def test_grasps_alone_merge_into_one_grasp_and_partner_segments_do_not_break_a_lane():
@@ -117,3 +124,35 @@ def test_tree_spans_and_cases():
     spans = tree_spans(actions)
     assert [(s.start, s.end) for s in spans] == [(0, 10), (0, 10), (0, 5), (0, 9), (0, 10)]
     assert all(parse_tree(format_tree(s.tree)) == s.tree for s in spans)
+
+
+def stir(start, end, *targets, hand="RH_P1"):
+    return Action(ActionKind.TOOL, hand, start, end, verb="stir", held="spoon", targets=targets)
+
+
+def test_one_grasp_on_the_same_targets_is_one_action_with_the_verb_of_most_frames():
+    # the first strokes of a stir do not show its circles yet: GGS's first segment is recognised as a pour
+    pour = Action(ActionKind.TOOL, "RH_P1", 0, 20, verb="pour", held="spoon", targets=("pot",))
+    items = [(0, 20, pour), (20, 60, stir(20, 60, "pot")), (60, 70, grasp(60, 70, "spoon"))]
+    (merged,) = merge_lane(items, CATEGORIES)
+    assert (merged.verb, merged.start, merged.end) == ("stir", 0, 70)
+    transfer = Action(ActionKind.TRANSFER, "RH_P1", 20, 60, verb="transfer", held="spoon",
+                      targets=("onion", "pot", "chopping_board"))
+    assert len(merge_lane([(0, 20, pour), (20, 60, transfer)], CATEGORIES)) == 2
+
+
+def test_short_bare_holds_and_a_partners_own_hold_are_not_actions():
+    from wecook_core.model import Segment, SegmentActions
+    from wecook_core.trees.graph import merge_actions
+
+    held = holding_action(40, 100)
+    per_segment = [
+        SegmentActions(Segment(0, 20), (grasp(0, 20, "pot"),)),  # a touch on the way: 20 frames
+        SegmentActions(Segment(20, 40), (cut(20, 40, "tomato"), grasp(20, 40, "knife", hand="RH_P2"))),
+        SegmentActions(Segment(40, 100), (cut(40, 100, "tomato"), held), partners=("RH_P2",)),
+        SegmentActions(Segment(100, 140), (grasp(100, 140, "knife", hand="RH_P2"),)),
+    ]
+    kept = merge_actions(per_segment, CATEGORIES, min_hold=30)
+    assert [(a.kind, a.hand) for a in kept] == [(ActionKind.TOOL, "RH_P1"), (ActionKind.HOLDING, "LH_P1")]
+    everything = merge_actions(per_segment, CATEGORIES)
+    assert (ActionKind.GRASP, "RH_P1") in [(a.kind, a.hand) for a in everything]

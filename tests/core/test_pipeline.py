@@ -141,3 +141,121 @@ def test_wecook_analyze_writes_the_trees_and_graph_of_a_session_with_its_correct
 
     assert main(["analyze", "missing", "--root", str(tmp_path / "sessions")]) == 2
     assert "missing" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------------------------- real-footage troubles
+
+
+def test_a_tool_circling_in_a_pot_with_no_hand_seen_is_stirring_and_the_segment_is_unsure(knowledge):
+    from test_actions import circling
+
+    analysis = analyze(circling(with_hand=False), knowledge, Params())
+    assert [h.obj for h in analysis.unseen] == ["whisk"]
+    assert [t[2] for t in texts(analysis)] == ["(HP (HP (H RH_P1) (O whisk)) (AP (A stir) (O pot)))"]
+    assert analysis.unsure and all("not seen" in reason for reason in analysis.unsure.values())
+
+
+def test_a_hand_seen_on_few_frames_still_stirs():
+    # the detector finds the hand on one frame in ten: the whisk's own motion carries the hold between
+    from dataclasses import replace
+
+    import numpy as np
+    from test_actions import circling
+
+    from wecook_core.model import HandTrack
+
+    obs = circling()
+    (hand,) = obs.hands
+    keep = np.flatnonzero(hand.frames % 10 == 0)
+    sparse = replace(obs, hands=(HandTrack(hand.hand, hand.frames[keep], hand.xy[keep], hand.boxes[keep]),))
+    analysis = analyze(sparse, load_knowledge(), Params())
+    stirs = [t for t in texts(analysis) if "(A stir)" in t[2]]
+    assert len(stirs) == 1 and stirs[0][2] == "(HP (HP (H RH_P1) (O whisk)) (AP (A stir) (O pot)))"
+    assert stirs[0][0] <= 35 and stirs[0][1] >= 115
+
+
+def test_a_shot_cut_ends_segments_and_is_not_read_as_motion(knowledge):
+    # at frame 60 the video cuts to a close-up: every box jumps; nothing is carried across the cut
+    from handmade_scenes import observations, still
+
+    from wecook_core.model import Category
+
+    pan_far, pan_near = (200, 150, 440, 330), (0, 0, 640, 480)
+    obs = observations(120, {"pan": (Category.CONTAINER, [still(0, 60, pan_far), still(60, 120, pan_near)]),
+                             "salt": (Category.INGREDIENT, [still(0, 60, (500, 50, 520, 80)),
+                                                            still(60, 120, (100, 100, 160, 190))])}, {})
+    without = analyze(obs, knowledge, Params())
+    assert "salt" in {h.obj for h in without.unseen}  # unknown to the pipeline, the jump looks like motion
+    cut = analyze(obs, knowledge, Params(), shots=(60,))
+    assert cut.unseen == () and cut.shots == (60,)
+    assert 60 in {s.start for s in cut.segmentation.segments}
+
+
+def test_shot_cuts_are_found_in_the_video(tmp_path):
+    import cv2
+    import numpy as np
+
+    from wecook_core.perception.shots import shot_cuts
+
+    path = tmp_path / "cuts.mp4"
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), 10.0, (64, 64))
+    rng = np.random.default_rng(0)
+    for frame in range(30):
+        colour = (40, 60, 200) if frame < 12 else (200, 160, 40)  # a cut to another view at frame 12
+        image = np.full((64, 64, 3), colour, dtype=np.uint8)
+        x = 5 + frame % 20  # something moving inside each shot
+        image[20:30, x : x + 10] = 255
+        image = np.clip(image.astype(int) + rng.integers(-5, 6, image.shape), 0, 255).astype(np.uint8)
+        writer.write(image)
+    writer.release()
+    assert shot_cuts(path) == (12,)
+    assert shot_cuts(tmp_path / "missing.mp4") == ()
+
+
+def test_in_a_close_up_the_hand_holds_the_spoon_not_the_pan_whose_box_covers_everything():
+    from handmade_scenes import observations, still
+
+    from wecook_core.model import Category
+    from wecook_core.perception.associate import associate_segments
+
+    spoon, hand = (300, 200, 330, 330), (290, 180, 340, 230)
+    obs = observations(30, {"pan": (Category.CONTAINER, [still(0, 30, (0, 0, 640, 480))]),
+                            "spoon": (Category.TOOL, [still(0, 30, spoon)])}, {"RH_P1": [still(0, 30, hand)]})
+    _, timeline = associate_segments(obs, (Segment(0, 30),), Params())
+    assert (timeline.held[:, 1] == timeline.column("spoon")).all()
+
+
+def test_an_old_session_file_with_frame_counts_still_loads_with_the_defaults_in_seconds():
+    from wecook_core.session.store import _params
+
+    warnings: list[str] = []
+    params = _params({"min_frames": 8, "fill_gap": 10, "dwell_frames": 15, "handover_gap": 30, "lamb": 0.002},
+                     warnings)
+    assert params == Params(lamb=0.002)
+    assert len(warnings) == 1 and "min_frames" in warnings[0] and "ignored" in warnings[0]
+    rate = Params().at(30.0)
+    assert (rate.min_frames, rate.fill_gap, rate.dwell_frames, rate.handover_gap) == (8, 10, 15, 30)
+    slow = Params().at(5.0)
+    assert (slow.min_frames, slow.fill_gap, slow.dwell_frames, slow.handover_gap) == (1, 2, 2, 5)
+
+
+def test_wecook_analyze_keeps_the_shot_cuts_of_a_session_video_until_the_video_changes(tmp_path):
+    import json
+
+    import cv2
+    import numpy as np
+
+    from wecook_tui.commands.analyze import SHOTS_FILE, cached_shot_cuts
+
+    video = tmp_path / "v.mp4"
+    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"mp4v"), 10.0, (32, 32))
+    for frame in range(20):
+        writer.write(np.full((32, 32, 3), (30, 30, 220) if frame < 8 else (220, 140, 30), dtype=np.uint8))
+    writer.release()
+    assert cached_shot_cuts(tmp_path, str(video)) == (8,)
+    data = json.loads((tmp_path / SHOTS_FILE).read_text())
+    (tmp_path / SHOTS_FILE).write_text(json.dumps({**data, "cuts": [3]}))
+    assert cached_shot_cuts(tmp_path, str(video)) == (3,)  # read back, not recomputed
+    (tmp_path / SHOTS_FILE).write_text(json.dumps({**data, "size": 1, "cuts": [3]}))
+    assert cached_shot_cuts(tmp_path, str(video)) == (8,)  # another file: found again
+    assert cached_shot_cuts(tmp_path, str(tmp_path / "missing.mp4")) == ()

@@ -35,7 +35,7 @@ def create(root: Path, inputs: dict[str, Path], name: str = "take1", **kwargs: o
 
 
 def test_create_records_inputs_hashes_video_and_params(tmp_path: Path, inputs: dict[str, Path]) -> None:
-    path = create(tmp_path / "sessions", inputs, params=Params(min_frames=3))
+    path = create(tmp_path / "sessions", inputs, params=Params(min_link_s=0.1))
     assert path == tmp_path / "sessions" / "take1"
     meta = yaml.safe_load((path / SESSION_FILE).read_text())
     assert meta["wecook_version"] == __version__ and meta["name"] == "take1"
@@ -43,12 +43,12 @@ def test_create_records_inputs_hashes_video_and_params(tmp_path: Path, inputs: d
     assert meta["inputs"]["objects"]["format"] == "csv" and meta["inputs"]["hands"]["format"] == "openpose"
     assert meta["inputs"]["video"]["path"] == str(inputs["video"].resolve())
     assert meta["video"]["fps"] == FPS and meta["video"]["frame_count"] == FRAMES
-    assert meta["params"]["min_frames"] == 3
+    assert meta["params"]["min_link_s"] == 0.1
     assert (path / JOURNAL_FILE).read_bytes() == b""
     assert (path / "plans").is_dir() and (path / "runs").is_dir()
     session = open_session(path)
     assert session.warnings == []
-    assert session.params == Params(min_frames=3)
+    assert session.params == Params(min_link_s=0.1)
     assert session.video is not None and session.video.width == W
     assert session.inputs["hands"].sha256 == content_hash(inputs["hands"])
     assert session.trees_path == path / "trees.yaml" and session.graph_path == path / "graph.yaml"

@@ -38,7 +38,7 @@ from wecook_core.model import (
     person_of,
 )
 from wecook_core.perception.associate import Timeline, associate_segments, dwelling_points, video_diagonal
-from wecook_core.perception.label_runs import longest_runs
+from wecook_core.perception.label_runs import longest_runs, runs
 from wecook_core.perception.transfers import HandoverEvent, TransferEvent, handover_events, hold_spans, transfer_events
 
 if TYPE_CHECKING:
@@ -46,7 +46,13 @@ if TYPE_CHECKING:
     from wecook_core.perception.params import Params
 
 HAND_VERBS: tuple[str, ...] = ("squeeze", "peel", "roll", "wrap")
-"""Verbs a bare hand performs on the ingredient it holds (the candidates of a HAND action)."""
+"""Verbs a bare hand performs on the ingredient it holds."""
+STILL_HAND_VERBS: tuple[str, ...] = ("squeeze", "peel", "wrap")
+"""The candidates of a HAND action: a hand works an ingredient by itself only while it stays put
+(:func:`hand_still`), and rolling moves the hand back and forth."""
+HELD_VERBS: tuple[str, ...] = ("pour", "sprinkle", "dip")
+"""The candidates of a held ingredient acting on a container (DESIGN.md's "held" case): without a tool
+it cannot cut, peel or stir."""
 
 
 # ------------------------------------------------------------------------------------------ individual
@@ -76,15 +82,23 @@ def individual_action(
     categories: Mapping[str, Category],
     knowledge: Knowledge,
     *,
-    still: bool | Callable[[], bool] = True,
+    still: bool | Callable[[bool], bool] = True,
     verb: str | None = None,
     hand_share: float = 0.3,
+    moves: Callable[[str, bool], frozenset[str] | None] | None = None,
 ) -> tuple[Action | None, Ranking]:
     """The action of one hand in one segment from its associations (no transfer, no collaboration).
 
     ``still``: the hand hardly moves during the segment (a held ingredient is worked, not carried); a
-    callable is asked only when it matters.
-    ``verb``: the user's choice, replacing the recognised verb. ``hand_share``: see ``Params.hand_share``."""
+    callable is asked only when it matters, with ``True`` when the hand must stay put for a whole
+    ``Params.min_action_s`` (an ingredient worked by hand whatever the commonsense share of the hand verbs),
+    ``False`` for ``Params.min_link_s`` (enough when the hand verbs get ``hand_share``).
+    ``verb``: the user's choice, replacing the recognised verb. ``hand_share``: see ``Params.hand_share``.
+    ``moves``: (object name, held ingredient over a container?) -> the verbs its own motion in the segment
+    allows (:mod:`.motion`; None: no say);
+    the candidates are narrowed to those when any is left. A held ingredient over a container is poured,
+    sprinkled or dipped (:data:`HELD_VERBS`); a hand that works an ingredient by itself while staying put
+    squeezes, peels or wraps it (:data:`STILL_HAND_VERBS`)."""
     segment = assoc.segment
     held = assoc.hand_object.get(hand)
     if held is None:
@@ -104,17 +118,21 @@ def individual_action(
             targets = (containers[0],)
     elif category is Category.INGREDIENT:
         if containers:  # poured, sprinkled, dipped into a container
-            targets = (containers[0],)
+            targets, allowed = (containers[0],), HELD_VERBS
         elif ingredients:
             pass  # an ingredient held beside another is not acting on it
-        elif _hand_share(knowledge, held) >= hand_share and (still() if callable(still) else still):
-            kind, targets, allowed = ActionKind.HAND, (held,), HAND_VERBS
+        elif _worked_by_hand(knowledge, held, hand_share, still):
+            kind, targets, allowed = ActionKind.HAND, (held,), STILL_HAND_VERBS
     if not targets:
         if verb is None:
             return grasp, ()
         # the user named a verb for a hand that only holds: the hand works the object it holds
         return Action(ActionKind.HAND, hand, segment.start, segment.end, verb=verb, targets=(held,)), ()
     objects = targets if kind is ActionKind.HAND else (held, *targets)
+    moved = moves(held, allowed is HELD_VERBS) if moves is not None and kind is not ActionKind.HAND else None
+    if moved is not None:
+        narrowed = [v for v in (allowed if allowed is not None else knowledge.verbs) if v in moved]
+        allowed = narrowed or allowed
     ranking = _rank(knowledge, objects, allowed)
     chosen = verb or (ranking[0][0] if ranking else None)
     if chosen is None:
@@ -125,25 +143,74 @@ def individual_action(
                   scores=ranking), ranking
 
 
+def _worked_by_hand(knowledge: Knowledge, held: str, hand_share: float, still: bool | Callable[[bool], bool]) -> bool:
+    """A held ingredient with nothing near is worked by the hand when the hand stays put on it: briefly when
+    the commonsense model says hands work it, for ``min_action_s`` whatever it says (an egg held still for
+    seconds is being peeled, not carried)."""
+    if not callable(still):
+        return still and _hand_share(knowledge, held) >= hand_share
+    if _hand_share(knowledge, held) >= hand_share:
+        return still(False)
+    return still(True)
+
+
 def _hand_share(knowledge: Knowledge, ingredient: str) -> float:
     """How much of P(A | ingredient) the verbs of a bare hand take (lemon: squeeze; oil: hardly any)."""
     return sum(p for verb, p in _rank(knowledge, [ingredient]) if verb in HAND_VERBS)
 
 
-def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, diagonal: float) -> bool:
+def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, diagonal: float,
+               long: bool = False) -> bool:
     """The hand stays put (:func:`~wecook_core.associate.dwelling` within ``still_fraction`` of the image
-    diagonal) for ``min_frames`` consecutive frames of the segment: it works what it holds, it does not just
-    grasp it on the way somewhere."""
+    diagonal) for ``min_link_s`` (``long``: ``min_action_s``) without a break in the segment: it works what it
+    holds, it does not just grasp it on the way somewhere."""
     track = obs.hand(hand)
     if track is None:
         return False
-    window = params.dwell_frames
+    rate = params.at(obs.video.fps)
+    window = rate.dwell_frames
     lo, hi = segment.start - window, segment.end + window
     a, b = np.searchsorted(track.frames, [lo, hi])
     xy = np.full((hi - lo, 2), np.nan)
     xy[track.frames[a:b] - lo] = track.xy[a:b]
     still = dwelling_points(xy, window, params.still_fraction * diagonal)[window : window + len(segment)]
-    return bool(longest_runs(still[:, None])[0] >= min(params.min_frames, len(segment)))
+    needed = rate.min_action_frames if long else min(rate.min_frames, len(segment))
+    return bool(longest_runs(still[:, None])[0] >= needed)
+
+
+def _moves(obs: Observations, segment: Segment, timeline: Timeline | None,
+           hold_runs: Mapping[str, list[tuple[int, int, int]]],
+           cache: dict[tuple[str, int, int, bool], frozenset[str] | None], hand: str, name: str,
+           held_ingredient: bool = False) -> frozenset[str] | None:
+    """The verbs object ``name``'s own motion allows (:func:`.motion.verbs_of`), read over the whole hold
+    of it by ``hand`` that ``segment`` lies in (grasp to release: the run of ``hold_runs[hand]``, the runs
+    of the timeline's held labels; the segment alone when unknown): an actuation pattern is the hold's, and
+    the pauses at its ends, cut into segments of their own, show none. ``cache``: answers already found
+    for this video (a hold spans many segments)."""
+    import bisect
+
+    from wecook_core.perception.motion import motion_of, verbs_of
+
+    try:
+        track = obs.object(name)
+    except KeyError:
+        return None
+    start, end = segment.start, segment.end
+    lane = hold_runs.get(hand)
+    if timeline is not None and lane and name in timeline.names:
+        column = timeline.column(name)
+        i = bisect.bisect_right([r[0] for r in lane], segment.start) - 1
+        for run_start, run_end, value in lane[max(i, 0):]:
+            if run_start >= segment.end:
+                break
+            if value == column and run_end > segment.start:
+                start, end = min(start, run_start), max(end, run_end)
+                break
+    key = (name, start, end, held_ingredient)
+    if key not in cache:
+        lo, hi = np.searchsorted(track.frames, [start, end])
+        cache[key] = verbs_of(motion_of(track.boxes[lo:hi], obs.video.fps), held_ingredient)
+    return cache[key]
 
 
 # ------------------------------------------------------------------------------------------- segments
@@ -195,7 +262,7 @@ def _same_object_holding(acts: dict[str, Action], assoc: Associations, timeline:
 
         def grasped(hand: str, column: int = column) -> int:
             labels = timeline.held[: segment.end, HANDS.index(hand)]
-            spans = hold_spans(labels, column, params.min_frames)
+            spans = hold_spans(labels, column, params.at(timeline.fps).min_frames)
             return spans[-1][0] if spans else segment.start
 
         ordered = sorted(hands, key=lambda h: (grasped(h), HANDS.index(h)))
@@ -225,6 +292,8 @@ def recognize_actions(
     diagonal = video_diagonal(obs)
     transfers = transfer_events(obs, timeline, params)
     handovers = handover_events(timeline, params)
+    hold_runs = {hand: runs(timeline.held[:, column]) for column, hand in enumerate(HANDS)}
+    motion_cache: dict[tuple[str, int, int, bool], frozenset[str] | None] = {}
     result = []
     for assoc in associations:
         segment = assoc.segment
@@ -235,7 +304,9 @@ def recognize_actions(
             verb = corrections.verbs.get((segment.start, hand))
             still = partial(hand_still, obs, hand, segment, params, diagonal)
             action, ranking = individual_action(hand, assoc, categories, knowledge, still=still, verb=verb,
-                                                hand_share=params.hand_share)
+                                                hand_share=params.hand_share,
+                                                moves=partial(_moves, obs, segment, timeline, hold_runs, motion_cache,
+                                                              hand))
             if action is not None:
                 acts[hand] = action
             if ranking:

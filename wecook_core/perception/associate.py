@@ -2,19 +2,21 @@
 object-object.
 
 Everything is computed per frame (:mod:`wecook_core.perception.frame_links`: dense arrays aligned on frame index, one
-row per frame, NaN where a box is absent; gaps of at most ``params.fill_gap`` frames interpolated), gathered in
+row per frame, NaN where a box is absent; gaps of at most ``params.fill_gap_s`` interpolated), gathered in
 blocks of :data:`~wecook_core.frame_links.BLOCK_FRAMES` so memory does not grow with the video, then summarised
-per segment (here): a link is kept only when it holds for at least ``params.min_frames`` consecutive frames
-inside the segment (a segment shorter than that is judged on the ``min_frames`` around it).
+per segment (here): a link is kept only when it holds for at least ``params.min_link_s`` without a break
+inside the segment (a segment shorter than that is judged on the ``min_link_s`` around it).
 
 - Ingredient-container: an ingredient lies in a container when most of its box is inside the container's box
   (``params.contain_fraction``); among several, the highest Jaccard index wins.
-- Hand-object: the objects whose boxes overlap the hand's box; among several, the one overlapped longest
-  without a break (a grasp persists while the hand carries the object over others), then the closest box
-  centre; a contained ingredient is replaced by its container.
+- Hand-object: among the objects whose boxes overlap the hand's box, the one that moves with the hand,
+  smoothed over time by Viterbi (:mod:`wecook_core.perception.holding`: motion coherence of hand and box as
+  the emission, a switching cost as hysteresis). The container under a held bottle, spoon or bread does not
+  move with the hand: it is the held object's destination (object-object below), never the held object; a
+  bowl carried with an ingredient in it is held rather than the ingredient.
 - Object-object: from each held object to the containers and ingredients whose boxes come within
   ``params.near_fraction`` of the image diagonal of it while it dwells there (``params.dwell_*``: passing by
-  is not acting), for ``min_frames`` and ``params.min_share`` of the segment; closest first; never a tool.
+  is not acting), for ``min_link_s`` and ``params.min_share`` of the segment; closest first; never a tool.
 
 :func:`associate_segments` also returns the :class:`Timeline`: the per-frame links of the whole video, which
 transfer and collaboration detection track over time (:mod:`wecook_core.perception.actions`).
@@ -33,18 +35,22 @@ from wecook_core.perception.frame_links import (
     BLOCK_FRAMES,
     FrameBoxes,
     FrameLinks,
+    box_area,
     box_centres,
     box_gap,
+    box_intersection,
     crop,
     crop_links,
     frame_boxes,
     frame_links,
     links_of,
+    video_diagonal,
 )
 from wecook_core.perception.label_runs import NONE, dominant, kept_runs, longest_runs, runs
 
 if TYPE_CHECKING:
     from wecook_core.perception.params import Params
+    from wecook_core.perception.unseen import UnseenHold
 
 
 # ------------------------------------------------------------------------------------------- segments
@@ -52,7 +58,7 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True, eq=False)
 class Timeline:
-    """Per-frame links of the whole video, row = frame index, before the ``min_frames`` filter (what transfer
+    """Per-frame links of the whole video, row = frame index, before the ``min_link_s`` filter (what transfer
     and collaboration detection track over time), with a segment's corrected hand-object links written in."""
 
     names: tuple[str, ...]
@@ -63,6 +69,8 @@ class Timeline:
     """int16 ``(frames, hands)``: see :attr:`FrameLinks.held`; hands in :data:`HANDS` order."""
     touched: np.ndarray
     """int16 ``(frames, hands)``: see :attr:`FrameLinks.touched`."""
+    fps: float = 30.0
+    """The video's frame rate."""
 
     def column(self, name: str) -> int:
         return self.names.index(name)
@@ -76,14 +84,14 @@ def associations_of(
     corrections: Corrections | None = None,
     window: Segment | None = None,
 ) -> Associations:
-    """The links of one segment that last ``min_frames`` consecutive frames, from its per-frame links, with
+    """The links of one segment that last ``min_link_s`` consecutive frames, from its per-frame links, with
     the user's hand-object and object-object corrections for this segment applied. ``window``: the frames
-    to summarise when not the segment's own (a segment shorter than ``min_frames`` is judged on the
-    ``min_frames`` around it)."""
+    to summarise when not the segment's own (a segment shorter than ``min_link_s`` is judged on the
+    ``min_link_s`` around it)."""
     window = window or segment
     lo, hi = window.start - links.start, window.end - links.start
     names = links.boxes.names
-    min_frames = min(params.min_frames, hi - lo)  # a link that lasts a whole short segment counts
+    min_frames = min(params.at(links.boxes.fps).min_frames, hi - lo)  # a link that lasts a whole short segment counts
     containment: dict[str, str] = {}
     for column, category in enumerate(links.boxes.categories):
         if category is Category.INGREDIENT:
@@ -114,30 +122,46 @@ def associations_of(
 def near_objects(
     links: FrameLinks, held: int, params: Params, rows: np.ndarray, video_diagonal: float
 ) -> tuple[int, ...]:
-    """Containers and ingredients near object column ``held`` for ``min_frames`` consecutive frames (and at
+    """Containers and ingredients near object column ``held`` for ``min_link_s`` consecutive frames (and at
     least ``min_share`` of the frames) among ``rows`` (a boolean mask over the rows of ``links``), closest
-    first (mean box gap).
+    first (mean box gap, then the larger share of the other's box covered by the held one).
 
     Near means a box gap of at most ``params.near_fraction * video_diagonal`` pixels while the held object
-    dwells there (:func:`dwelling`): passing by on the way somewhere is not acting. Tools and the held object
-    itself are never linked."""
+    dwells there (:func:`dwelling`, within ``dwell_fraction`` of the diagonal or ``dwell_own_fraction`` of its
+    own size (its box half way through), whichever is more: a big spoon's strokes in a close-up are long):
+    passing by on the way somewhere is not acting. Tools and the held object itself are never linked."""
     boxes = links.boxes
     gap = box_gap(boxes.objects[:, held : held + 1, :], boxes.objects)
+    rate = params.at(boxes.fps)
+    own = boxes.objects[:, held, :]
+    seen = np.flatnonzero(rows & np.isfinite(own[:, 0]))
+    middle = own[seen[len(seen) // 2]] if len(seen) else None
+    size = float(np.hypot(middle[2] - middle[0], middle[3] - middle[1])) if middle is not None else 0.0
+    stay = max(params.dwell_fraction * video_diagonal, params.dwell_own_fraction * size)
     near = (gap <= params.near_fraction * video_diagonal) & rows[:, None] & dwelling(
-        boxes.objects[:, held, :], params.dwell_frames, params.dwell_fraction * video_diagonal)[:, None]
+        own, rate.dwell_frames, stay)[:, None]
     for column, category in enumerate(boxes.categories):
         if category is Category.TOOL or column == held:
             near[:, column] = False
     longest = longest_runs(near)
     frames = int(rows.sum())
-    needed = max(min(params.min_frames, frames), params.min_share * frames)
+    needed = max(min(rate.min_frames, frames), params.min_share * frames)
     keep = np.flatnonzero((longest >= needed) & (longest > 0))
     if not len(keep):
         return ()
     with np.errstate(invalid="ignore"):
         sums = np.where(near[:, keep], gap[:, keep], 0.0).sum(axis=0)
     mean_gap = sums / np.maximum(near[:, keep].sum(axis=0), 1)
-    order = np.lexsort((keep, mean_gap))
+    # among boxes that touch it (gap 0), the one the held object covers most of, on average: a spoon
+    # stirring the spinach just tipped over the squash covers more of the spinach's box
+    covered = np.zeros(len(keep))
+    if len(keep) > 1 and len(np.unique(mean_gap)) < len(keep):  # only ties need it
+        held_boxes = boxes.objects[:, held : held + 1, :]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            share = box_intersection(held_boxes, boxes.objects[:, keep, :]) / box_area(boxes.objects[:, keep, :])
+            covered = np.where(near[:, keep], np.nan_to_num(share), 0.0).sum(axis=0) / np.maximum(
+                near[:, keep].sum(axis=0), 1)
+    order = np.lexsort((keep, -covered, mean_gap))
     return tuple(int(keep[i]) for i in order)
 
 
@@ -160,18 +184,6 @@ def dwelling_points(centre: np.ndarray, window: int, distance: float) -> np.ndar
         return np.asarray(np.linalg.norm(after - before, axis=1) < distance)
 
 
-def video_diagonal(obs: Observations) -> float:
-    """Image diagonal in pixels (from the video's size, else from the boxes' extent)."""
-    if obs.video.width > 0 and obs.video.height > 0:
-        return float(np.hypot(obs.video.width, obs.video.height))
-    width, height = 1.0, 1.0
-    for boxes in [t.boxes for t in obs.objects] + [t.boxes for t in obs.hands]:
-        if len(boxes):
-            width = max(width, float(np.max(boxes[:, 2])))
-            height = max(height, float(np.max(boxes[:, 3])))
-    return float(np.hypot(width, height))
-
-
 def frame_count(obs: Observations, segments: Sequence[Segment] = ()) -> int:
     """Frames of the video: the declared count, extended to cover every segment and every track entry."""
     count = max(obs.video.frame_count, 0)
@@ -188,10 +200,16 @@ def associate_segments(
     segments: Sequence[Segment],
     params: Params,
     corrections: Corrections | None = None,
+    *,
+    shots: Sequence[int] = (),
+    unseen: Sequence[UnseenHold] = (),
 ) -> tuple[tuple[Associations, ...], Timeline]:
     """Associations of each segment, with the user's corrections applied, and the whole video's per-frame
-    links. Works one segment at a time: memory holds one segment's boxes, not the video's."""
+    links. Works one segment at a time: memory holds one segment's boxes, not the video's. ``shots``: shot
+    cuts, across which no motion is compared; ``unseen``: holds by hands the detector missed
+    (:mod:`wecook_core.perception.unseen`), written in where their hand holds nothing."""
     diagonal = video_diagonal(obs)
+    rate = params.at(obs.video.fps)
     names = tuple(track.name for track in obs.objects)
     categories = tuple(Category(obs.categories.get(name, Category.INGREDIENT)) for name in names)
     total = frame_count(obs, segments)
@@ -207,8 +225,13 @@ def associate_segments(
         while last + 1 < len(segments) and segments[last + 1].end - segments[first].start <= BLOCK_FRAMES:
             last += 1
         start, end = segments[first].start, segments[last].end
-        links = frame_links(obs, start, end, params, since if previous_end == start else None)
+        links = frame_links(obs, start, end, params, since if previous_end == start else None, shots=shots)
         since, previous_end = links.since, end
+        for hold in unseen:
+            lo, hi = max(hold.start, start), min(hold.end, end)
+            if lo < hi and hold.obj in names:
+                rows = links.held[lo - start : hi - start, HANDS.index(hold.hand)]
+                rows[rows == NONE] = names.index(hold.obj)
         rows = slice(start, end)
         container[rows] = links.container
         held[rows] = links.held
@@ -216,19 +239,18 @@ def associate_segments(
         for segment in segments[first : last + 1]:
             # a segment too short to hold a link of min_frames is judged on the min_frames around it, once
             # the frames after it are known
-            short = len(segment) < params.min_frames
+            short = len(segment) < rate.min_frames
             associations.append(None if short else associations_of(
                 crop_links(links, segment.start, segment.end), segment, params, diagonal, corrections))
         first = last + 1
     for i, segment in enumerate(segments):
         if associations[i] is None:
-            pad = (params.min_frames - len(segment) + 1) // 2
+            pad = (rate.min_frames - len(segment) + 1) // 2
             window = Segment(max(0, segment.start - pad), min(total, segment.end + pad))
             rows = slice(window.start, window.end)
-            boxes = frame_boxes(obs, window.start, window.end, params.fill_gap)
+            boxes = frame_boxes(obs, window.start, window.end, rate.fill_gap)
             around = FrameLinks(boxes, container[rows].astype(np.int32), held[rows].astype(np.int32),
-                                touched[rows].astype(np.int32),
-                                np.full((2, len(HANDS), len(names)), NONE, dtype=np.int64))
+                                touched[rows].astype(np.int32), None)
             associations[i] = associations_of(around, segment, params, diagonal, corrections, window)
     done = tuple(a for a in associations if a is not None)
     if corrections is not None:
@@ -237,7 +259,7 @@ def associate_segments(
                 if (segment.start, hand) in corrections.hand_object:
                     chosen = association.hand_object.get(hand)
                     held[segment.start : segment.end, column] = names.index(chosen) if chosen is not None else NONE
-    return done, Timeline(names, categories, container, held, touched)
+    return done, Timeline(names, categories, container, held, touched, obs.video.fps or 30.0)
 
 
 def associate(

@@ -1,16 +1,18 @@
 """Per-frame boxes and links of a stretch of video, on dense arrays aligned on frame index (one row per frame,
-NaN where a box is absent; gaps of at most ``params.fill_gap`` frames interpolated): which container holds
+NaN where a box is absent; gaps of at most ``params.fill_gap_s`` interpolated): which container holds
 each ingredient, which object each hand touches and holds. :mod:`wecook_core.perception.associate` summarises them per
 segment."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from wecook_core.model import HANDS, Category, Observations
+from wecook_core.perception.holding import held_objects
 from wecook_core.perception.label_runs import NONE
 
 if TYPE_CHECKING:
@@ -34,6 +36,8 @@ class FrameBoxes:
     """Hand names (always :data:`HANDS`), the column order of ``hand_boxes``."""
     hand_boxes: np.ndarray
     """float64 ``(frames, hands, 4)``: pixels, NaN where the hand is not detected."""
+    fps: float = 30.0
+    """The video's frame rate (durations in :class:`Params` are seconds)."""
 
 
 def frame_boxes(obs: Observations, start: int, end: int, fill: int = 0) -> FrameBoxes:
@@ -50,7 +54,7 @@ def frame_boxes(obs: Observations, start: int, end: int, fill: int = 0) -> Frame
         if hand_track.hand in HANDS:
             _scatter(hand_boxes[:, HANDS.index(hand_track.hand)], hand_track.frames, hand_track.boxes, start, end,
                      fill)
-    return FrameBoxes(start, end, names, categories, objects, HANDS, hand_boxes)
+    return FrameBoxes(start, end, names, categories, objects, HANDS, hand_boxes, obs.video.fps or 30.0)
 
 
 def _scatter(out: np.ndarray, frames: np.ndarray, values: np.ndarray, start: int, end: int, fill: int) -> None:
@@ -80,11 +84,11 @@ def _scatter(out: np.ndarray, frames: np.ndarray, values: np.ndarray, start: int
             out[todo, k] = np.interp(t, near_frames, near_values[:, k])
 
 
-def _area(boxes: np.ndarray) -> np.ndarray:
+def box_area(boxes: np.ndarray) -> np.ndarray:
     return np.clip(boxes[..., 2] - boxes[..., 0], 0, None) * np.clip(boxes[..., 3] - boxes[..., 1], 0, None)
 
 
-def _intersection(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def box_intersection(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Intersection areas of broadcast box arrays ``a[..., 4]`` and ``b[..., 4]`` (NaN where either is absent)."""
     width = np.minimum(a[..., 2], b[..., 2]) - np.maximum(a[..., 0], b[..., 0])
     height = np.minimum(a[..., 3], b[..., 3]) - np.maximum(a[..., 1], b[..., 1])
@@ -96,6 +100,18 @@ def box_gap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     dx = np.clip(np.maximum(a[..., 0], b[..., 0]) - np.minimum(a[..., 2], b[..., 2]), 0, None)
     dy = np.clip(np.maximum(a[..., 1], b[..., 1]) - np.minimum(a[..., 3], b[..., 3]), 0, None)
     return np.hypot(dx, dy)
+
+
+def video_diagonal(obs: Observations) -> float:
+    """Image diagonal in pixels (from the video's size, else from the boxes' extent)."""
+    if obs.video.width > 0 and obs.video.height > 0:
+        return float(np.hypot(obs.video.width, obs.video.height))
+    width, height = 1.0, 1.0
+    for boxes in [t.boxes for t in obs.objects] + [t.boxes for t in obs.hands]:
+        if len(boxes):
+            width = max(width, float(np.max(boxes[:, 2])))
+            height = max(height, float(np.max(boxes[:, 3])))
+    return float(np.hypot(width, height))
 
 
 def box_centres(boxes: np.ndarray) -> np.ndarray:
@@ -112,14 +128,13 @@ class FrameLinks:
     """int ``(frames, objects)``: column index of the container holding each ingredient, :data:`NONE` if none
     (always NONE for tools and containers)."""
     held: np.ndarray
-    """int ``(frames, hands)``: column index of the object each hand holds, :data:`NONE` if none (a contained
-    ingredient already replaced by its container)."""
+    """int ``(frames, hands)``: column index of the object each hand holds, :data:`NONE` if none: what moves with
+    the hand among the boxes it overlaps (:mod:`wecook_core.perception.holding`)."""
     touched: np.ndarray
-    """int ``(frames, hands)``: like ``held`` but before replacing a contained ingredient by its container."""
-    since: np.ndarray
-    """int64 ``(2, hands, objects)``: on the last frame, where each hand's current overlap with each object
-    began and the last frame the hand carried it (:data:`NONE`: no overlap); pass it to the next range's
-    :func:`frame_links`."""
+    """int ``(frames, hands)``: the same as ``held`` (kept for the transfer tracker's "touched" reading)."""
+    since: np.ndarray | None
+    """float64 ``(hands, 1 + objects)``: the held-object smoother's forward costs on the last frame
+    (:func:`wecook_core.perception.holding.held_objects`); pass it to the next range's :func:`frame_links`."""
 
     @property
     def start(self) -> int:
@@ -132,16 +147,16 @@ class FrameLinks:
 
 def frame_links(
     obs: Observations, start: int, end: int, params: Params, since: np.ndarray | None = None,
-    block: FrameBoxes | None = None,
+    block: FrameBoxes | None = None, shots: Sequence[int] = (),
 ) -> FrameLinks:
     """Ingredient-container and hand-object links of every frame of ``[start, end)``; ``since`` carries the
-    hand-object overlaps on from the frame before ``start`` (:attr:`FrameLinks.since` of the previous range).
+    held-object smoother's state on from the frame before ``start`` (:attr:`FrameLinks.since` of the previous range).
     ``block``: boxes already gathered for frames that include ``[start, end)``."""
     if block is not None and block.start <= start and end <= block.end:
         boxes = crop(block, start, end)
     else:
-        boxes = frame_boxes(obs, start, end, params.fill_gap)
-    return links_of(boxes, params, since)
+        boxes = frame_boxes(obs, start, end, params.at(obs.video.fps).fill_gap)
+    return links_of(boxes, params, since, shots)
 
 
 def crop_links(links: FrameLinks, start: int, end: int) -> FrameLinks:
@@ -159,10 +174,11 @@ def crop(boxes: FrameBoxes, start: int, end: int) -> FrameBoxes:
     """The rows of ``[start, end)`` (within ``boxes``' range), as views."""
     a, b = start - boxes.start, end - boxes.start
     return FrameBoxes(start, end, boxes.names, boxes.categories, boxes.objects[a:b], boxes.hands,
-                      boxes.hand_boxes[a:b])
+                      boxes.hand_boxes[a:b], boxes.fps)
 
 
-def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None) -> FrameLinks:
+def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None,
+             shots: Sequence[int] = ()) -> FrameLinks:
     cats = np.array([str(c) for c in boxes.categories])
     length, n_objects = boxes.objects.shape[:2]
     objects = boxes.objects
@@ -174,70 +190,50 @@ def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None)
     if len(ingredients) and len(containers) and length:
         ing = objects[:, ingredients, None, :]
         con = objects[:, None, containers, :]
-        inter = _intersection(ing, con)
-        ing_area = _area(ing)
+        inter = box_intersection(ing, con)
+        ing_area = box_area(ing)
         with np.errstate(invalid="ignore", divide="ignore"):
-            jaccard = inter / (ing_area + _area(con) - inter)
+            jaccard = inter / (ing_area + box_area(con) - inter)
             inside = inter / ing_area
         ok = (inside >= params.contain_fraction) & (jaccard > 0)
         score = np.where(ok, jaccard, -1.0)
         best = np.argmax(score, axis=2)
         found = np.take_along_axis(score, best[..., None], axis=2)[..., 0] > 0
         container[:, ingredients] = np.where(found, containers[best], NONE)
+        _drop_passing(container, objects, params.at(boxes.fps).dwell_frames, params.pass_fraction)
 
-    # hand-object: overlapping boxes. Among several: first those the hand has carried (moved along with it)
-    # since it began to overlap them, then the one overlapped longest without a break (a grasp persists: a
-    # hand carrying a spoon over a rolling pin still holds the spoon), then the closest centre.
+    # hand-object: what moves with the hand among the boxes it overlaps, smoothed over time
+    # (wecook_core.perception.holding)
     hands = boxes.hand_boxes
     held = np.full((length, len(boxes.hands)), NONE, dtype=np.int32)
-    touched = held.copy()
-    last = np.full((2, len(boxes.hands), n_objects), NONE, dtype=np.int64)
+    last = since
     if n_objects and length:
-        inter = _intersection(hands[:, :, None, :], objects[:, None, :, :])
-        overlap = inter > 0
-        before = np.empty_like(overlap)
-        before[0] = since[0] >= 0 if since is not None else False
-        before[1:] = overlap[:-1]
-        frames = np.arange(boxes.start, boxes.end, dtype=np.int64)[:, None, None]
-        began = np.where(overlap & ~before, frames, NONE)
-        if since is not None:
-            began[0] = np.where(overlap[0] & before[0], since[0], began[0])
-        run_start = np.maximum.accumulate(began, axis=0)
-        carried = overlap & _moving_together(hands, objects, params.dwell_frames)
-        last_carried = np.where(carried, frames, NONE)
-        if since is not None:
-            last_carried[0] = np.maximum(last_carried[0], since[1])
-        last_carried = np.maximum.accumulate(last_carried, axis=0)
-        carried_since = overlap & (last_carried >= run_start)
-        hand_centres, object_centres = box_centres(hands), box_centres(objects)
-        distance = np.linalg.norm(hand_centres[:, :, None, :] - object_centres[:, None, :, :], axis=-1)
-        finite = distance[np.isfinite(distance)]
-        scale = float(finite.max()) + 1.0 if finite.size else 1.0
-        later = float(boxes.end + 1)  # ranks every carried object before any other
-        key = np.where(carried_since, 0.0, later) + run_start + np.nan_to_num(distance, nan=0.0) / scale
-        best = np.argmin(np.where(overlap, key, np.inf), axis=2)
-        any_overlap = overlap.any(axis=2)
-        last = np.stack([np.where(overlap[-1], run_start[-1], NONE), np.where(overlap[-1], last_carried[-1], NONE)])
-        touched = np.where(any_overlap, best, NONE).astype(np.int32)
-        rows = np.arange(length)[:, None]
-        redirect = np.where(touched >= 0, container[rows, np.maximum(touched, 0)], NONE)
-        held = np.where(redirect >= 0, redirect, touched).astype(np.int32)
+        overlap = box_intersection(hands[:, :, None, :], objects[:, None, :, :]) > 0
+        rate = params.at(boxes.fps)
+        held, last = held_objects(
+            hands, objects, overlap, container, window=rate.dwell_frames, moving_fraction=params.moving_fraction,
+            coherent_fraction=params.coherent_fraction, switch=rate.hold_switch_frames, start=since,
+            step=rate.decode_step, shot=np.searchsorted(np.asarray(sorted(shots), dtype=np.int64),
+                                                        np.arange(boxes.start, boxes.end), side="right"))
+    touched = held
     return FrameLinks(boxes, container, held, touched, last)
 
 
-def _moving_together(hands: np.ndarray, objects: np.ndarray, window: int) -> np.ndarray:
-    """``(frames, hands, objects)``: the hand moves (more than a quarter of its box's diagonal between
-    ``window`` frames before and after) and the object's box moves along with it (by the same displacement,
-    give or take half of it)."""
-    length = hands.shape[0]
-    index = np.arange(length)
-    after, before = np.minimum(index + window, length - 1), np.maximum(index - window, 0)
-    hand_centres, object_centres = box_centres(hands), box_centres(objects)
-    hand_step = hand_centres[after] - hand_centres[before]
-    object_step = object_centres[after] - object_centres[before]
+def _drop_passing(container: np.ndarray, objects: np.ndarray, window: int, fraction: float) -> None:
+    """Unlink (in place) an ingredient from a container it only passes over: one it moves across by more
+    than ``fraction`` of the container's diagonal between ``window`` frames before and after (a tomato
+    carried from the pan to the plate over the pot is never in the pot). An ingredient riding in a bowl
+    moves with the bowl, one stirred in a pan stays inside it: both stay linked."""
+    rows, columns = np.nonzero(container >= 0)
+    if not len(rows):
+        return
+    length = len(container)
+    holders = container[rows, columns]
+    before, after = np.maximum(rows - window, 0), np.minimum(rows + window, length - 1)
+    centre = box_centres(objects)
+    relative = (centre[after, columns] - centre[after, holders]) - (centre[before, columns] - centre[before, holders])
+    box = objects[rows, holders]
     with np.errstate(invalid="ignore"):
-        hand_size = np.hypot(hands[..., 2] - hands[..., 0], hands[..., 3] - hands[..., 1])
-        hand_move = np.linalg.norm(hand_step, axis=-1)
-        moving = hand_move > 0.25 * hand_size
-        apart = np.linalg.norm(object_step[:, None, :, :] - hand_step[:, :, None, :], axis=-1)
-        return np.asarray(moving[:, :, None] & (apart < 0.5 * hand_move[:, :, None]))
+        size = np.hypot(box[:, 2] - box[:, 0], box[:, 3] - box[:, 1])
+        passing = np.linalg.norm(relative, axis=1) > fraction * size
+    container[rows[passing], columns[passing]] = NONE

@@ -1,8 +1,27 @@
-"""Every tunable of the perception pipeline, in one frozen value recorded in a session's ``session.yaml``."""
+"""Every tunable of the perception pipeline, in one frozen value recorded in a session's ``session.yaml``.
+
+Durations are in seconds and sizes in fractions (of the image diagonal, of a box), never frames or pixels, so a
+5 fps frame dump and a 60 fps recording are judged alike; :func:`frames` turns a duration into frames of one
+video. Old session files that still name frame counts (``min_frames``, ``fill_gap``, ``dwell_frames``,
+``handover_gap``, ``handover_overlap``) are read with those keys ignored (with a warning), so the defaults in
+seconds apply.
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+
+DEFAULT_FPS = 30.0
+"""Frame rate assumed when a video does not say its own."""
+DECODE_S = 0.1
+"""Seconds per bin of the held-object decoder (:func:`wecook_core.perception.holding.held_objects`): a
+resolution of the computation, not a tunable."""
+
+
+def frames(seconds: float, fps: float, least: int = 1) -> int:
+    """``seconds`` as a whole number of frames at ``fps`` (at least ``least``)."""
+    rate = fps if fps > 0 else DEFAULT_FPS
+    return max(least, round(seconds * rate))
 
 
 @dataclass(frozen=True)
@@ -21,33 +40,87 @@ class Params:
     min_segment_s: float = 0.3
     """Seconds: the hands' breakpoints closer than this merge into one cut of the union, so no segment of the
     video is a sliver between two hands' nearly simultaneous phase changes."""
-    min_frames: int = 8
-    """An association is kept only when it holds for at least this many consecutive frames."""
+    min_link_s: float = 0.27
+    """Seconds: an association is kept only when it holds this long without a break."""
     seed: int = 0
     """Seed for anything random in the pipeline."""
-    fill_gap: int = 10
-    """Frames: a box or hand missing for at most this long is interpolated (the detector missed it)."""
+    fill_gap_s: float = 0.34
+    """Seconds: a box or hand missing for at most this long is interpolated (the detector missed it)."""
     contain_fraction: float = 0.5
     """An ingredient lies in a container when at least this fraction of its box is inside the container's box
     (among several such containers, the highest Jaccard index wins)."""
+    pass_fraction: float = 0.5
+    """An ingredient is not in a container it moves across by more than this fraction of the container's
+    diagonal over ``dwell_s`` before and after (carried over it on the way somewhere)."""
     min_share: float = 0.3
     """An object-object link must also last this fraction of its segment (consecutively): a tool passing
     over a board on its way does not act on it."""
     near_fraction: float = 0.02
     """Object-object: a held object acts on objects whose boxes come within this fraction of the image diagonal."""
-    dwell_frames: int = 15
-    """Object-object: a held object acts on another only while it dwells near it, moving less than
-    ``dwell_fraction`` of the image diagonal between this many frames before and after."""
+    dwell_s: float = 0.5
+    """Seconds: a held object acts on another only while it dwells near it, moving less than
+    ``dwell_fraction`` of the image diagonal between this long before and after; also the window over which
+    a hand's and an object's motions are compared (:attr:`moving_fraction`)."""
     dwell_fraction: float = 0.05
-    """See ``dwell_frames``."""
+    """See ``dwell_s``."""
+    dwell_own_fraction: float = 0.5
+    """A held object also dwells while it moves less than this fraction of its own box's diagonal (see
+    ``dwell_s``): working strokes scale with the tool, and a close-up makes everything big."""
+    moving_fraction: float = 0.25
+    """A hand moves (over ``dwell_s`` before and after a frame) when its centre travels more than this
+    fraction of its own box's diagonal; only then does it say which object moves along with it."""
+    coherent_fraction: float = 0.5
+    """An object moves with a moving hand when its displacement differs from the hand's by less than this
+    fraction of the hand's displacement."""
+    hold_switch_s: float = 0.3
+    """Seconds of contrary motion evidence it takes the held-object smoother to change what a hand holds
+    (the hysteresis of :mod:`wecook_core.perception.holding`)."""
     hand_share: float = 0.3
     """A held ingredient with nothing near is worked by the hand itself (squeeze) only when the hand verbs
-    (squeeze, peel, roll, wrap) together get at least this share of P(A | ingredient)."""
+    (squeeze, peel, roll, wrap) together get at least this share of P(A | ingredient), unless the hand stays
+    put on it for ``min_action_s`` (then the hand verbs are the only candidates, whatever their share)."""
     still_fraction: float = 0.02
     """A hand holding an ingredient with nothing near works it by itself (squeeze) only when it stays put:
-    moving less than this fraction of the image diagonal between ``dwell_frames`` before and after, for
-    ``min_frames`` consecutive frames; otherwise it only grasps it on the way somewhere."""
-    handover_gap: int = 30
-    """Frames: a handover's receiver grasps the object at most this long after the giver releases it."""
-    handover_overlap: int = 60
-    """Frames: two persons holding one object longer than this together is a holding, not a handover."""
+    moving less than this fraction of the image diagonal between ``dwell_s`` before and after, for
+    ``min_link_s`` without a break; otherwise it only grasps it on the way somewhere."""
+    mover_share: float = 0.5
+    """A transfer's mover is a hand that touches the ingredient, or holds what carries it, on at least this
+    share of the frames around the ingredient's change of container."""
+    handover_gap_s: float = 1.0
+    """Seconds: a handover's receiver grasps the object at most this long after the giver releases it."""
+    handover_overlap_s: float = 2.0
+    """Seconds: two persons holding one object longer than this together is a holding, not a handover."""
+    seen_share: float = 0.5
+    """A segment whose hands are detected on less than this share of its frames is marked unsure (the
+    reviewer should look), and so is one where a hold was inferred from an object's own motion."""
+    min_action_s: float = 1.0
+    """Seconds: a bare hold (a grasp with no action) shorter than this, next to an action of the same hand,
+    is part of that action's reach or release, not a tree, graph node or plan entry of its own."""
+
+    def at(self, fps: float) -> FrameParams:
+        """The durations of these parameters in frames of a video at ``fps``."""
+        return FrameParams(
+            min_frames=frames(self.min_link_s, fps),
+            fill_gap=frames(self.fill_gap_s, fps, least=0),
+            dwell_frames=frames(self.dwell_s, fps),
+            handover_gap=frames(self.handover_gap_s, fps),
+            handover_overlap=frames(self.handover_overlap_s, fps),
+            min_action_frames=frames(self.min_action_s, fps),
+            hold_switch_frames=self.hold_switch_s * (fps if fps > 0 else DEFAULT_FPS),
+            decode_step=frames(DECODE_S, fps),
+        )
+
+
+@dataclass(frozen=True)
+class FrameParams:
+    """:class:`Params`' durations in frames of one video (:meth:`Params.at`); never stored."""
+
+    min_frames: int
+    fill_gap: int
+    dwell_frames: int
+    handover_gap: int
+    handover_overlap: int
+    min_action_frames: int
+    hold_switch_frames: float
+    decode_step: int
+    """Frames per bin of the held-object decoder (:data:`DECODE_S`)."""

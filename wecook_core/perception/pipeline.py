@@ -1,21 +1,28 @@
 """The whole perception pipeline as one pure function: observations + corrections -> trees and graph.
 
 Each stage lives in its own module; this one only chains them and applies the user's corrections:
-segment (:mod:`wecook_core.perception.segmentation`) -> associate (:mod:`wecook_core.perception.associate`) -> actions
-(:mod:`wecook_core.perception.actions`) -> merged trees and graph (:mod:`wecook_core.trees.graph`).
+segment (:mod:`wecook_core.perception.segmentation`, GGS on the hands, plus cuts at the video's shot cuts,
+:mod:`wecook_core.perception.shots`, and where objects start and stop moving in hands the detector does not
+see, :mod:`wecook_core.perception.unseen`) -> associate (:mod:`wecook_core.perception.associate`, what each
+hand holds decoded by :mod:`wecook_core.perception.holding`) -> actions (:mod:`wecook_core.perception.actions`,
+with the held object's own motion, :mod:`wecook_core.perception.motion`) -> merged trees and graph
+(:mod:`wecook_core.trees.graph`). Segments whose evidence is thin are marked unsure with the reason
+(:attr:`Analysis.unsure`), and bare holds there are not emitted.
 """
 
 from __future__ import annotations
 
+import bisect
 import itertools
 import time
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 from wecook_core.model import (
     Action,
     ActionGraph,
+    ActionKind,
     Associations,
     Corrections,
     Segment,
@@ -24,6 +31,7 @@ from wecook_core.model import (
     TreeSpan,
 )
 from wecook_core.perception.params import Params
+from wecook_core.perception.unseen import UnseenHold
 
 if TYPE_CHECKING:
     from wecook_core.knowledge.recognize import Knowledge
@@ -49,6 +57,15 @@ class Analysis:
     corrections: Corrections = field(default_factory=Corrections)
     seconds: Mapping[str, float] = field(default_factory=dict)
     """Wall time of each stage (``segment``, ``associate``, ``actions``, ``graph``), seconds."""
+    shots: tuple[int, ...] = ()
+    """First frames of the video's shots after the first (:mod:`wecook_core.perception.shots`): segments end
+    there."""
+    unseen: tuple[UnseenHold, ...] = ()
+    """Objects moved by hands the detector did not see (:mod:`wecook_core.perception.unseen`)."""
+    unsure: Mapping[int, str] = field(default_factory=dict)
+    """Segment start -> why the evidence there is too thin to trust what was recognised (for the reviewer):
+    the hands are seen on too few of its frames, or what a hand holds was inferred from the object's own
+    motion."""
 
     def segment_index(self, frame: int) -> int | None:
         """Index of the segment holding ``frame``, None outside the video."""
@@ -74,6 +91,64 @@ def apply_cuts(segmentation: Segmentation, corrections: Corrections) -> Segmenta
     if segments == segmentation.segments:
         return segmentation
     return Segmentation(segmentation.per_hand, segments, segmentation.interpolated)
+
+
+def with_cuts(segmentation: Segmentation, cuts: Sequence[int], least: int) -> Segmentation:
+    """The segments also cut at ``cuts`` (shot cuts, starts and ends of unseen holds), each skipped when
+    within ``least`` frames of an existing edge (no sliver segments)."""
+    if not segmentation.segments or not cuts:
+        return segmentation
+    start, end = segmentation.segments[0].start, segmentation.segments[-1].end
+    edges = sorted({start, end, *(s.start for s in segmentation.segments[1:])})
+    for cut in sorted(set(cuts)):
+        if not start < cut < end:
+            continue
+        i = bisect.bisect_left(edges, cut)
+        if min(abs(cut - edges[i - 1]), abs(edges[i] - cut) if i < len(edges) else least) >= least:
+            edges.insert(i, cut)
+    segments = tuple(Segment(a, b) for a, b in itertools.pairwise(edges))
+    if segments == segmentation.segments:
+        return segmentation
+    return Segmentation(segmentation.per_hand, segments, segmentation.interpolated)
+
+
+def unsure_segments(obs: Observations, segments: Sequence[Segment], unseen: Sequence[UnseenHold],
+                    seen_share: float) -> dict[int, str]:
+    """Segment start -> the reason its evidence is thin: its hands are detected on less than ``seen_share``
+    of its frames while something moves, or a hold in it was inferred from an object's own motion."""
+    import numpy as np
+
+    seen = np.zeros(max(obs.video.frame_count, max((s.end for s in segments), default=0)), dtype=bool)
+    for track in obs.hands:
+        frames = track.frames[(track.frames >= 0) & (track.frames < len(seen))]
+        seen[frames] = True
+    reasons: dict[int, str] = {}
+    for segment in segments:
+        inferred = sorted({h.obj for h in unseen if h.start < segment.end and segment.start < h.end})
+        share = float(seen[segment.start : segment.end].mean()) if len(segment) else 0.0
+        parts = []
+        if share < seen_share:
+            parts.append(f"hands seen on {share:.0%} of its frames")
+        if inferred:
+            parts.append(f"held by a hand not seen, from the motion of {', '.join(inferred)}")
+        if parts and (inferred or share < seen_share):
+            reasons[segment.start] = "; ".join(parts)
+    return reasons
+
+
+def _without_thin_holds(actions: Sequence[Action], segments: Sequence[Segment], unsure: Mapping[int, str],
+                        ) -> tuple[Action, ...]:
+    """``actions`` without the bare holds that lie mostly in unsure segments: where the evidence is too thin,
+    the segment says so (``Analysis.unsure``) instead of a hold standing in for an action."""
+    if not unsure:
+        return tuple(actions)
+    thin = [s for s in segments if s.start in unsure]
+
+    def covered(action: Action) -> int:
+        return sum(max(0, min(s.end, action.end) - max(s.start, action.start)) for s in thin)
+
+    return tuple(a for a in actions
+                 if a.kind is not ActionKind.GRASP or 2 * covered(a) < a.end - a.start)
 
 
 def segmentation_params(obs: Observations, params: Params) -> Params:
@@ -109,15 +184,21 @@ def analyze(
     corrections: Corrections | None = None,
     *,
     segmentation: Segmentation | None = None,
+    shots: Sequence[int] = (),
 ) -> Analysis:
     """Every stage on one video, with the user's corrections applied.
 
     ``segmentation``: reuse a segmentation already computed for these observations and ``params`` (the
     workbench does, since corrections never change GGS's own result); otherwise GGS runs.
+    ``shots``: the video's shot cuts (:func:`wecook_core.perception.shots.shot_cuts`, which reads the video;
+    the caller decides whether that is worth it): segments end there, and no motion is read across them.
+    Segments also end where an object starts or stops being moved by a hand the detector does not see
+    (:mod:`wecook_core.perception.unseen`).
     """
     from wecook_core.perception.actions import recognize_actions
     from wecook_core.perception.associate import associate_segments
     from wecook_core.perception.segmentation import segment_hands
+    from wecook_core.perception.unseen import unseen_holds
     from wecook_core.trees.graph import build_graph, merge_actions, tree_spans
 
     params = at_frame_rate(params or Params(), obs.video.fps)
@@ -126,11 +207,16 @@ def analyze(
     clock = time.perf_counter()
     if segmentation is None:
         segmentation = segment_hands(obs, segmentation_params(obs, params))
-    segmentation = apply_cuts(segmentation, corrections)
+    shots = tuple(sorted(set(shots)))
+    unseen = unseen_holds(obs, params, shots)
+    extra = [*shots, *(f for hold in unseen for f in (hold.start, hold.end))]
+    least = max(1, round(params.min_segment_s * (obs.video.fps if obs.video.fps > 0 else 30.0)))
+    segmentation = apply_cuts(with_cuts(segmentation, extra, least), corrections)
     seconds["segment"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
-    associations, timeline = associate_segments(obs, segmentation.segments, params, corrections)
+    associations, timeline = associate_segments(obs, segmentation.segments, params, corrections,
+                                                shots=shots, unseen=unseen)
     seconds["associate"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
@@ -139,8 +225,12 @@ def analyze(
 
     clock = time.perf_counter()
     rejected = {start for start, status in corrections.status.items() if status is SegmentStatus.REJECTED}
-    actions = merge_actions(segment_actions, obs.categories, rejected)
+    actions = merge_actions(segment_actions, obs.categories, rejected,
+                            min_hold=params.at(obs.video.fps).min_action_frames)
+    unsure = unsure_segments(obs, segmentation.segments, unseen, params.seen_share)
+    actions = _without_thin_holds(actions, segmentation.segments, unsure)
     trees = tree_spans(actions)
     graph = build_graph(actions)
     seconds["graph"] = time.perf_counter() - clock
-    return Analysis(segmentation, associations, segment_actions, actions, trees, graph, corrections, seconds)
+    return Analysis(segmentation, associations, segment_actions, actions, trees, graph, corrections, seconds,
+                    shots, unseen, unsure)

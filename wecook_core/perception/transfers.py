@@ -67,23 +67,25 @@ def transfer_events(obs: Observations, timeline: Timeline, params: Params) -> tu
     """Every change of an ingredient's container that a hand caused, over the whole video."""
     diagonal = video_diagonal(obs)
     near = params.near_fraction * diagonal
+    rate = params.at(obs.video.fps)
     events = []
     total = len(timeline.held)
     for column, category in enumerate(timeline.categories):
         if category is not Category.INGREDIENT:
             continue
-        kept = kept_runs(timeline.container[:, column], params.min_frames)
+        kept = kept_runs(timeline.container[:, column], rate.min_frames)
         for (_, end1, source), (start2, _, destination) in itertools.pairwise(kept):
             if source == destination:
                 continue
-            lo = max(0, end1 - params.min_frames)
-            hi = min(total, start2 + params.min_frames)
+            lo = max(0, end1 - rate.min_frames)
+            hi = min(total, start2 + rate.min_frames)
             event = _mover(obs, timeline, column, lo, hi, near, params)
             if event is None:
                 continue
             hand, carrier, span_start, span_end = event
-            end = _arrival_end(obs, column, carrier, start2, span_end, near, params.fill_gap) \
-                if carrier != NONE else hi
+            # a carrier's transfer ends when it leaves what it delivered; a hand's own when it lets go
+            end = _arrival_end(obs, column, carrier, start2, span_end, near, rate.fill_gap) \
+                if carrier != NONE else span_end
             events.append(TransferEvent(
                 timeline.names[column], timeline.names[source], timeline.names[destination], HANDS[hand],
                 timeline.names[carrier] if carrier != NONE else None, span_start, max(hi, end),
@@ -111,7 +113,8 @@ def _mover(
     ingredient during ``[lo, hi)``, or None when no hand did."""
     if hi <= lo:
         return None
-    boxes = frame_boxes(obs, lo, hi, params.fill_gap)
+    rate = params.at(obs.video.fps)
+    boxes = frame_boxes(obs, lo, hi, rate.fill_gap)
     ingredient_boxes = boxes.objects[:, ingredient, :]
     rows = np.arange(hi - lo)
     best: tuple[float, int, int] | None = None
@@ -123,7 +126,7 @@ def _mover(
         with np.errstate(invalid="ignore"):
             via = (held != NONE) & (held != ingredient) & (box_gap(carried_box, ingredient_boxes) <= near)
         score = float(np.mean(direct | via))
-        if score < 0.5:
+        if score < params.mover_share:
             continue
         if via.sum() >= direct.sum():
             values, counts = np.unique(held[via], return_counts=True)
@@ -138,7 +141,7 @@ def _mover(
     label = timeline.held[:, hand] if carrier != NONE else timeline.touched[:, hand]
     value = carrier if carrier != NONE else ingredient
     start, end = lo, hi
-    for span_start, span_end in hold_spans(label, value, params.min_frames):
+    for span_start, span_end in hold_spans(label, value, rate.min_frames):
         if span_start < hi and lo < span_end:
             start, end = min(span_start, lo), max(span_end, hi)
             break
@@ -148,20 +151,21 @@ def _mover(
 def handover_events(timeline: Timeline, params: Params) -> tuple[HandoverEvent, ...]:
     """Every object that passed from one person's hand to the other's over the whole video."""
     events = []
+    rate = params.at(timeline.fps)
     for column in range(len(timeline.names)):
         spans = [
             (hand, start, end)
             for hand in range(len(HANDS))
-            for start, end in hold_spans(timeline.held[:, hand], column, params.min_frames)
+            for start, end in hold_spans(timeline.held[:, hand], column, rate.min_frames)
         ]
         spans.sort(key=lambda s: s[1])
         for giver, g_start, g_end in spans:
             for receiver, r_start, r_end in spans:
                 if person_of(HANDS[giver]) == person_of(HANDS[receiver]):
                     continue
-                if not (g_start < r_start <= g_end + params.handover_gap and r_end > g_end):
+                if not (g_start < r_start <= g_end + rate.handover_gap and r_end > g_end):
                     continue
-                if g_end - r_start > params.handover_overlap:
+                if g_end - r_start > rate.handover_overlap:
                     continue  # both held it a long time: a holding, not a handover
                 start, end = min(r_start, g_end - 1), max(g_end, r_start + 1)
                 events.append(HandoverEvent(timeline.names[column], HANDS[giver], HANDS[receiver], start, end))

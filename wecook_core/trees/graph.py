@@ -75,7 +75,10 @@ def _ingredients(action: Action, categories: Mapping[str, Category]) -> tuple[st
 
 
 def _skeleton(action: Action, categories: Mapping[str, Category]) -> tuple[Any, ...]:
-    """An action with its ingredient targets left out (what must agree for two segments to merge)."""
+    """An action with its ingredient targets and its verb left out (what must agree for two segments to
+    merge). The verb is left out when the hand keeps the same object on the same targets: GGS cuts one
+    action into several segments, and the first strokes of a stir may not yet show its circles (the block's
+    verb is the one recognised over most of its frames, :meth:`_Block.best`). A transfer keeps its verb."""
     partner = None
     if action.partner is not None:
         inner = action.partner
@@ -84,15 +87,26 @@ def _skeleton(action: Action, categories: Mapping[str, Category]) -> tuple[Any, 
         partner = _skeleton(inner, categories)
     kept = tuple(sorted(
         t for t in action.targets if categories.get(t, Category.INGREDIENT) is not Category.INGREDIENT))
-    return (action.kind, action.hand, action.verb, action.held, kept, partner)
+    verb = action.verb if action.kind is ActionKind.TRANSFER else None
+    return (action.kind, action.hand, verb, action.held, kept, partner)
+
+
+def _verbs(action: Action) -> tuple[str | None, ...]:
+    """The verbs of an action and of its partner, outermost first."""
+    return (action.verb, *(_verbs(action.partner) if action.partner is not None else ()))
 
 
 def compatible(a: Action, b: Action, categories: Mapping[str, Category]) -> bool:
-    """Identical up to ingredients that are not visible in one of them (one's ingredients contain the other's)."""
+    """Identical up to the verb (see :func:`_skeleton`) and the ingredients: one grasp of a tool on one
+    container is one action, whichever ingredient in it the tool was nearest in each segment (a spoon
+    stirring a pan of squash and turkey); the block names the ingredients seen over most of its frames. A
+    transfer's ingredients must agree (one's contain the other's: an ingredient not visible in a segment)."""
     if _skeleton(a, categories) != _skeleton(b, categories):
         return False
-    ia, ib = set(_ingredients(a, categories)), set(_ingredients(b, categories))
-    return ia <= ib or ib <= ia
+    if a.kind is ActionKind.TRANSFER:
+        ia, ib = set(_ingredients(a, categories)), set(_ingredients(b, categories))
+        return ia <= ib or ib <= ia
+    return True
 
 
 def _span(action: Action, start: int, end: int) -> Action:
@@ -113,14 +127,31 @@ class _Block:
         self.variants[key] = (old[0] if old else action, (old[1] if old else 0) + frames)
 
     def best(self, categories: Mapping[str, Category]) -> Action:
-        """The variant naming the most ingredients (seen in the fewest segments when they do not agree), then
-        the most targets, then the most frames."""
+        """Among the variants with the verbs recognised over the most frames, the one naming the most
+        ingredients (seen in the fewest segments when they do not agree), then the most targets, then the
+        most frames."""
+        frames: dict[tuple[str | None, ...], int] = {}
+        for action, count in self.variants.values():
+            frames[_verbs(action)] = frames.get(_verbs(action), 0) + count
+        verbs = max(frames, key=lambda v: frames[v])
+
         def rank(v: tuple[Action, int]) -> tuple[int, int, int]:
             a = v[0]
             targets = len(a.targets) + (len(a.partner.targets) if a.partner is not None else 0)
             return (len(_ingredients(a, categories)), targets, v[1])
 
-        action, _ = max(self.variants.values(), key=rank)
+        same = [v for v in self.variants.values() if _verbs(v[0]) == verbs]
+        by_ingredients: dict[tuple[str, ...], int] = {}
+        for action, count in same:
+            key = tuple(sorted(_ingredients(action, categories)))
+            by_ingredients[key] = by_ingredients.get(key, 0) + count
+        # ingredient sets nested in one another are one (an ingredient not seen in some segments); else the
+        # set seen over most frames
+        def weight(key: tuple[str, ...]) -> int:
+            return sum(n for other, n in by_ingredients.items() if set(other) <= set(key))
+
+        chosen = max(by_ingredients, key=lambda key: (weight(key), len(key)))
+        action, _ = max((v for v in same if tuple(sorted(_ingredients(v[0], categories))) == chosen), key=rank)
         return _span(action, self.start, self.end)
 
     def sample(self) -> Action:
@@ -193,9 +224,15 @@ def merge_actions(
     segment_actions: Sequence[SegmentActions],
     categories: Mapping[str, Category],
     rejected: Iterable[int] = (),
+    *,
+    min_hold: int = 0,
 ) -> tuple[Action, ...]:
     """The merged actions of a video, in order of start frame (then hand). Segments whose start frame is in
-    ``rejected`` give nothing and break merges."""
+    ``rejected`` give nothing and break merges. An action or bare hold shorter than ``min_hold`` frames is
+    left out: a hand touching a pot for a moment on its way to the knife, or lingering on the board after a
+    cut, is the reach or release of an action, not an action, a graph node or a step of the plan. Nor is a
+    bare hold of the object a collaboration's partner holds while the collaboration lasts: it is that
+    partner's part of the collaboration."""
     rejected = set(rejected)
     merged: list[Action] = []
     for hand in HANDS:
@@ -208,7 +245,10 @@ def merge_actions(
                 items.append((segment.start, segment.end, PARTNER))
             else:
                 items.append((segment.start, segment.end, entry.action_of(hand)))
-        merged += merge_lane(items, categories)
+        merged += [a for a in merge_lane(items, categories) if a.end - a.start >= min_hold]
+    partners = [(a.partner, a) for a in merged if a.partner is not None]
+    merged = [a for a in merged if not (a.kind is ActionKind.GRASP and any(
+        p.hand == a.hand and _grip(p) == a.held and c.start < a.end and a.start < c.end for p, c in partners))]
     return tuple(sorted(merged, key=lambda a: (a.start, HANDS.index(a.hand), a.end)))
 
 

@@ -1,7 +1,8 @@
 """`wecook analyze NAME [--root DIR]`: run the perception pipeline on a session and write its results.
 
-Loads the session's inputs and corrections, runs every stage (:func:`wecook_core.pipeline.analyze`), writes
-``trees.yaml`` and ``graph.yaml`` into the session folder and prints what was found, per tree case.
+Loads the session's inputs and corrections, finds the video's shot cuts (when the video is readable), runs
+every stage (:func:`wecook_core.pipeline.analyze`), writes ``trees.yaml`` and ``graph.yaml`` into the session
+folder and prints what was found, per tree case, and which segments are unsure and why.
 """
 
 from __future__ import annotations
@@ -52,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
     knowledge = load_knowledge(Path(args.knowledge) if args.knowledge else None)
     params = getattr(session, "params", None) or Params()
     corrections = session.corrections
-    analysis = analyze(obs, knowledge, params, corrections)
+    analysis = analyze(obs, knowledge, params, corrections, shots=cached_shot_cuts(path, obs.video.path))
     write_tree_file(session.trees_path, analysis.trees)
     write_graph_file(session.graph_path, analysis.graph)
 
@@ -65,5 +66,43 @@ def run(args: argparse.Namespace) -> int:
     print("  " + "  ".join(f"{case} {counts.get(case, 0)}" for case in CASES))
     if rejected:
         print(f"  {rejected} rejected segment(s) left out")
+    if analysis.shots:
+        print(f"  {len(analysis.shots)} shot cut(s) at frames {', '.join(map(str, analysis.shots))}")
+    if analysis.unsure:
+        print(f"  {len(analysis.unsure)} segment(s) unsure, for review:")
+        for start, reason in list(analysis.unsure.items())[:10]:
+            print(f"    frame {start}: {reason}")
+        if len(analysis.unsure) > 10:
+            print(f"    ... and {len(analysis.unsure) - 10} more")
     print(f"  wrote {session.trees_path} and {session.graph_path}")
     return 0
+
+
+SHOTS_FILE = "shots.json"
+"""The session's cache of its video's shot cuts (finding them decodes the whole video)."""
+
+
+def cached_shot_cuts(session: Path, video: str) -> tuple[int, ...]:
+    """The video's shot cuts, from ``session/shots.json`` when it was made from this very file (path, size
+    and modification time), else found (:func:`wecook_core.perception.shots.shot_cuts`) and written there."""
+    import contextlib
+    import json
+
+    from wecook_core.perception.shots import shot_cuts
+
+    source = Path(video)
+    if not source.is_file():
+        return ()
+    stat = source.stat()
+    key = {"video": str(source.resolve()), "size": stat.st_size, "mtime_ns": stat.st_mtime_ns}
+    cache = session / SHOTS_FILE
+    try:
+        data = json.loads(cache.read_text(encoding="utf-8"))
+        if {k: data.get(k) for k in key} == key and isinstance(data.get("cuts"), list):
+            return tuple(int(c) for c in data["cuts"])
+    except (OSError, ValueError, TypeError):
+        pass
+    cuts = shot_cuts(source)
+    with contextlib.suppress(OSError):  # a read-only session still analyses
+        cache.write_text(json.dumps({**key, "cuts": list(cuts)}) + "\n", encoding="utf-8")
+    return cuts

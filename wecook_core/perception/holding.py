@@ -1,0 +1,200 @@
+"""What each hand holds on every frame: motion coherence of hand and box, smoothed over time by Viterbi.
+
+Per frame, a hand may hold any object whose box overlaps its own, or nothing. Overlap alone cannot tell the
+bottle in the hand from the pan under it, nor the spoon from the pot it stirs: both boxes overlap the hand.
+What tells them apart is motion (the "common fate" cue of motion segmentation, and the way object-in-hand
+trackers decide what is grasped): a held object moves with the hand that holds it, a container under it
+stays where it is. And holding persists: a grasp lasts until a release, it does not flicker frame by frame.
+So the association is a hidden Markov model per hand, decoded by Viterbi (the standard HMM smoother, as in
+tracking-by-detection's data association over time):
+
+- states: nothing, or one of the video's objects;
+- emission cost of a state on a frame (lower is likelier):
+
+  - an object whose box does not overlap the hand: impossible;
+  - when the hand moves (its centre travels more than ``Params.moving_fraction`` of its box's diagonal over
+    the ``Params.dwell_s`` before the frame, or over those after it): 0 for an overlapping object whose box
+    moves the same way on either side (``Params.coherent_fraction``; one side suffices, since at a grasp the
+    hand will carry the object and at a release it has), 1 for one that stays behind, 0.9 for nothing (a
+    hand moving over static boxes carries none of them);
+  - when the hand is still (or it came from afar, or a box is not seen at both ends of the window) motion
+    says nothing: 0 for every overlapping object and 1 for nothing (a hand that stays on an object for
+    longer than the switching cost is taken to hold it);
+  - a tie-break of at most :data:`TIE` per frame, too small to outweigh motion: closer box centres (over
+    the two boxes' sizes), smaller boxes (a hand on a knife lying on a board holds the knife; a pan's box
+    covers the whole close-up), and a container before an ingredient it contains that it overlaps too (a
+    hand that tips a bowl of onions holds the bowl; the onions ride in it);
+
+- transition cost: changing state costs ``Params.hold_switch_s`` seconds of full contrary evidence
+  (``hold_switch_s * fps`` cost units), so a few noisy frames never flip a grasp, while a real release and
+  a new grasp, which motion supports for longer than that, do.
+
+The decoding is exact within a block of frames (:data:`~wecook_core.perception.frame_links.BLOCK_FRAMES`); the
+forward costs carry over from one block to the next, so a block starts where the last one ended (the path
+is only ever revised inside a block).
+
+Consequences the rest of the pipeline relies on: the container under a held bottle, spoon or bread is never
+the held object (it is the destination, found by object-object association); a hand that moves over a pan
+holds nothing unless something moves with it; a hand at rest keeps holding what it held when it last moved.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wecook_core.perception.label_runs import NONE
+
+TIE = 0.01
+"""Most cost per frame the tie-breaks add: over ``hold_switch_s`` seconds, a hundred times less than motion."""
+MOVING_WITH, STAYING, NOTHING_MOVING, NOTHING_STILL = 0.0, 1.0, 0.9, 1.0
+"""Emission costs (see the module docstring)."""
+OUTSIDE = 10.0
+"""Cost of a frame where an object does not overlap the hand, inside a bin that is decoded as one (see
+:func:`held_objects`' ``step``)."""
+
+
+def centres(boxes: np.ndarray) -> np.ndarray:
+    return np.stack([(boxes[..., 0] + boxes[..., 2]) / 2, (boxes[..., 1] + boxes[..., 3]) / 2], axis=-1)
+
+
+def motion_coherence(hands: np.ndarray, objects: np.ndarray, overlap: np.ndarray, window: int,
+                     moving_fraction: float, coherent_fraction: float, shot: np.ndarray | None = None,
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(moving (frames, hands), together, informative (frames, hands, objects))``, each judged over the
+    ``window`` frames before a frame and over the ``window`` frames after it: where the hand moves on either
+    side, where an object's box moves along with it on a side where the hand moves, and where that side says
+    anything (the hand moves, and overlaps the object at both ends: a hand coming to an object from afar
+    says nothing about holding it; both ends in the same shot, ``shot`` giving each frame's: a cut is not
+    motion). One side suffices: at a grasp the hand has
+    not carried the object yet but will, at a release it has but will not."""
+    length = hands.shape[0]
+    index = np.arange(length)
+    hand_centres, object_centres = centres(hands), centres(objects)
+    with np.errstate(invalid="ignore"):
+        hand_size = np.hypot(hands[..., 2] - hands[..., 0], hands[..., 3] - hands[..., 1])
+    moving = np.zeros(hands.shape[:2], dtype=bool)
+    together = np.zeros((*hands.shape[:2], objects.shape[1]), dtype=bool)
+    informative = together.copy()
+    for a, b in ((np.maximum(index - window, 0), index), (index, np.minimum(index + window, length - 1))):
+        hand_step = hand_centres[b] - hand_centres[a]
+        object_step = object_centres[b] - object_centres[a]
+        with np.errstate(invalid="ignore"):
+            hand_move = np.linalg.norm(hand_step, axis=-1)
+            side_moving = hand_move > moving_fraction * hand_size
+            apart = np.linalg.norm(object_step[:, None, :, :] - hand_step[:, :, None, :], axis=-1)
+            side_together = side_moving[:, :, None] & (apart < coherent_fraction * hand_move[:, :, None])
+            side_informative = side_moving[:, :, None] & np.isfinite(apart) & overlap[a] & overlap[b]
+            if shot is not None:
+                side_informative &= (shot[a] == shot[b])[:, None, None]
+            side_together &= side_informative
+        moving |= side_moving
+        together |= side_together
+        informative |= side_informative
+    return moving, together, informative
+
+
+def emission_costs(
+    hands: np.ndarray,
+    objects: np.ndarray,
+    overlap: np.ndarray,
+    contained: np.ndarray,
+    window: int,
+    moving_fraction: float,
+    coherent_fraction: float,
+    shot: np.ndarray | None = None,
+) -> np.ndarray:
+    """float64 ``(frames, hands, 1 + objects)``: state 0 is "nothing", state ``1 + k`` object column ``k``;
+    ``inf`` where impossible. ``overlap``: bool ``(frames, hands, objects)``; ``contained``: bool, the same
+    shape: the object is an ingredient whose container the hand overlaps too."""
+    length, n_hands = hands.shape[:2]
+    n_objects = objects.shape[1]
+    _, together, informative = motion_coherence(hands, objects, overlap, window, moving_fraction,
+                                                coherent_fraction, shot)
+    object_cost = np.where(informative, np.where(together, MOVING_WITH, STAYING), MOVING_WITH)
+    # tie-breaks: closer centres, smaller boxes, a container before the ingredient it holds
+    with np.errstate(invalid="ignore", divide="ignore"):
+        hand_size = np.hypot(hands[..., 2] - hands[..., 0], hands[..., 3] - hands[..., 1])[:, :, None]
+        object_size = np.hypot(objects[..., 2] - objects[..., 0], objects[..., 3] - objects[..., 1])[:, None, :]
+        distance = np.linalg.norm(centres(hands)[:, :, None, :] - centres(objects)[:, None, :, :], axis=-1)
+        closeness = np.clip(np.nan_to_num(distance / (hand_size + object_size), nan=1.0), 0.0, 1.0)
+        bigness = np.clip(np.nan_to_num(np.log(object_size / hand_size) / np.log(10.0), nan=1.0), 0.0, 1.0)
+    object_cost = object_cost + TIE * (0.4 * closeness + 0.3 * bigness + 0.3 * contained)
+    costs = np.empty((length, n_hands, 1 + n_objects))
+    costs[:, :, 1:] = np.where(overlap, object_cost, np.inf)
+    anything = overlap.any(axis=2)
+    said = informative.any(axis=2)
+    costs[:, :, 0] = np.where(anything, np.where(said, NOTHING_MOVING, NOTHING_STILL), 0.0)
+    return costs
+
+
+def viterbi(costs: np.ndarray, switch: float, start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Cheapest state path per hand through ``costs`` ``(frames, hands, states)`` when a change of state
+    costs ``switch``. ``start``: forward costs ``(hands, states)`` at the frame before the first (None: any
+    state is free). Returns ``(path (frames, hands) int, forward costs at the last frame)``."""
+    length, n_hands, n_states = costs.shape
+    path = np.zeros((length, n_hands), dtype=np.int32)
+    if length == 0:
+        return path, start if start is not None else np.zeros((n_hands, n_states))
+    back = np.empty((length, n_hands, n_states), dtype=np.int16)
+    total = np.zeros((n_hands, n_states)) if start is None else start - start.min(axis=1, keepdims=True)
+    hands = np.arange(n_hands)
+    for t in range(length):
+        best = np.argmin(total, axis=1)
+        switched = total[hands, best] + switch
+        stay = total <= switched[:, None]
+        back[t] = np.where(stay, np.arange(n_states)[None, :], best[:, None])
+        total = np.where(stay, total, switched[:, None]) + costs[t]
+        total -= total.min(axis=1, keepdims=True)  # keeps the numbers small; inf stays inf
+    state = np.argmin(total, axis=1)
+    for t in range(length - 1, -1, -1):
+        path[t] = state
+        state = back[t, hands, state]
+    return path, total
+
+
+def held_objects(
+    hands: np.ndarray,
+    objects: np.ndarray,
+    overlap: np.ndarray,
+    container: np.ndarray,
+    *,
+    window: int,
+    moving_fraction: float,
+    coherent_fraction: float,
+    switch: float,
+    start: np.ndarray | None = None,
+    step: int = 1,
+    shot: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """int32 ``(frames, hands)``: the object column each hand holds on each frame (:data:`NONE`: nothing),
+    and the forward costs to pass on as ``start`` of the next block of frames.
+
+    ``step``: decode on bins of this many frames (their costs summed; a state impossible on some frames of a
+    bin costs :data:`OUTSIDE` on those), then hold nothing on the frames where the chosen object does not
+    overlap the hand. Hands grasp and release over tenths of a second, so bins of a tenth lose nothing that
+    matters and make decoding ``step`` times cheaper."""
+    columns = np.flatnonzero(overlap.any(axis=(0, 1)))  # only objects some hand overlaps can be held
+    if start is not None:
+        start = start[:, np.concatenate([[0], 1 + columns])]
+    rows = np.arange(len(container))[:, None]
+    holder = np.maximum(container, 0)
+    contained = ((container >= 0)[:, None, :] & overlap[rows, :, holder].transpose(0, 2, 1))[:, :, columns]
+    costs = emission_costs(hands, objects[:, columns], overlap[:, :, columns], contained, window, moving_fraction,
+                           coherent_fraction, shot)
+    length = len(costs)
+    if step > 1 and length > step:
+        bins = -(-length // step)
+        padded = np.full((bins * step, *costs.shape[1:]), 0.0)
+        padded[:length] = np.where(np.isfinite(costs), costs, OUTSIDE)
+        binned = padded.reshape(bins, step, *costs.shape[1:]).sum(axis=1)
+        path, forward = viterbi(binned, switch, start)
+        path = np.repeat(path, step, axis=0)[:length]
+        possible = np.take_along_axis(np.isfinite(costs), path[:, :, None], axis=2)[:, :, 0]
+        path = np.where(possible, path, 0)
+    else:
+        path, forward = viterbi(costs, switch, start)
+    full = np.full((forward.shape[0], 1 + objects.shape[1]), np.inf)
+    full[:, 0] = forward[:, 0]
+    full[:, 1 + columns] = forward[:, 1:]
+    held = np.where(path > 0, columns[np.maximum(path - 1, 0)] if len(columns) else NONE, NONE)
+    return held.astype(np.int32), full
