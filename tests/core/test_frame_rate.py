@@ -1,5 +1,5 @@
 """A 5 fps video analyses like a 30 fps one: the demo's inputs subsampled to every 6th frame give as many right
-trees (issue 11: the real clip is a 5 fps frame dump; parameters given in frames held 6x longer there)."""
+trees (issue 11: the real clip is a 5 fps frame dump; every parameter is in seconds)."""
 
 from __future__ import annotations
 
@@ -11,22 +11,12 @@ from wecook_core.knowledge.recognize import load_knowledge
 from wecook_core.model import Observations
 from wecook_core.observations.importer import load_observations
 from wecook_core.perception.evaluation import evaluate
-from wecook_core.perception.params import Params
-from wecook_core.perception.pipeline import FRAME_PARAMS, analyze, at_frame_rate
+from wecook_core.perception.pipeline import analyze
 from wecook_core.resources import ASSETS_DIR
 from wecook_core.trees.treefile import read_tree_file
 
 DEMO = ASSETS_DIR / "demo"
 STEP = 6
-
-
-def test_frame_counts_keep_their_seconds() -> None:
-    p = Params()
-    five = at_frame_rate(p, 5.0)
-    assert [getattr(five, n) for n in FRAME_PARAMS] == [max(1, round(getattr(p, n) / 6)) for n in FRAME_PARAMS]
-    assert at_frame_rate(p, 30.0) is p
-    assert at_frame_rate(p, 60.0).min_frames == 2 * p.min_frames
-    assert five.lamb == p.lamb and five.min_segment_s == p.min_segment_s  # the rest is untouched
 
 
 def _every(track, step: int):

@@ -161,22 +161,6 @@ def segmentation_params(obs: Observations, params: Params) -> Params:
     return params if k_max == params.k_max else replace(params, k_max=k_max)
 
 
-REFERENCE_FPS = 30.0
-"""The frame rate the frame-count parameters of :class:`Params` are given at."""
-FRAME_PARAMS: tuple[str, ...] = ("min_frames", "fill_gap", "dwell_frames", "handover_gap", "handover_overlap")
-
-
-def at_frame_rate(params: Params, fps: float) -> Params:
-    """``params`` with its frame counts (:data:`FRAME_PARAMS`) rescaled from :data:`REFERENCE_FPS` to ``fps``,
-    so that each lasts the same seconds at any frame rate. Without it a 5 fps video needs an association to
-    hold 8 frames = 1.6 s instead of 0.27 s: the demo subsampled to 5 fps gave 7 of its 11 trees, 10 with it
-    (as at 30 fps). A 30 fps video is unchanged."""
-    if fps <= 0 or fps == REFERENCE_FPS:
-        return params
-    scale = fps / REFERENCE_FPS
-    return replace(params, **{name: max(1, round(getattr(params, name) * scale)) for name in FRAME_PARAMS})
-
-
 def analyze(
     obs: Observations,
     knowledge: Knowledge,
@@ -201,7 +185,7 @@ def analyze(
     from wecook_core.perception.unseen import unseen_holds
     from wecook_core.trees.graph import build_graph, merge_actions, tree_spans
 
-    params = at_frame_rate(params or Params(), obs.video.fps)
+    params = params or Params()
     corrections = corrections or Corrections()
     seconds: dict[str, float] = {}
     clock = time.perf_counter()
