@@ -160,8 +160,10 @@ def source_markdown(corpus: Corpus, knowledge: Knowledge, runs: Mapping[str, Seq
                   "precision 0). "
                   "Held-out EPIC records carry their take-context objects too, as the pipeline passes the held "
                   "tool with the targets. The ceiling row learns the same model from the held-out records "
-                  "and scores it on them: records whose objects are the same and whose verbs differ cannot all be "
-                  "named right, so it bounds what any smoothing of these counts can reach on them.", "",
+                  "and scores it on them (resubstitution): records whose objects are the same and whose verbs "
+                  "differ cannot all be named right, and the smoothing that lets the model generalise costs it "
+                  "some of the records it has seen; a reference for the held-out rows, not a generalisation "
+                  "figure.", "",
                   metrics_table(evaluation), "", seeds_summary(runs)]
     parts += ["", "## Common cases", "",
               "What a cook would answer, and the learned tables' top-1 (computed at build time):", "",
