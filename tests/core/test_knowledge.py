@@ -322,6 +322,12 @@ def test_evaluation_reports_each_corpus() -> None:
     assert by_source["a"].accuracy == 1.0
     assert by_source["b"].accuracy < 1.0
     assert sum(s.support for m in by_source.values() for s in m.per_verb) == result.test_records
+    ceilings = dict(result.ceiling_by_source)
+    assert list(ceilings) == ["a", "b"]
+    for source in ("a", "b"):
+        assert [v.support for v in ceilings[source].per_verb] == [v.support for v in by_source[source].per_verb]
+    # learned from the held-out records, spoon is poured in three groups of b and stirred in one of a
+    assert ceilings["b"].accuracy == 1.0 and ceilings["a"].accuracy == 0.0
 
 
 # --------------------------------------------------------------------------------------------- rebuild

@@ -65,6 +65,8 @@ class Evaluation:
     """The same model learned from the held-out records and scored on them (resubstitution): not a
     generalisation figure but an upper reference. Records with the same objects and different verbs
     (``pour`` and ``stir`` of salt over a pot) cannot all be right, whatever is learned from them."""
+    ceiling_by_source: tuple[tuple[str, Metrics], ...] = ()
+    """The ceiling's figures on the held-out records of each corpus, as :attr:`by_source`."""
 
 
 def split(examples: Sequence[Example], *, seed: int = 0,
@@ -126,12 +128,15 @@ def evaluate(corpus: Corpus, *, seed: int = 0, fraction: float = 0.2, alpha: flo
                                   per_group=per_group)
     truth = [e.action for e in test]
     predicted = predict(knowledge, test)
+    ceiling = predict(resubstituted, test)
     majority = knowledge.verbs[int(np.argmax(knowledge.action_counts))]
-    sources = list(dict.fromkeys(e.source for e in examples))
-    by_source = tuple(
-        (source, score([t for t, e in zip(truth, test, strict=True) if e.source == source],
-                       [p for p, e in zip(predicted, test, strict=True) if e.source == source], verbs))
-        for source in sources) if len(sources) > 1 else ()
+    sources = list(dict.fromkeys(e.source for e in examples)) if len({e.source for e in examples}) > 1 else []
+
+    def of(source: str, values: Sequence[str]) -> list[str]:
+        return [v for v, e in zip(values, test, strict=True) if e.source == source]
+
+    by_source = tuple((s, score(of(s, truth), of(s, predicted), verbs)) for s in sources)
+    ceiling_by_source = tuple((s, score(of(s, truth), of(s, ceiling), verbs)) for s in sources)
     return Evaluation(
         model=score(truth, predicted, verbs),
         baseline=score(truth, [majority] * len(test), verbs),
@@ -142,5 +147,6 @@ def evaluate(corpus: Corpus, *, seed: int = 0, fraction: float = 0.2, alpha: flo
         seed=seed,
         fraction=fraction,
         by_source=by_source,
-        ceiling=score(truth, predict(resubstituted, test), verbs),
+        ceiling=score(truth, ceiling, verbs),
+        ceiling_by_source=ceiling_by_source,
     )

@@ -50,6 +50,7 @@ def metrics_table(evaluation: Evaluation) -> str:
     lines += [_row(f"majority class (`{evaluation.majority}`)", evaluation.baseline)]
     if evaluation.ceiling is not None:
         lines += [_row("ceiling: the model learned from the held-out records themselves", evaluation.ceiling)]
+        lines += [_row(f"ceiling, held-out `{source}` records", m) for source, m in evaluation.ceiling_by_source]
     for source, m in evaluation.by_source or (("all", evaluation.model),):
         lines += ["", f"Held-out `{source}` records:" if evaluation.by_source else "Per verb:", "", *verb_table(m)]
     return "\n".join(lines)
@@ -74,6 +75,8 @@ def seeds_summary(runs: Mapping[str, Sequence[Evaluation]]) -> str:
         ceilings = [e.ceiling for e in evaluations if e.ceiling is not None]
         if len(ceilings) == len(evaluations):
             rows.append(("all, ceiling (learned from the held-out records)", ceilings))
+            rows += [(f"{source}, ceiling", [e.ceiling_by_source[i][1] for e in evaluations])
+                     for i, (source, _) in enumerate(first.ceiling_by_source)]
         for name, metrics in rows:
             lines.append(f"| {prior} | {name} | {_stat([m.accuracy for m in metrics])} | "
                          f"{_stat([m.macro_precision for m in metrics])} | "
