@@ -9,7 +9,7 @@ import pytest
 from wecook_core.knowledge.corpus import RECIPES_SOURCE, read_corpus
 from wecook_core.knowledge.instructions import clause_records, directions, extract, noun_table, sentences
 
-NOUNS = noun_table(["apple", "knife", "bowl", "egg", "flour", "sugar", "salt", "pepper", "bell pepper", "water",
+NOUNS = noun_table(["ball", "apple", "knife", "bowl", "egg", "flour", "sugar", "salt", "pepper", "bell pepper", "water",
                     "spoon", "rice", "jar", "pot", "pan", "oil", "olive oil", "plastic wrap", "dough", "bread",
                     "butter", "foil"])
 
@@ -27,6 +27,9 @@ NOUNS = noun_table(["apple", "knife", "bowl", "egg", "flour", "sugar", "salt", "
     ("Heat the oil and gently stir in the flour", [("heat", ("oil",)), ("stir", ("flour",))]),
     ("Wrap the dough in plastic wrap", [("wrap", ("dough", "plastic_wrap"))]),
     ("The foil keeps it warm", []),  # no clause-opening verb
+    ("Roll the balls in sugar", [("roll-in", ("ball", "sugar"))]),  # coating: folded into dip
+    ("Roll out the dough", [("roll-out", ("dough",))]),  # with a pin
+    ("Roll the dough, in a bowl or on the table", [("roll", ("dough", "bowl"))]),  # a comma ends the search
 ])
 def test_clause_records(sentence: str, records: list[tuple[str, tuple[str, ...]]]) -> None:
     assert clause_records(sentence, NOUNS) == records

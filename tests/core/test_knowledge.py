@@ -12,7 +12,7 @@ from wecook_core.errors import InputError
 from wecook_core.knowledge.build import build, default_corpora, read_corpora
 from wecook_core.knowledge.corpus import Corpus, Record, merge, read_csv, read_epic
 from wecook_core.knowledge.evaluation import Example, evaluate, score, split
-from wecook_core.knowledge.learning import fold, learn
+from wecook_core.knowledge.learning import INSTRUMENTS, fold, learn
 from wecook_core.knowledge.nouns import epic_name, match, normalise, singular
 from wecook_core.knowledge.recognize import load_knowledge, rank
 from wecook_core.knowledge.synonyms import RECOGNISED, VerbFolder, load_synonyms
@@ -84,7 +84,8 @@ def test_shipped_synonyms_fold_corpus_verbs() -> None:
                                            "cover": "wrap", "roll-out": "unroll", "smear": "apply"})
     expected = {"chop": "cut", "chop-into": "cut", "slice": "cut", "dice": "cut", "make": None,
                 "mix": "stir", "whisk": "stir", "beat": "stir", "scatter": "sprinkle", "season": "sprinkle",
-                "roll-out": "roll", "roll-up": None, "smear": "spread", "cover": None, "dip": "dip",
+                "roll-out": "roll", "roll-up": None, "roll-in": "dip", "roll-into": "roll", "dredge": "dip",
+                "smear": "spread", "cover": None, "dip": "dip",
                 "squeeze": "squeeze", "take": None, "transfer": "transfer", "spoon-into": "transfer",
                 "scoop": "transfer", "skim-off": None, "wash": None}
     assert {verb: folder.fold(verb) for verb in expected} == expected
@@ -132,6 +133,29 @@ def test_csv_corpus_and_learned_counts(tmp_path: Path) -> None:
     assert uniform.prior()["cut"] == pytest.approx(1 / 11)
     assert uniform.pair_counts.tolist() == knowledge.pair_counts.tolist()
     assert rank(uniform, ["spoon"])[0][0] == "transfer"  # spoon: 1 of transfer's 2 objects, 1 of stir's 4
+
+
+def test_a_group_counts_a_verb_with_an_object_once(tmp_path: Path) -> None:
+    """Burstiness: one recipe (or video) repeating "roll egg" does not make egg the object of roll."""
+    text = "action,objects,group\nroll,egg,a\nroll,egg,a\nroll,egg;bowl,a\nroll,dough,b\nroll,dough,c\n"
+    corpus = read_csv(write(tmp_path / "c.csv", text))
+    roll = RECOGNISED.index("roll")
+    per_group, per_record = learn(corpus), learn(corpus, per_group=False)
+    objects = per_group.objects
+    assert dict(zip(objects, per_group.pair_counts[roll].tolist(), strict=True)) == {"egg": 1, "bowl": 1, "dough": 2}
+    assert dict(zip(objects, per_record.pair_counts[roll].tolist(), strict=True)) == {"egg": 3, "bowl": 1,
+                                                                                       "dough": 2}
+    assert per_group.action_counts[roll] == 3 and per_record.action_counts[roll] == 5
+    assert per_group.likelihood("dough", "roll") > per_group.likelihood("egg", "roll")
+    assert per_record.likelihood("dough", "roll") < per_record.likelihood("egg", "roll")
+
+
+def test_a_verb_named_after_its_tool_is_done_with_it(tmp_path: Path) -> None:
+    corpus = read_csv(write(tmp_path / "c.csv", "action,objects\nwhisk,egg\nwhisk-in,sugar\nbeat,egg\nwhisk,\n"))
+    examples, _ = fold(corpus)
+    assert [(e.action, e.objects) for e in examples] == [
+        ("stir", ("egg", "whisk")), ("stir", ("sugar", "whisk")), ("stir", ("egg",)), ("stir", ("whisk",))]
+    assert INSTRUMENTS["whisk"] == "whisk"
 
 
 def test_records_without_objects_are_not_learned(tmp_path: Path) -> None:
@@ -205,10 +229,13 @@ def test_epic_reader_maps_classes_aliases_and_take_context(tmp_path: Path) -> No
     assert by_verb["cut"].context == ()  # another video
     assert by_verb["stir"].objects == ("pot",) and by_verb["stir"].context == ("spoon",)
     assert read_epic(tmp_path / "epic", context=1).records[0].context == ()  # julienne: take is 2 back
-    knowledge = learn(corpus)
-    cut = knowledge.verbs.index("cut")
-    assert knowledge.action_counts[cut] == 3
-    assert knowledge.pair_counts[cut, knowledge.objects.index("knife")] == 2
+    per_record = learn(corpus, per_group=False)
+    cut, knife = per_record.verbs.index("cut"), per_record.objects.index("knife")
+    assert per_record.action_counts[cut] == 3
+    assert per_record.pair_counts[cut, knife] == 2
+    knowledge = learn(corpus)  # chop and julienne with a knife in one video: one video cuts with a knife
+    assert knowledge.action_counts[cut] == 2
+    assert knowledge.pair_counts[cut, knife] == 1
     assert rank(knowledge, ["Blade", "cherry tomatoes"])[0][0] == "cut"
     assert knowledge.aliases["board"] == "chopping_board"
 
@@ -269,6 +296,19 @@ def test_evaluate_a_corpus_where_objects_decide() -> None:
     assert result.baseline.macro_recall == pytest.approx(1 / 3)
     assert result.test_groups == 4
     assert result.by_source == ()  # one corpus
+    assert result.ceiling is not None and result.ceiling.accuracy == 1.0
+
+
+def test_the_ceiling_is_what_the_objects_of_the_held_out_records_can_tell() -> None:
+    """Salt over a pot is poured in some records and stirred in others: no model names both right."""
+    rows = [Record(("pour", "stir")[i % 2], ("salt", "pot"), f"video{i // 2 % 10}") for i in range(40)]
+    rows += [Record("cut", ("knife", "onion"), f"video{i % 10}") for i in range(20)]
+    result = evaluate(Corpus(tuple(rows)), seed=0)
+    ceiling = result.ceiling
+    assert ceiling is not None
+    assert ceiling.accuracy == pytest.approx(0.5 * 8 / 12 + 4 / 12)  # cut always right, salt + pot half the time
+    assert result.model.accuracy <= ceiling.accuracy
+    assert ceiling.macro_recall == pytest.approx((1 + 1 + 0) / 3)  # one of pour and stir is never predicted
 
 
 def test_evaluation_reports_each_corpus() -> None:
@@ -282,6 +322,12 @@ def test_evaluation_reports_each_corpus() -> None:
     assert by_source["a"].accuracy == 1.0
     assert by_source["b"].accuracy < 1.0
     assert sum(s.support for m in by_source.values() for s in m.per_verb) == result.test_records
+    ceilings = dict(result.ceiling_by_source)
+    assert list(ceilings) == ["a", "b"]
+    for source in ("a", "b"):
+        assert [v.support for v in ceilings[source].per_verb] == [v.support for v in by_source[source].per_verb]
+    # learned from the held-out records, spoon is poured in three groups of b and stirred in one of a
+    assert ceilings["b"].accuracy == 1.0 and ceilings["a"].accuracy == 0.0
 
 
 # --------------------------------------------------------------------------------------------- rebuild
@@ -297,7 +343,8 @@ def test_build_from_a_csv_writes_tables_and_source(tmp_path: Path) -> None:
     assert [e.seed for e in built.evaluations] == [0, 1, 2, 3, 4]
     source = (tmp_path / "out" / "SOURCE.md").read_text()
     assert "c.csv (8 records, CSV)" in source and "CC BY-NC" not in source
-    assert "| uniform | all |" in source and "| corpus | all |" in source
+    assert "| uniform, per group | all |" in source and "| corpus, per group | all |" in source
+    assert "| uniform, per record | all |" in source and "ceiling" in source
 
 
 def test_shipped_tables_are_what_the_shared_corpora_teach(shared: Path) -> None:

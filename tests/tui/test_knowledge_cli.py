@@ -62,7 +62,7 @@ def test_learn_and_evaluate_own_corpus(tmp_path: Path, capsys: pytest.CaptureFix
     corpus.write_text(CSV)
     out = tmp_path / "tables"
     assert main(["knowledge", "learn", "--corpus", str(corpus), "-o", str(out)]) == 0
-    assert "learned from 8 records" in capsys.readouterr().out
+    assert "learned groups per action: cut 3," in capsys.readouterr().out
     assert main(["recognize", "--knowledge", str(out / "commonsense.json"), "knife", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)[0]["action"] == "cut"
     assert main(["knowledge", "evaluate", "--corpus", str(corpus), "--json", "--fraction", "0.5"]) == 0

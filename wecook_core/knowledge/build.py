@@ -25,7 +25,7 @@ from wecook_core.knowledge.corpus import (
 )
 from wecook_core.knowledge.evaluation import Evaluation, evaluate
 from wecook_core.knowledge.instructions import is_recipe_folder, noun_table
-from wecook_core.knowledge.learning import learn
+from wecook_core.knowledge.learning import fold, learn
 from wecook_core.knowledge.recognize import PRIORS, Knowledge, save_knowledge
 from wecook_core.knowledge.report import EXPECTED, source_markdown
 from wecook_core.resources import ASSETS_DIR, shared_dir
@@ -105,22 +105,25 @@ class Built:
     """Entries written to the derived category table (0: the corpus has no noun categories)."""
     files: tuple[Path, ...]
     evaluations: tuple[Evaluation, ...] = ()
-    """The held-out evaluations of seeds ``seed .. seed + 4`` with the tables' prior (the first is
+    """The held-out evaluations of seeds ``seed .. seed + 4`` with the tables' prior and counting (the first is
     :attr:`evaluation`)."""
 
 
 def build(paths: Sequence[Path], out: Path = KNOWLEDGE_DIR, *, alpha: float = 1.0, context: int = 2,
-          seed: int = 0, fraction: float = 0.2, prior: str = "uniform",
+          seed: int = 0, fraction: float = 0.2, prior: str = "uniform", per_group: bool = True,
           command: str = "wecook knowledge learn") -> Built:
     """Learn the tables from ``paths`` into ``out``: ``commonsense.json``, ``epic_categories.yaml`` (when
     the corpus has noun categories) and ``SOURCE.md`` (sources, licences, counts, held-out evaluation over
-    five seeds, with ``prior`` and with the other prior for comparison)."""
+    five seeds, with ``prior`` and ``per_group``, and for comparison with the other prior and the other way of
+    counting, see :func:`~wecook_core.knowledge.learning.count`)."""
     corpus = read_corpora(paths, context=context)
-    knowledge = learn(corpus, alpha=alpha, source="; ".join(corpus.sources), prior=prior)
+    knowledge = learn(corpus, alpha=alpha, source="; ".join(corpus.sources), prior=prior, per_group=per_group)
     seeds = range(seed, seed + 5)
+    variants = dict.fromkeys([(prior, per_group), *((p, per_group) for p in PRIORS), (prior, not per_group)])
     try:
-        runs = {p: tuple(evaluate(corpus, seed=s, fraction=fraction, alpha=alpha, prior=p) for s in seeds)
-                for p in dict.fromkeys((prior, *PRIORS))}
+        runs = {f"{p}, {'per group' if g else 'per record'}":
+                tuple(evaluate(corpus, seed=s, fraction=fraction, alpha=alpha, prior=p, per_group=g) for s in seeds)
+                for p, g in variants}
     except ValueError:
         runs = {}
     out.mkdir(parents=True, exist_ok=True)
@@ -137,6 +140,7 @@ def build(paths: Sequence[Path], out: Path = KNOWLEDGE_DIR, *, alpha: float = 1.
         files[-1].write_text(format_categories(derived, header), encoding="utf-8")
     files.append(out / "SOURCE.md")
     files[-1].write_text(source_markdown(corpus, knowledge, runs, command=command, alpha=alpha, context=context,
+                                         records=len(fold(corpus)[0]), per_group=per_group,
                                          categories=categories), encoding="utf-8")
-    ours = runs.get(prior, ())
+    ours = next(iter(runs.values()), ())
     return Built(knowledge, ours[0] if ours else None, categories, tuple(files), ours)

@@ -14,7 +14,9 @@ Words that are nouns as well as verbs ("salt", "pepper", "butter", "spoon") coun
 start of a sentence and not before "and" or a comma ("Salt the water", not "Salt and pepper to taste");
 the ones that name what the action is done with (:data:`NAMING_VERBS`) add that noun to the objects.
 Raw verbs are kept ("chop"); they are folded into wecook's actions when learning
-(:mod:`wecook_core.knowledge.synonyms`).
+(:mod:`wecook_core.knowledge.synonyms`). A verb whose sense its particle decides (:data:`PARTICLES`) is kept with
+the first particle of its clause, the way EPIC writes its verbs: "Roll the balls in sugar" is ``roll-in``
+(coating, folded into dip), "Roll out the dough" is ``roll-out`` (rolling, with a pin).
 
 The Markdown recipe format read here is the one of the public-domain recipe sites built with Hugo
 (based.cooking, publicdomainrecipes.com): front matter, ``## Ingredients``, then ``## Directions`` with a
@@ -35,9 +37,9 @@ VERBS: frozenset[str] = frozenset({
     "bring", "broil", "brown", "brush", "butter", "caramelise", "caramelize", "check", "chill", "chop", "clean",
     "coat", "combine", "cook", "cool", "core", "cover", "crack", "cream", "crimp", "crumble", "crush", "cube",
     "cut", "debone", "deglaze", "dice", "dip", "discard", "dissolve", "distribute", "divide", "drain", "drizzle",
-    "drop", "dry", "dunk", "dust", "empty", "fill", "fillet", "finish", "flatten", "flip", "fluff", "fold", "form",
-    "freeze", "fry", "garnish", "glaze", "grate", "grease", "grill", "grind", "halve", "heat", "insert", "juice",
-    "julienne", "knead", "ladle", "layer", "leave", "let", "line", "marinate", "mash", "measure", "melt",
+    "dredge", "drop", "dry", "dunk", "dust", "empty", "fill", "fillet", "finish", "flatten", "flip", "fluff", "fold",
+    "form", "freeze", "fry", "garnish", "glaze", "grate", "grease", "grill", "grind", "halve", "heat", "insert",
+    "juice", "julienne", "knead", "ladle", "layer", "leave", "let", "line", "marinate", "mash", "measure", "melt",
     "microwave", "mince", "mix", "moisten", "move", "pare", "pat", "peel", "pepper", "pierce", "pinch", "place",
     "poach", "pound", "pour", "preheat", "prepare", "press", "pull", "puree", "put", "quarter", "reduce",
     "refrigerate", "remove", "repeat", "reserve", "rest", "return", "rinse", "roast", "roll", "rub", "salt",
@@ -59,6 +61,12 @@ NOUN_VERBS: frozenset[str] = frozenset({
 NAMING_VERBS: frozenset[str] = frozenset(["spoon", "ladle", "scoop", "butter", "salt", "pepper", "skewer"])
 """Verbs that name the tool or ingredient they act with ("Spoon the rice into jars" is done with a spoon,
 "Salt the water" with salt): the noun is one of the clause's objects."""
+
+PARTICLES: Mapping[str, frozenset[str]] = {
+    "roll": frozenset({"in", "into", "out", "up"}),
+}
+"""Verb -> the particles that decide its sense ("roll in flour": coat; "roll out": roll; "roll up": wrap
+up), recorded as ``verb-particle`` when one of them follows the verb in its clause, before any comma."""
 
 _ADVERBS = frozenset({
     "afterwards", "again", "also", "briefly", "carefully", "constantly", "continuously", "evenly", "finally",
@@ -137,6 +145,18 @@ def _nouns(words: Sequence[str], nouns: Mapping[str, str], longest: int) -> list
     return found
 
 
+def _sense(verb: str, clause: Sequence[str]) -> str:
+    """``verb-particle`` for a verb of :data:`PARTICLES` followed by one of its particles, else the verb."""
+    particles = PARTICLES.get(verb)
+    if particles:
+        for word in clause:
+            if word == ",":
+                break
+            if word in particles:
+                return f"{verb}-{word}"
+    return verb
+
+
 def clause_records(sentence: str, nouns: Mapping[str, str]) -> list[tuple[str, tuple[str, ...]]]:
     """The (verb, objects) of a sentence's clauses, in order (see the module docstring)."""
     words = tokens(sentence)
@@ -150,7 +170,7 @@ def clause_records(sentence: str, nouns: Mapping[str, str]) -> list[tuple[str, t
             objects.insert(0, nouns[verb])
         if k == 0:
             objects = _nouns(words[:i], nouns, longest) + objects
-        records.append((verb, objects))
+        records.append((_sense(verb, words[i + 1:end]), objects))
     for k in range(len(records) - 2, -1, -1):  # "peel and cut the apples": peel shares cut's objects
         i, next_i = verbs[k][0], verbs[k + 1][0]
         if not records[k][1] and all(w in _BOUNDARIES or w in _ADVERBS for w in words[i + 1:next_i]):

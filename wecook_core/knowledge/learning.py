@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -11,6 +11,14 @@ from wecook_core.knowledge.corpus import Corpus, Record
 from wecook_core.knowledge.nouns import match, variants
 from wecook_core.knowledge.recognize import Knowledge
 from wecook_core.knowledge.synonyms import RECOGNISED, VerbFolder, load_synonyms
+
+INSTRUMENTS: Mapping[str, str] = {"whisk": "whisk"}
+"""Corpus verbs named after the tool they are done with -> that tool, an object of every record of the verb
+(and of its particle forms, ``whisk-in``). Neither narrators nor recipes name the whisk they whisk with
+("whisk egg", "Whisk the eggs with the sugar"), so per record the whisk hardly ever met stir, and a held
+whisk over a pot was ranked pour. (Spoon and ladle, the other tools that are verbs, are named by the recipe
+reader already, :data:`~wecook_core.knowledge.instructions.NAMING_VERBS`; EPIC's "spoon" and "ladle" moves
+are transfers, which a held spoon in a pot is not.)"""
 
 
 @dataclass(frozen=True)
@@ -44,6 +52,9 @@ def fold(corpus: Corpus, folder: VerbFolder | None = None,
     for record in corpus.records:
         action = folder.fold(record.action)
         named = (*record.objects, *record.context)
+        tool = INSTRUMENTS.get(record.action.strip().lower().split("-", 1)[0])
+        if tool is not None:
+            named = (*named, tool)
         if action is None or action not in wanted or not named:
             continue  # a record naming no object says nothing of P(O | A), and is never asked
         objects = tuple(dict.fromkeys(_object(o, corpus, cache, vocabulary) for o in named))
@@ -64,36 +75,56 @@ def _object(name: str, corpus: Corpus, cache: dict[str, str], seen: dict[str, No
     return found
 
 
-def count(examples: Sequence[Example], verbs: Sequence[str],
-          vocabulary: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
-    """Records per verb ``(len(verbs),)`` and records per (verb, object) ``(len(verbs), len(vocabulary))``."""
+def count(examples: Sequence[Example], verbs: Sequence[str], vocabulary: Sequence[str], *,
+          per_group: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Counts per verb ``(len(verbs),)`` and per (verb, object) ``(len(verbs), len(vocabulary))``.
+
+    ``per_group`` (the default): a verb, or a verb with an object, counts once per group (EPIC: video; recipes:
+    recipe), however often the group repeats it. Narrations and recipes are bursty: one participant of EPIC
+    rolls an egg eight times in one video (P04_02, "roll egg"), and per record that one video made egg the
+    second object of roll. Counting the groups that do a verb with an object is the binarised multinomial
+    model of text classification (a word counts once per document: Rennie et al., "Tackling the Poor
+    Assumptions of Naive Bayes Text Classifiers", ICML 2003; Wang and Manning, ACL 2012), the document being
+    the video or the recipe. ``per_group=False`` counts records.
+    """
     verb_index = {v: i for i, v in enumerate(verbs)}
     object_index = {o: i for i, o in enumerate(vocabulary)}
     actions = np.zeros(len(verbs), dtype=np.int64)
     pairs = np.zeros((len(verbs), len(vocabulary)), dtype=np.int64)
+    seen: set[tuple[str, ...]] = set()
     for example in examples:
         a = verb_index[example.action]
-        actions[a] += 1
+        key = (example.source, example.group, example.action)
+        if not per_group or key not in seen:
+            seen.add(key)
+            actions[a] += 1
         for obj in example.objects:
+            if per_group:
+                if (*key, obj) in seen:
+                    continue
+                seen.add((*key, obj))
             pairs[a, object_index[obj]] += 1
     return actions, pairs
 
 
 def learn(corpus: Corpus, *, alpha: float = 1.0, folder: VerbFolder | None = None,
-          verbs: Sequence[str] = RECOGNISED, source: str = "", prior: str = "corpus") -> Knowledge:
+          verbs: Sequence[str] = RECOGNISED, source: str = "", prior: str = "corpus",
+          per_group: bool = True) -> Knowledge:
     """The commonsense tables of a corpus: counts of the records whose verb folds into ``verbs``.
 
     ``alpha`` is the additive smoothing pseudo-count and ``prior`` how P(A) is taken (see
-    :class:`~wecook_core.knowledge.recognize.Knowledge`).
+    :class:`~wecook_core.knowledge.recognize.Knowledge`); ``per_group``: see :func:`count`.
     The corpus's aliases are kept so that run-time labels find their nouns.
     """
     examples, vocabulary = fold(corpus, folder, verbs)
-    return from_examples(examples, vocabulary, corpus, alpha=alpha, verbs=verbs, source=source, prior=prior)
+    return from_examples(examples, vocabulary, corpus, alpha=alpha, verbs=verbs, source=source, prior=prior,
+                         per_group=per_group)
 
 
 def from_examples(examples: Sequence[Example], vocabulary: Sequence[str], corpus: Corpus, *, alpha: float = 1.0,
-                  verbs: Sequence[str] = RECOGNISED, source: str = "", prior: str = "corpus") -> Knowledge:
-    actions, pairs = count(examples, verbs, vocabulary)
+                  verbs: Sequence[str] = RECOGNISED, source: str = "", prior: str = "corpus",
+                  per_group: bool = True) -> Knowledge:
+    actions, pairs = count(examples, verbs, vocabulary, per_group=per_group)
     known = set(vocabulary)
     aliases = {a: o for a, o in corpus.nouns.items() if o in known and a != o}
     source = source or "; ".join(corpus.sources)

@@ -48,6 +48,9 @@ def metrics_table(evaluation: Evaluation) -> str:
              _row("commonsense model, all held-out records", evaluation.model)]
     lines += [_row(f"commonsense model, held-out `{source}` records", m) for source, m in evaluation.by_source]
     lines += [_row(f"majority class (`{evaluation.majority}`)", evaluation.baseline)]
+    if evaluation.ceiling is not None:
+        lines += [_row("ceiling: the model learned from the held-out records themselves", evaluation.ceiling)]
+        lines += [_row(f"ceiling, held-out `{source}` records", m) for source, m in evaluation.ceiling_by_source]
     for source, m in evaluation.by_source or (("all", evaluation.model),):
         lines += ["", f"Held-out `{source}` records:" if evaluation.by_source else "Per verb:", "", *verb_table(m)]
     return "\n".join(lines)
@@ -58,16 +61,22 @@ def _stat(values: Sequence[float]) -> str:
 
 
 def seeds_summary(runs: Mapping[str, Sequence[Evaluation]]) -> str:
-    """Markdown: mean and spread of the headline figures over several splits, per prior and corpus."""
+    """Markdown: mean and spread of the headline figures over several splits, per model (``runs``: a label
+    such as ``uniform, per group`` -> its evaluations) and corpus."""
     first = next(iter(runs.values()))[0]
     seeds = ", ".join(str(e.seed) for e in next(iter(runs.values())))
     lines = [f"Over the splits of seeds {seeds} (mean ± standard deviation):", "",
-             "| prior | held-out records | accuracy | macro precision | macro recall |",
+             "| model (prior, counts) | held-out records | accuracy | macro precision | macro recall |",
              "| --- | --- | ---: | ---: | ---: |"]
     for prior, evaluations in runs.items():
         rows: list[tuple[str, list[Metrics]]] = [("all", [e.model for e in evaluations])]
         rows += [(source, [e.by_source[i][1] for e in evaluations]) for i, (source, _) in enumerate(first.by_source)]
         rows.append(("all, majority class", [e.baseline for e in evaluations]))
+        ceilings = [e.ceiling for e in evaluations if e.ceiling is not None]
+        if len(ceilings) == len(evaluations):
+            rows.append(("all, ceiling (learned from the held-out records)", ceilings))
+            rows += [(f"{source}, ceiling", [e.ceiling_by_source[i][1] for e in evaluations])
+                     for i, (source, _) in enumerate(first.ceiling_by_source)]
         for name, metrics in rows:
             lines.append(f"| {prior} | {name} | {_stat([m.accuracy for m in metrics])} | "
                          f"{_stat([m.macro_precision for m in metrics])} | "
@@ -75,13 +84,17 @@ def seeds_summary(runs: Mapping[str, Sequence[Evaluation]]) -> str:
     return "\n".join(lines)
 
 
-def _files(alpha: float, prior: str, categories: int, recipes: bool) -> list[str]:
+def _files(alpha: float, prior: str, categories: int, recipes: bool, per_group: bool) -> list[str]:
+    counted = ("groups (EPIC videos, recipes) per action and per action and object: a group that repeats a verb "
+               "with an object counts once" if per_group else "records per action, records per action and object")
     parts = [
-        "- `commonsense.json`: counts learned from the corpora (records per action, records per action and "
-        "object) and the object aliases; `wecook_core.knowledge.recognize.load_knowledge` reads it and derives "
+        f"- `commonsense.json`: counts learned from the corpora ({counted}) and the object aliases; "
+        "`wecook_core.knowledge.recognize.load_knowledge` reads it and derives "
         f"P(O | A) with additive smoothing (alpha = {alpha:g}) over the object vocabulary; P(A) is "
         + ("uniform (`\"prior\": \"uniform\"`)." if prior == "uniform" else "learned from the action counts."),
-        "- `synonyms.yaml`: hand-written, how corpus verbs fold into wecook's actions (input of the learner).",
+        "- `synonyms.yaml`: hand-written, how corpus verbs fold into wecook's actions (input of the learner); "
+        "a verb named after its tool (whisk, spoon, ladle) adds the tool to its record's objects "
+        "(`wecook_core.knowledge.learning.INSTRUMENTS`).",
     ]
     if recipes:
         parts.append("- `recipes.csv`: the (verb, objects) records extracted from the recipe instructions "
@@ -110,7 +123,9 @@ def _licences(corpus: Corpus, context: int) -> list[str]:
                       "of a recipe's directions becomes a record: its imperative verb and the objects it names "
                       "(`wecook_core.knowledge.instructions`: clause-opening verbs, whole-word noun phrases of "
                       "the shipped category tables, \"Peel and cut the apples\" shares the apples, \"Spoon the "
-                      "rice into jars\" is done with a spoon). The extracted records are shipped as "
+                      "rice into jars\" is done with a spoon, \"Roll the balls in sugar\" is `roll-in`, a coating, "
+                      "folded into dip, "
+                      "\"Roll out the dough\" is `roll-out`). The extracted records are shipped as "
                       "`recipes.csv`; the recipes themselves are not."]
     other = [lic for lic in corpus.licences if lic != EPIC_LICENCE]
     if other:
@@ -122,19 +137,20 @@ def _licences(corpus: Corpus, context: int) -> list[str]:
 
 
 def source_markdown(corpus: Corpus, knowledge: Knowledge, runs: Mapping[str, Sequence[Evaluation]], *,
-                    command: str, alpha: float, context: int, categories: int) -> str:
+                    command: str, alpha: float, context: int, categories: int, records: int = 0,
+                    per_group: bool = True) -> str:
     """The text of SOURCE.md; ``runs``: prior -> evaluations over several seeds (the tables' prior first)."""
     counts = ", ".join(f"{v} {n}" for v, n in zip(knowledge.verbs, knowledge.action_counts.tolist(), strict=True))
     recipes = any(r.source == RECIPES_SOURCE for r in corpus.records)
     parts = ["# Commonsense knowledge tables: source", "",
              f"Generated by `{command}` (do not edit by hand; rebuild). Files:", "",
-             *_files(alpha, knowledge.prior_kind, categories, recipes), "", "## Sources", ""]
+             *_files(alpha, knowledge.prior_kind, categories, recipes, per_group), "", "## Sources", ""]
     parts += [f"- {s}" for s in corpus.sources]
     parts += _licences(corpus, context)
     parts += ["", "## What was learned", "",
-              f"Records kept (verb folds into wecook's actions and the record names an object): "
-              f"{int(knowledge.action_counts.sum())} ({counts}); object vocabulary: {len(knowledge.objects)} "
-              f"nouns, {len(knowledge.aliases)} aliases.", "", "## Held-out evaluation", ""]
+              f"Records kept (verb folds into wecook's actions and the record names an object): {records}; "
+              f"action counts ({'groups' if per_group else 'records'}): {counts}; object vocabulary: "
+              f"{len(knowledge.objects)} nouns, {len(knowledge.aliases)} aliases.", "", "## Held-out evaluation", ""]
     evaluation = next(iter(runs.values()))[0] if runs else None
     if evaluation is None:
         parts.append("Not evaluated: the corpus has too few groups to hold some out.")
@@ -146,7 +162,12 @@ def source_markdown(corpus: Corpus, knowledge: Knowledge, runs: Mapping[str, Seq
                   "averages run over the verbs present in the held-out records (a verb never predicted has "
                   "precision 0). "
                   "Held-out EPIC records carry their take-context objects too, as the pipeline passes the held "
-                  "tool with the targets.", "", metrics_table(evaluation), "", seeds_summary(runs)]
+                  "tool with the targets. The ceiling row learns the same model from the held-out records "
+                  "and scores it on them (resubstitution): records whose objects are the same and whose verbs "
+                  "differ cannot all be named right, and the smoothing that lets the model generalise costs it "
+                  "some of the records it has seen; a reference for the held-out rows, not a generalisation "
+                  "figure.", "",
+                  metrics_table(evaluation), "", seeds_summary(runs)]
     parts += ["", "## Common cases", "",
               "What a cook would answer, and the learned tables' top-1 (computed at build time):", "",
               "| objects | expected | top-1 (p) | |", "| --- | --- | --- | --- |"]

@@ -81,6 +81,9 @@ def _corpus_options(parser: argparse.ArgumentParser) -> None:
                         help="EPIC: objects of 'take' records among this many before an action count as its "
                              "objects (the held tool); 0 turns it off (2)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the held-out split (0)")
+    parser.add_argument("--per-record", dest="per_group", action="store_false",
+                        help="count every record (default: a group, an EPIC video or a recipe, that repeats a verb "
+                             "with an object counts once)")
 
 
 def _corpora(args: argparse.Namespace) -> list[Path]:
@@ -93,10 +96,12 @@ def run_learn(args: argparse.Namespace) -> int:
     from wecook_core.knowledge.build import KNOWLEDGE_DIR, build
 
     out = args.out or KNOWLEDGE_DIR
-    built = build(_corpora(args), out, alpha=args.alpha, context=args.context, seed=args.seed, prior=args.prior)
+    built = build(_corpora(args), out, alpha=args.alpha, context=args.context, seed=args.seed, prior=args.prior,
+                  per_group=args.per_group)
     k = built.knowledge
     counts = ", ".join(f"{v} {n}" for v, n in zip(k.verbs, k.action_counts.tolist(), strict=True))
-    print(f"learned from {int(k.action_counts.sum())} records ({counts}); "
+    unit = "groups" if args.per_group else "records"
+    print(f"learned {unit} per action: {counts}; "
           f"{len(k.objects)} objects, {len(k.aliases)} aliases")
     if built.evaluation is not None:
         m, b = built.evaluation.model, built.evaluation.baseline
@@ -106,6 +111,10 @@ def run_learn(args: argparse.Namespace) -> int:
         for source, metrics in built.evaluation.by_source:
             print(f"  held-out {source} records: accuracy {metrics.accuracy:.3f}, macro precision "
                   f"{metrics.macro_precision:.3f}, macro recall {metrics.macro_recall:.3f}")
+        ceiling = built.evaluation.ceiling
+        if ceiling is not None:
+            print(f"  ceiling (learned from the held-out records): accuracy {ceiling.accuracy:.3f}, macro precision "
+                  f"{ceiling.macro_precision:.3f}, macro recall {ceiling.macro_recall:.3f}")
     for path in built.files:
         print(f"wrote {path}")
     return 0
@@ -137,13 +146,15 @@ def run_evaluate(args: argparse.Namespace) -> int:
 
     corpus = read_corpora(_corpora(args), context=args.context)
     try:
-        result = evaluate(corpus, seed=args.seed, fraction=args.fraction, alpha=args.alpha, prior=args.prior)
+        result = evaluate(corpus, seed=args.seed, fraction=args.fraction, alpha=args.alpha, prior=args.prior,
+                          per_group=args.per_group)
     except ValueError as error:
         raise InputError(None, str(error)) from None
     if args.json:
         print(json.dumps(asdict(result)))
     else:
-        print(f"{result.test_groups} groups held out (seed {result.seed}, prior {args.prior}): "
+        print(f"{result.test_groups} groups held out (seed {result.seed}, prior {args.prior}, counted "
+              f"{'per group' if args.per_group else 'per record'}): "
               f"{result.train_records} training records, {result.test_records} held-out records\n")
         print(metrics_table(result))
     return 0
