@@ -50,6 +50,10 @@ HAND_VERBS: tuple[str, ...] = ("squeeze", "peel", "roll", "wrap")
 STILL_HAND_VERBS: tuple[str, ...] = ("squeeze", "peel", "wrap")
 """The candidates of a HAND action: a hand works an ingredient by itself only while it stays put
 (:func:`hand_still`), and rolling moves the hand back and forth."""
+TOOL_VERBS: tuple[str, ...] = ("cut", "peel", "stir", "roll", "spread")
+"""The candidates of a held tool acting on an ingredient or a container (DESIGN.md's "tool" case): a tool
+works what it touches; pouring, sprinkling and dipping are done with the held ingredient itself, and
+squeezing and wrapping with the bare hand."""
 HELD_VERBS: tuple[str, ...] = ("pour", "sprinkle", "dip")
 """The candidates of a held ingredient acting on a container (DESIGN.md's "held" case): without a tool
 it cannot cut, peel or stir."""
@@ -97,7 +101,8 @@ def individual_action(
     ``moves``: (object name, held ingredient over a container?) -> the verbs its own motion in the segment
     allows (:mod:`.motion`; None: no say);
     the candidates are narrowed to those when any is left. A held ingredient over a container is poured,
-    sprinkled or dipped (:data:`HELD_VERBS`); a hand that works an ingredient by itself while staying put
+    sprinkled or dipped (:data:`HELD_VERBS`), a held tool cuts, peels, stirs, rolls or spreads
+    (:data:`TOOL_VERBS`); a hand that works an ingredient by itself while staying put
     squeezes, peels or wraps it (:data:`STILL_HAND_VERBS`)."""
     segment = assoc.segment
     held = assoc.hand_object.get(hand)
@@ -112,6 +117,7 @@ def individual_action(
     kind = ActionKind.TOOL
     allowed: Sequence[str] | None = None
     if category is Category.TOOL:
+        allowed = TOOL_VERBS
         if ingredients:
             targets = _with_container(ingredients[0], assoc)
         elif containers:
@@ -335,6 +341,7 @@ def recognize_actions(
 
 __all__ = [
     "HAND_VERBS",
+    "TOOL_VERBS",
     "HandoverEvent",
     "Ranking",
     "SegmentActions",
