@@ -49,3 +49,17 @@ def read_input_text(path: str | Path, missing: str = "file not found") -> str:
         raise InputError(path, missing) from None
     except (OSError, UnicodeDecodeError) as error:
         raise InputError(path, f"cannot read: {error}") from None
+
+
+def load_json(path: str | Path | None, text: str | bytes, what: str = "malformed JSON") -> object:
+    """``json.loads(text)``, every failure an :class:`InputError` naming ``path``: malformed JSON at its line
+    and column; nesting deeper than the interpreter's recursion limit (about 1000 levels); an integer of more
+    than 4300 digits (Python's limit on converting text to int)."""
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as error:
+        raise json_error(path, error, what) from None
+    except RecursionError:
+        raise InputError(path, f"{what} (nested too deeply: more than about 1000 levels)") from None
+    except (ValueError, UnicodeDecodeError) as error:
+        raise InputError(path, f"{what} ({error})") from None

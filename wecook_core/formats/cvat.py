@@ -14,7 +14,17 @@ from pathlib import Path
 from xml.parsers import expat
 
 from wecook_core.errors import InputError
-from wecook_core.formats.fields import Box, Warn, check_box, ignore_warning, parse_float, parse_int
+from wecook_core.files import regular_file
+from wecook_core.formats.fields import (
+    Box,
+    Warn,
+    check_box,
+    check_frame,
+    check_id,
+    ignore_warning,
+    parse_float,
+    parse_int,
+)
 from wecook_core.formats.tracks import object_tracks
 from wecook_core.model import ObjectTrack
 
@@ -68,6 +78,9 @@ class _Reader:
             self.images += 1
         elif name == "track" and parent == "annotations":
             self.start_track(attrs)
+        elif name == "track":
+            raise InputError(self.path, f"<track> inside <{parent}>: tracks must be children of <annotations>",
+                             place=self.place())
         elif name == "box" and parent == "track":
             self.add_box(attrs)
         elif parent == "track" and name in _OTHER_SHAPES and self.current is not None:
@@ -91,7 +104,7 @@ class _Reader:
         place = self.place()
         if "id" not in attrs:
             raise InputError(self.path, "<track> has no id attribute", place=place)
-        track_id = parse_int(self.path, place, "track id", attrs["id"])
+        track_id = check_id(self.path, place, parse_int(self.path, place, "track id", attrs["id"]), "track id")
         label = attrs.get("label", "").strip()
         if not label:
             raise InputError(self.path, f"<track id={track_id}> has no label attribute", place=place)
@@ -105,9 +118,7 @@ class _Reader:
     def add_box(self, attrs: dict[str, str]) -> None:
         assert self.current is not None
         place = self.place()
-        frame = parse_int(self.path, place, "frame", attrs.get("frame"))
-        if frame < 0:
-            raise InputError(self.path, f"frame {frame} is negative", place=place)
+        frame = check_frame(self.path, place, parse_int(self.path, place, "frame", attrs.get("frame")))
         x1, y1, x2, y2 = (parse_float(self.path, place, key, attrs.get(key)) for key in ("xtl", "ytl", "xbr", "ybr"))
         outside = attrs.get("outside", "0").strip()
         if outside not in ("0", "1"):
@@ -132,7 +143,7 @@ def read_cvat(
     ``frame_size`` (width, height) of the video, when given, must match the ``<original_size>`` the file was
     annotated on (boxes of another resolution would land in the wrong place).
     """
-    path = Path(path)
+    path = regular_file(path, "CVAT XML file")
     reader = _Reader(path)
     try:
         with path.open("rb") as handle:
