@@ -39,6 +39,7 @@ def register(sub: Any) -> None:
     export.add_argument("--root", type=Path, help="where sessions live (default: $WECOOK_SESSIONS or ./sessions)")
     export.add_argument("--robot", default="franka_panda/panda.urdf", metavar="URDF",
                         help="the arms' URDF, relative to pybullet_data unless absolute (default: %(default)s)")
+    export.add_argument("--force", action="store_true", help="replace the -o file if it exists")
     export.set_defaults(func=run_export)
 
     execute = sub.add_parser("execute", help="run a plan with two simulated arms, recorded as MCAP",
@@ -48,6 +49,7 @@ def register(sub: Any) -> None:
     record.add_argument("--record", type=Path, metavar="FILE.mcap",
                         help="recording (default: runs/<plan>-<time>.mcap beside the plan or in its session)")
     record.add_argument("--no-record", action="store_true", help="do not record the run")
+    execute.add_argument("--force", action="store_true", help="replace the --record file if it exists")
     execute.add_argument("--seed", type=int, default=0, help="seed of the run (same seed, same run)")
     execute.add_argument("--realtime", action="store_true", help="pace the simulation at real time")
     execute.add_argument("--jsonl", action="store_true",
@@ -63,6 +65,7 @@ def register(sub: Any) -> None:
     recover = runs_sub.add_parser("recover", help="rewrite the recording of a killed run as a complete file")
     recover.add_argument("file", type=Path, help="recording (.mcap)")
     recover.add_argument("-o", "--out", type=Path, help="output (default: FILE with .recovered.mcap)")
+    recover.add_argument("--force", action="store_true", help="replace the output if it exists")
     recover.set_defaults(func=run_recover)
 
 
@@ -74,7 +77,7 @@ def run_export(args: argparse.Namespace) -> int:
     from wecook_core.workflows import export_session_plan
 
     session = sessions_root(args.root) / check_name(args.name)
-    exported = export_session_plan(session, args.out, robot=args.robot)
+    exported = export_session_plan(session, args.out, robot=args.robot, force=getattr(args, "force", False))
     for warning in exported.warnings:
         print(f"wecook: warning: {warning}", file=sys.stderr)
     plan = exported.plan
@@ -94,6 +97,18 @@ def default_record_path(plan_path: Path, now: dt.datetime | None = None) -> Path
     if folder.name == "plans" and (folder.parent / "session.yaml").is_file():
         folder = folder.parent
     return folder / "runs" / f"{plan_path.stem}-{stamp}.mcap"
+
+
+def recording_path(record: Path | None, plan_path: Path, *, force: bool = False) -> Path:
+    """Where the run is recorded: ``record`` (created exclusively; an existing file only with ``force``), else
+    :func:`default_record_path` numbered ``-2``, ``-3``... when taken, so two runs never share a file."""
+    from wecook_core.files import check_output, create_new
+
+    if record is None:
+        return create_new(default_record_path(plan_path), number=True, what="recording")
+    if force:
+        return check_output(record, replace=True, what="recording")
+    return create_new(record, what="recording")
 
 
 @dataclass
@@ -279,7 +294,7 @@ def run_execute(args: argparse.Namespace) -> int:
     if not args.no_record:
         from wecook_core.execution.recorder import McapRecorder
 
-        record_path = args.record or default_record_path(args.plan)
+        record_path = recording_path(args.record, args.plan, force=getattr(args, "force", False))
         recorder = McapRecorder(record_path)
         observers.insert(0, recorder)
     clock = time.perf_counter()
@@ -368,11 +383,13 @@ def run_recover(args: argparse.Namespace) -> int:
     from wecook_core.execution.runs import recover_recording
 
     out = args.out or args.file.with_name(args.file.stem + ".recovered.mcap")
-    report = recover_recording(args.file, out)
-    state = "the run had finished; nothing was lost" if report.complete else \
-        f"the run had not finished; read {report.bytes_read} of {report.bytes_total} bytes ({report.stopped})"
+    report = recover_recording(args.file, out, replace=getattr(args, "force", False))
+    state = "the run had finished" if report.finished else "the run had not finished"
+    state += "; nothing was lost" if not report.lost else f"; lost ({report.bytes_total} bytes read):"
     print(f"wrote {report.out}: {report.total} messages, {report.attachments} attachments, "
           f"{report.metadata} metadata records; {state}")
+    for line in report.lost:
+        print(f"  lost: {line}")
     if report.closed_actions:
         print(f"marked as interrupted: {', '.join(report.closed_actions)}")
     return 0
