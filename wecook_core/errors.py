@@ -6,6 +6,10 @@ import json
 from pathlib import Path
 
 
+MAX_MESSAGE_CHARS = 2000
+"""An error's line is cut to this many characters (it quotes the input, which may be huge)."""
+
+
 class InputError(Exception):
     """Bad input from the user: a file, a place in it (line, frame, field) and what was expected.
 
@@ -24,7 +28,8 @@ class InputError(Exception):
             where = self.path + (f":{self.place}" if self.place else "") + ": "
         elif self.place:
             where = f"{self.place}: "
-        return where + self.message
+        text = (where + self.message).replace("\r", "\\r").replace("\n", "\\n")  # always one line
+        return text if len(text) <= MAX_MESSAGE_CHARS else text[: MAX_MESSAGE_CHARS - 3] + "..."
 
 
 def yaml_error(path: str | Path | None, error: Exception, what: str = "malformed YAML") -> InputError:

@@ -27,6 +27,13 @@ MAX_INPUT_BYTES = 1 << 30
 """The largest text file wecook reads whole (1 GiB): plans, session files, JSON and CSV inputs."""
 
 
+def _a(what: str) -> str:
+    """``what`` with its article (``a plan``, ``an object box file``) unless it has one."""
+    if what.startswith(("a ", "an ")):
+        return what
+    return ("an " if what[:1].lower() in "aeiou" else "a ") + what
+
+
 def regular_file(path: str | Path, what: str = "file") -> Path:
     """``path`` when it is a regular file (after links), else an :class:`InputError` saying what it is."""
     path = Path(path)
@@ -34,15 +41,15 @@ def regular_file(path: str | Path, what: str = "file") -> Path:
         mode = path.stat().st_mode
     except FileNotFoundError:
         if path.is_symlink():
-            raise InputError(path, f"dangling symbolic link, expected a {what}") from None
+            raise InputError(path, f"dangling symbolic link, expected {_a(what)}") from None
         raise InputError(path, f"{what} not found") from None
     except OSError as error:
         raise InputError(path, f"cannot read: {error.strerror or error}") from None
     if stat.S_ISDIR(mode):
-        raise InputError(path, f"is a directory, expected a {what}")
+        raise InputError(path, f"is a directory, expected {_a(what)}")
     if not stat.S_ISREG(mode):
         kind = "a FIFO" if stat.S_ISFIFO(mode) else "a socket" if stat.S_ISSOCK(mode) else "a device"
-        raise InputError(path, f"is {kind}, not a regular file: expected a {what}")
+        raise InputError(path, f"is {kind}, not a regular file: expected {_a(what)}")
     return path
 
 
@@ -55,7 +62,7 @@ def read_bytes(path: str | Path, what: str = "file", max_bytes: int = MAX_INPUT_
     except OSError as error:
         raise InputError(path, f"cannot read: {error.strerror or error}") from None
     if len(data) > max_bytes:
-        raise InputError(path, f"larger than {max_bytes} bytes, the most wecook reads for a {what}")
+        raise InputError(path, f"larger than {max_bytes} bytes, the most wecook reads for {_a(what)}")
     return data
 
 

@@ -152,6 +152,8 @@ def read_cvat(
         raise InputError(path, "file not found") from None
     except IsADirectoryError:
         raise InputError(path, "is a directory, expected a CVAT XML file") from None
+    except (LookupError, ValueError) as error:  # an unknown encoding in the XML declaration
+        raise InputError(path, f"malformed XML ({error})", place="line 1") from None
     except expat.ExpatError as error:
         if error.code == expat.errors.codes[expat.errors.XML_ERROR_NO_ELEMENTS]:
             raise InputError(path, "empty file: expected CVAT for video XML") from None
