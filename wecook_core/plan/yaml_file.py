@@ -144,6 +144,8 @@ def _parse_yaml(text: str, path: str | Path | None) -> Any:
         return loader.construct_document(node)
     except RecursionError:
         raise InputError(path, f"not valid YAML (nested deeper than {MAX_PLAN_DEPTH} levels)") from None
+    except (ValueError, OverflowError) as error:  # an integer of more than 4300 digits, a date out of range
+        raise InputError(path, f"not valid YAML ({str(error)[:100]})") from None
     finally:
         loader.dispose()
 

@@ -379,6 +379,8 @@ def open_session(path: str | Path) -> Session:
         raise yaml_error(meta_path, error) from None
     except RecursionError:
         raise InputError(meta_path, "malformed YAML (nested too deeply)") from None
+    except (ValueError, OverflowError) as error:  # an integer of more than 4300 digits, a bad date
+        raise InputError(meta_path, f"malformed YAML ({str(error)[:100]})") from None
     if not isinstance(meta, dict) or "inputs" not in meta:
         raise InputError(meta_path, "not a wecook session file (no inputs)")
     warnings: list[str] = []
