@@ -5,7 +5,6 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-
 MAX_MESSAGE_CHARS = 2000
 """An error's line is cut to this many characters (it quotes the input, which may be huge)."""
 

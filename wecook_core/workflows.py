@@ -24,7 +24,6 @@ def export_session_plan(session_path: str | Path, out: str | Path | None = None,
     URDF (relative to ``pybullet_data`` unless absolute). Unreadable inputs, an invalid plan, or an ``out`` that
     is a folder or exists (unless ``force``) raise :class:`InputError`."""
     from wecook_core.files import check_output
-
     from wecook_core.knowledge.recognize import load_knowledge
     from wecook_core.perception.pipeline import analyze
     from wecook_core.session.store import open_session

@@ -11,7 +11,8 @@ from hypothesis import strategies as st
 from wecook_core.errors import InputError
 
 NASTY = ["", "-1", "0", "1e400", "-1e400", "nan", "inf", "1e308", "1" + "0" * 25, "9" * 5000, "1.5", "x", "\ufeff",
-         "\x00", "'", '"', ",", "[", "{", "]]]", "<", "&amp;", "\u00e9", "\n", "true", "null", "*a", "&a", "!!python/none"]
+         "\x00", "'", '"', ",", "[", "{", "]]]", "<", "&amp;", "\u00e9", "\n", "true", "null", "*a", "&a",
+         "!!python/none"]
 """Tokens that break parsers: huge, non-finite, negative, quoting, nesting, encoding."""
 
 

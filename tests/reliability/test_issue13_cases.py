@@ -59,7 +59,8 @@ OBJECT_FILES: dict[str, tuple[str, str]] = {
     "cvat_frame_1e25": ("c.xml", f'<annotations><track id="1" label="pot"><box frame="{BIG}" xtl="1" ytl="1" '
                                  'xbr="2" ybr="2"/></track></annotations>'),
     "cvat_frame_1e9": ("c.xml", '<annotations><track id="1" label="pot"><box frame="0" xtl="1" ytl="1" xbr="2" '
-                                'ybr="2"/><box frame="1000000000" xtl="1" ytl="1" xbr="2" ybr="2"/></track></annotations>'),
+                                'ybr="2"/><box frame="1000000000" xtl="1" ytl="1" xbr="2" ybr="2"/></track>'
+                                '</annotations>'),
     "cvat_track_nested": ("c.xml", '<annotations><meta><track id="1" label="pot"><box frame="0" xtl="1" ytl="1" '
                                    'xbr="2" ybr="2"/></track></meta></annotations>'),
     "cocovid_frame_1e25": ("v.json", json.dumps({"images": [{"id": 1, "frame_id": int(BIG)}], "annotations": [],
