@@ -46,8 +46,12 @@ def json_error(path: str | Path | None, error: json.JSONDecodeError, what: str =
 
 def read_input_text(path: str | Path, missing: str = "file not found") -> str:
     """The UTF-8 text of the user's file ``path``: an :class:`InputError` saying ``missing`` when there is no
-    such file, ``cannot read: ...`` when it does not read (a folder, no permission, not UTF-8)."""
+    such file, ``cannot read: ...`` when it does not read (a folder, no permission, not UTF-8, a FIFO)."""
+    import stat
+
     try:
+        if Path(path).exists() and not stat.S_ISREG(Path(path).stat().st_mode) and not Path(path).is_dir():
+            raise InputError(path, "cannot read: not a regular file (a FIFO or a device)")
         return Path(path).read_text(encoding="utf-8")
     except FileNotFoundError:
         raise InputError(path, missing) from None

@@ -91,6 +91,11 @@ def test_fifo_as_objects_does_not_hang(inputs: dict[str, Path], capsys: pytest.C
     os.mkfifo(fifo)
     fails_cleanly(new(inputs, objects=fifo), fifo, capsys, says="FIFO")
     fails_cleanly(new(inputs, hands=fifo), fifo, capsys, says="FIFO")
+    argv = new(inputs)
+    argv[argv.index("--video") + 1] = fifo
+    fails_cleanly(argv, fifo, capsys, says="FIFO")
+    fails_cleanly([*new(inputs), "--categories", fifo], fifo, capsys, says="FIFO")
+    fails_cleanly(["eval", fifo, fifo], fifo, capsys)
 
 
 def _openpose(inputs: dict[str, Path], damage: Callable[[Path], Path]) -> tuple[Path, Path]:
