@@ -299,7 +299,7 @@ def recover_recording(path: str | Path, out: str | Path, *, replace: bool = Fals
     schemas = {r.id: r for r in found.records if isinstance(r, Schema)}
     channels = {r.id: r for r in found.records if isinstance(r, Channel)}
     if not any(isinstance(r, Message | Attachment | Metadata) for r in found.records):
-        why = found.damage[0].what if found.damage else "no messages"
+        why = "; ".join(d.what for d in found.damage[:2]) or "no messages"
         raise InputError(path, f"not an MCAP file or nothing readable ({why})")
     counts: Counter[str] = Counter()
     holder: dict[str, Any] = {}

@@ -109,34 +109,38 @@ def _record_at(data: Any, at: int, size: int) -> tuple[int, int] | None:
 
 def _resync(data: Any, start: int, size: int) -> int:
     """The offset of the next chunk or attachment after ``start`` that reads with a matching CRC (else ``size``)."""
-    at = start
-    while at < size:
-        found = [k for k in (data.find(b"\x06", at, size), data.find(b"\x09", at, size)) if k >= 0]
+    following = {opcode: data.find(bytes([opcode]), start, size) for opcode in (Opcode.CHUNK, Opcode.ATTACHMENT)}
+    while True:
+        found = {opcode: at for opcode, at in following.items() if at >= 0}
         if not found:
             return size
-        at = min(found)
+        opcode, at = min(found.items(), key=lambda item: item[1])
         plausible = _record_at(data, at, size)
         if plausible is not None:
             try:
                 _read(plausible[0], bytes(data[at + 9:plausible[1]]))
                 return at
-            except Exception:
+            except Exception:  # any failure: not a record start
                 pass
-        at += 1
-    return size
+        following[opcode] = data.find(bytes([opcode]), at + 1, size)
 
 
 def salvage(path: str | Path) -> Salvage:
     """Every intact record of the MCAP file ``path`` and the damage between them (see the module docstring)."""
     with open(path, "rb") as handle:
         size = Path(path).stat().st_size
-        if size < len(MAGIC) or handle.read(len(MAGIC)) != MAGIC:
-            return Salvage((), (Damage(0, size, "not an MCAP file (no magic)"),), False, None, size)
-        data: Any = mmap.mmap(handle.fileno(), 0, access=mmap.ACCESS_READ) if size else b""
+        if size <= len(MAGIC):
+            return Salvage((), (Damage(0, size, "not an MCAP file (too short)"),), False, None, size)
+        magic = handle.read(len(MAGIC)) == MAGIC
+        data: Any = mmap.mmap(handle.fileno(), 0, access=mmap.ACCESS_READ)
         try:
-            return _walk(data, size)
+            found = _walk(data, size)
         finally:
             data.close()
+    if magic:
+        return found
+    return Salvage(found.records, (Damage(0, len(MAGIC), "the MCAP magic bytes"), *found.damage), found.footer,
+                   found.statistics, size)
 
 
 def _walk(data: Any, size: int) -> Salvage:
@@ -146,6 +150,7 @@ def _walk(data: Any, size: int) -> Salvage:
     statistics = None
     lost_chunk: Damage | None = None
     summary = False  # past the data section's end: only indexes and statistics follow
+    last: tuple[int, str] | None = None  # start and kind of the last record that read
     at = len(MAGIC)
     while at < size:
         if size - at == len(MAGIC) and data[at:size] == MAGIC:
@@ -166,7 +171,13 @@ def _walk(data: Any, size: int) -> Salvage:
             except Exception as error:
                 why = f"{Opcode(opcode).name.lower().replace('_', ' ')} ({_why(error)})"
         if record is None:
-            resume = _resync(data, at + 1, size)
+            # The last record's length may be what is damaged: look for the next sound record from its start.
+            resume = _resync(data, last[0] + 1 if last is not None else at + 1, size)
+            if last is not None and resume < at:
+                damage.append(Damage(last[0], resume, f"{last[1]} (its length is damaged; its fields read)"))
+                lost_chunk, last = None, None
+                at = resume
+                continue
             if plausible is not None and plausible[0] == Opcode.CHUNK and resume >= plausible[1]:
                 resume = plausible[1]  # the chunk's length was sound: what follows may be its index
             if summary:
@@ -175,6 +186,7 @@ def _walk(data: Any, size: int) -> Salvage:
             damage.append(lost_chunk)
             at = resume
             continue
+        last = (at, Opcode(data[at]).name.lower().replace("_", " "))
         if isinstance(record, MessageIndex):
             if lost_chunk is not None and lost_chunk.messages is not None:
                 lost_chunk.messages[record.channel_id] = len(record.records)

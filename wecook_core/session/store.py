@@ -61,8 +61,12 @@ def sessions_root(root: str | Path | None = None) -> Path:
     else:
         env = os.environ.get(ENV_ROOT)
         path = Path(env) if env else Path.cwd() / "sessions"
-    if path.exists() and not path.is_dir():
-        raise InputError(path, "is not a folder: sessions live in a folder (--root DIR or $WECOOK_SESSIONS)")
+    for folder in (path, *path.parents):
+        if folder.exists():
+            if not folder.is_dir():
+                raise InputError(folder, "is not a folder: sessions live in a folder (--root DIR or "
+                                 "$WECOOK_SESSIONS)")
+            break
     return path
 
 
