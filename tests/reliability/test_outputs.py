@@ -153,3 +153,26 @@ def test_a_torn_recording_says_the_run_had_not_finished(tmp_path: Path, recordin
     report = recover_recording(torn, tmp_path / "out.mcap")
     assert not report.finished and not report.complete and report.lost
     assert check_recording(tmp_path / "out.mcap").ok
+
+
+def test_damaged_record_boundaries_cost_at_most_one_chunk(tmp_path: Path, recording: Path) -> None:
+    import struct
+
+    data = recording.read_bytes()
+    total = sum(check_recording(recording).messages.values())
+    starts, at = [], 8
+    while at < len(data) - 8:
+        starts.append(at)
+        at += 9 + struct.unpack_from("<Q", data, at + 1)[0]
+    chunk = next(s for s in starts if data[s] == 0x06 and s > starts[3])
+    for flip in (3, 9, 10, 12, chunk, chunk + 1, chunk + 2, chunk + 3, chunk + 60):  # magic, header, a chunk
+        damaged = bytearray(data)
+        damaged[flip] ^= 0xFF
+        path = tmp_path / f"flip{flip}.mcap"
+        path.write_bytes(bytes(damaged))
+        report = recover_recording(path, tmp_path / f"flip{flip}.out.mcap")
+        assert report.finished and report.lost, flip
+        assert report.total >= total - 10, (flip, report.lost)
+        problems = check_recording(tmp_path / f"flip{flip}.out.mcap").problems
+        assert all("/plan/events" in p for p in problems), (flip, problems)  # only a lost event can show
+        assert not problems or any("/plan/events" in line for line in report.lost), (flip, report.lost)
