@@ -217,3 +217,12 @@ def test_root_that_is_a_file(inputs: dict[str, Path], capsys: pytest.CaptureFixt
     fails_cleanly(argv, root, capsys, says="not a folder")
     fails_cleanly(["sessions", "--root", root], root, capsys, says="not a folder")
     fails_cleanly(["export", "s", "--root", root], root, capsys, says="not a folder")
+
+
+def test_synth_does_not_overwrite_a_scenario(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    folder = tmp_path / "scen"
+    folder.mkdir()
+    (folder / "objects.csv").write_text("the user's boxes\n")
+    fails_cleanly(["synth", folder, "--no-video", "--duration", "4"], folder, capsys, says="--force")
+    assert (folder / "objects.csv").read_text() == "the user's boxes\n"
+    fails_cleanly(["synth", folder / "objects.csv", "--no-video"], folder / "objects.csv", capsys)
