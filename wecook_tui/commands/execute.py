@@ -385,7 +385,7 @@ def run_recover(args: argparse.Namespace) -> int:
     out = args.out or args.file.with_name(args.file.stem + ".recovered.mcap")
     report = recover_recording(args.file, out, replace=getattr(args, "force", False))
     state = "the run had finished" if report.finished else "the run had not finished"
-    state += "; nothing was lost" if not report.lost else f"; lost ({report.bytes_total} bytes read):"
+    state += "; nothing was lost" if not report.lost else f"; of its {report.bytes_total} bytes, lost:"
     print(f"wrote {report.out}: {report.total} messages, {report.attachments} attachments, "
           f"{report.metadata} metadata records; {state}")
     for line in report.lost:
