@@ -13,6 +13,7 @@ The layers, top to bottom (a layer may import any layer below it, never one abov
     wecook_core.observations         boxes and hands imported (or detected) into one checked value
     wecook_core.knowledge            the commonsense tables, object categories, learning them from corpora
     wecook_core.formats              one module per outside format
+    wecook_core.files                reading the user's files safely, writing ours atomically
     wecook_core.model, .errors, .resources   shared frozen dataclasses, errors, where data lives
 """
 
@@ -38,6 +39,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("wecook_core.observations",),
     ("wecook_core.knowledge",),
     ("wecook_core.formats",),
+    ("wecook_core.files",),
     ("wecook_core.model", "wecook_core.errors", "wecook_core.resources", "wecook_core"),
 )
 

@@ -48,6 +48,9 @@ def session_plan(session_path: str | Path, *, table: Table = DEFAULT_TABLE,
     from wecook_core.perception.pipeline import analyze
     from wecook_core.session.store import open_session
 
+    replace = force or out is None
+    if out is not None:
+        check_output(out, replace=replace, what="plan")  # before the analysis, not after
     session = open_session(session_path)
     obs = session.load_observations()
     analysis = analyze(obs, load_knowledge(), session.params, session.corrections)
@@ -56,14 +59,20 @@ def session_plan(session_path: str | Path, *, table: Table = DEFAULT_TABLE,
 
 
 def export_session_plan(session_path: str | Path, out: str | Path | None = None, *,
-                        table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT) -> Exported:
+                        table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT, force: bool = False) -> Exported:
     """Analyse the session at ``session_path`` and write its plan to ``out`` (default
-    ``<session>/plans/plan.yaml``); ``robot`` is the arms' URDF (relative to ``pybullet_data`` unless absolute).
-    Unreadable inputs or an invalid plan raise :class:`InputError`."""
+    ``<session>/plans/plan.yaml``, wecook's own file, replaced whole on every export); ``robot`` is the arms'
+    URDF (relative to ``pybullet_data`` unless absolute). Unreadable inputs, an invalid plan, or an ``out`` that
+    is a folder or exists (unless ``force``) raise :class:`InputError`."""
+    from wecook_core.files import check_output
+
+    replace = force or out is None
+    if out is not None:
+        check_output(out, replace=replace, what="plan")  # before the analysis, not after
     plan, plans_dir, warnings = session_plan(session_path, table=table, robot=robot)
     path = Path(out) if out is not None else plans_dir / "plan.yaml"
     validate(plan, path)
-    write_plan(plan, path)
+    write_plan(plan, path, replace=replace)
     return Exported(plan, path, warnings)
 
 

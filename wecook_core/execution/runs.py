@@ -57,14 +57,18 @@ class RecoverReport:
     attachments: int
     metadata: int
     complete: bool
-    """The source had its footer (the run finished): nothing was lost."""
+    """The source had its footer and no damage: nothing was lost."""
     stopped: str
-    """Why reading stopped: ``end of file`` or what was wrong with the rest."""
+    """``end of file``, or what the first damage was."""
     bytes_read: int
-    """Bytes of the source up to the last record that could be read."""
+    """Bytes of the source before the first damage."""
     bytes_total: int
     closed_actions: tuple[str, ...] = ()
     """Actions that had started but not ended when the run was killed: ``action_failed`` events were added."""
+    finished: bool = False
+    """The run's own ``run_end`` event is among what was kept: the run had finished."""
+    lost: tuple[str, ...] = ()
+    """What could not be kept, one line each (empty: nothing was lost)."""
 
     @property
     def total(self) -> int:
@@ -274,40 +278,43 @@ def check_recording(path: str | Path) -> CheckReport:
     return CheckReport(str(path), tuple(problems), dict(counts), duration, actions, tuple(attachments), metadata)
 
 
-def recover_recording(path: str | Path, out: str | Path) -> RecoverReport:
-    """Rewrite a recording, finished or not, as a complete file with a summary.
+def recover_recording(path: str | Path, out: str | Path, *, replace: bool = False) -> RecoverReport:
+    """Rewrite a recording, finished or not, damaged or not, as a complete file with a summary.
 
-    Every record that can be read in order is kept (messages, schemas, channels, the attachment, metadata);
-    reading stops at the first record that is truncated or fails its CRC. Actions that had started and not
-    ended get an ``action_failed`` event ("run interrupted"), and a ``run_end`` event is added, both flagged
-    ``recovered: true`` in their data, so the rewritten file tells what happened and passes ``runs check``.
+    Every record that reads is kept (messages, schemas, channels, the attachment, metadata), also past damage:
+    a chunk that fails its CRC or does not decompress is lost alone, and :attr:`RecoverReport.lost` says which
+    bytes, which messages per topic and why (see :mod:`wecook_core.execution.salvage`). Actions that had started
+    and not ended get an ``action_failed`` event ("run interrupted"), and a ``run_end`` event is added when the
+    run's own is missing, both flagged ``recovered: true``, so the rewritten file passes ``runs check``. ``out``
+    is written atomically; an existing one is an InputError unless ``replace``.
     """
-    path, out = Path(path), Path(out)
-    if not path.is_file():
-        raise InputError(path, "no such recording")
-    if path.resolve() == out.resolve():
+    from wecook_core.execution.salvage import salvage
+    from wecook_core.files import check_output, regular_file, write_atomic
+
+    path, out = regular_file(path, "recording"), Path(out)
+    if out.exists() and path.resolve() == out.resolve():
         raise InputError(out, "the recovered file must not overwrite the source")
-    records, stopped, good, footer = _sequential(path)
-    if not records:
-        raise InputError(path, f"not an MCAP file or nothing readable ({stopped})")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    schemas: dict[int, Schema] = {}
-    channels: dict[int, Channel] = {}
-    schema_ids: dict[int, int] = {}
-    channel_ids: dict[int, int] = {}
+    check_output(out, replace=replace, what="recovered recording")
+    found = salvage(path)
+    schemas = {r.id: r for r in found.records if isinstance(r, Schema)}
+    channels = {r.id: r for r in found.records if isinstance(r, Channel)}
+    if not any(isinstance(r, Message | Attachment | Metadata) for r in found.records):
+        why = "; ".join(d.what for d in found.damage[:2]) or "no messages"
+        raise InputError(path, f"not an MCAP file or nothing readable ({why})")
     counts: Counter[str] = Counter()
-    events: list[dict[str, Any]] = []
-    n_attachments = n_metadata = 0
-    last_ns = 0
-    with open(out, "wb") as stream:
+    holder: dict[str, Any] = {}
+
+    def write(stream: Any) -> None:
         writer = Writer(stream, compression=CompressionType.ZSTD, enable_data_crcs=True)
         writer.start(profile="", library="wecook (recovered)")
+        schema_ids: dict[int, int] = {}
+        channel_ids: dict[int, int] = {}
 
         def channel_id(source_id: int) -> int:
             if source_id not in channel_ids:
                 channel = channels[source_id]
                 sid = 0
-                if channel.schema_id:
+                if channel.schema_id and channel.schema_id in schemas:
                     if channel.schema_id not in schema_ids:
                         s = schemas[channel.schema_id]
                         schema_ids[channel.schema_id] = writer.register_schema(s.name, s.encoding, s.data)
@@ -316,13 +323,12 @@ def recover_recording(path: str | Path, out: str | Path) -> RecoverReport:
                                                                  dict(channel.metadata))
             return channel_ids[source_id]
 
-        for record in records:
-            if isinstance(record, Schema):
-                schemas[record.id] = record
-            elif isinstance(record, Channel):
-                channels[record.id] = record
-                channel_id(record.id)  # every channel, even one without messages yet
-            elif isinstance(record, Attachment):
+        events: list[dict[str, Any]] = []
+        n_attachments = n_metadata = last_ns = 0
+        for source_id in sorted(channels):  # every channel, even one without messages
+            channel_id(source_id)
+        for record in found.records:
+            if isinstance(record, Attachment):
                 writer.add_attachment(record.create_time, record.log_time, record.name, record.media_type,
                                       record.data)
                 n_attachments += 1
@@ -338,10 +344,49 @@ def recover_recording(path: str | Path, out: str | Path) -> RecoverReport:
                 if topic == "/plan/events":
                     with contextlib.suppress(ValueError):
                         events.append(json.loads(record.data))
-        closed = _close_events(writer, channels, channel_id, events, last_ns, counts)
+        holder["finished"] = any(e.get("kind") == "run_end" for e in events if isinstance(e, dict))
+        before = counts["/plan/events"]
+        holder["closed"] = _close_events(writer, channels, channel_id, events, last_ns, counts)
+        holder["added"] = counts["/plan/events"] - before
+        holder["attachments"], holder["metadata"] = n_attachments, n_metadata
         writer.finish()
-    return RecoverReport(str(path), str(out), dict(counts), n_attachments, n_metadata, footer, stopped, good,
-                         path.stat().st_size, closed)
+
+    write_atomic(out, write, replace=replace, what="recovered recording")
+    orphans = sum(isinstance(r, Message) and r.channel_id not in channels for r in found.records)
+    lost = _lost_lines(found, channels, counts, holder["added"], orphans)
+    damage = [d for d in found.damage if d.end > d.start]
+    good = damage[0].start if damage else found.size
+    return RecoverReport(str(path), str(out), dict(counts), holder["attachments"], holder["metadata"],
+                         found.footer and not damage, damage[0].what if damage else "end of file", good, found.size,
+                         holder["closed"], finished=holder["finished"], lost=tuple(lost))
+
+
+def _lost_lines(found: Any, channels: dict[int, Channel], kept: Counter[str], added: int, orphans: int
+                ) -> list[str]:
+    """What recovery could not keep, one line each: damaged byte ranges with what they held, per-topic counts
+    of lost messages from the file's own statistics, messages whose channel was lost."""
+    lines = []
+    for d in found.damage:
+        held = ""
+        if d.messages:
+            held = "; held " + ", ".join(f"{n} {channels[c].topic if c in channels else f'channel {c}'}"
+                                          for c, n in sorted(d.messages.items()))
+        span = f"bytes {d.start}-{d.end}: " if d.end > d.start else ""
+        lines.append(f"{span}{d.what}{held}")
+    stats = found.statistics
+    if stats is not None:
+        missing = []
+        for cid, expected in sorted(stats.channel_message_counts.items()):
+            topic = channels[cid].topic if cid in channels else f"channel {cid}"
+            have = kept.get(topic, 0) - (added if topic == "/plan/events" else 0)
+            if expected > have:
+                missing.append(f"{expected - have} {topic}")
+        if missing:
+            lines.append(f"lost {sum(int(m.split()[0]) for m in missing)} of {stats.message_count} messages "
+                         f"(the file's statistics): " + ", ".join(missing))
+    if orphans:
+        lines.append(f"{orphans} messages on channels whose definition was lost")
+    return lines
 
 
 def _close_events(writer: Writer, channels: dict[int, Channel], channel_id: Any, events: list[dict[str, Any]],

@@ -11,13 +11,22 @@ same stem as the video file is taken, else the error lists the names.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from wecook_core.errors import InputError, json_error
-from wecook_core.formats.fields import Box, Warn, check_box, ignore_warning, parse_float, parse_int
+from wecook_core.errors import InputError, load_json
+from wecook_core.files import read_text
+from wecook_core.formats.fields import (
+    Box,
+    Warn,
+    check_box,
+    check_frame,
+    check_id,
+    ignore_warning,
+    parse_float,
+    parse_int,
+)
 from wecook_core.formats.tracks import object_tracks
 from wecook_core.model import ObjectTrack
 
@@ -58,9 +67,7 @@ def read_cocovid(
         if frame_value is None:
             raise InputError(path, "image has no frame_id (nor frame_index)", place=place)
         frame = parse_int(path, place, "frame_id", frame_value)
-        if frame < 0:
-            raise InputError(path, f"frame_id {frame} is negative", place=place)
-        frames[image_id] = frame
+        frames[image_id] = check_frame(path, place, frame, "frame_id")
     rows: list[tuple[int, str, int, Box]] = []
     crowd = 0
     for i, annotation in enumerate(_list(path, data, "annotations")):
@@ -78,7 +85,7 @@ def read_cocovid(
         if track_value is None:
             raise InputError(path, "annotation has no instance_id (nor track_id): not a video annotation",
                              place=place)
-        track_id = parse_int(path, place, "instance_id", track_value)
+        track_id = check_id(path, place, parse_int(path, place, "instance_id", track_value), "instance_id")
         category_id = parse_int(path, place, "category_id", entry.get("category_id"))
         if category_id not in categories:
             raise InputError(path, f"category_id {category_id} is not among the categories", place=place)
@@ -95,20 +102,10 @@ def read_cocovid(
 
 
 def _load(path: Path) -> Mapping[str, Any]:
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(path, "file not found") from None
-    except IsADirectoryError:
-        raise InputError(path, "is a directory, expected a COCO-VID JSON file") from None
-    except UnicodeDecodeError:
-        raise InputError(path, "not a text file") from None
+    text = read_text(path, "COCO-VID JSON file")
     if not text.strip():
         raise InputError(path, "empty file: expected COCO-VID JSON")
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as error:
-        raise json_error(path, error) from None
+    data = load_json(path, text)
     if not isinstance(data, dict):
         raise InputError(path, "expected a JSON object with videos, images, annotations, categories")
     return data

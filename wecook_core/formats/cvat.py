@@ -16,7 +16,17 @@ from pathlib import Path
 from xml.parsers import expat
 
 from wecook_core.errors import InputError
-from wecook_core.formats.fields import Box, Warn, check_box, ignore_warning, parse_float, parse_int
+from wecook_core.files import regular_file
+from wecook_core.formats.fields import (
+    Box,
+    Warn,
+    check_box,
+    check_frame,
+    check_id,
+    ignore_warning,
+    parse_float,
+    parse_int,
+)
 from wecook_core.formats.tracks import object_tracks
 from wecook_core.model import ObjectTrack
 
@@ -70,6 +80,9 @@ class _Reader:
             self.images += 1
         elif name == "track" and parent == "annotations":
             self.start_track(attrs)
+        elif name == "track":
+            raise InputError(self.path, f"<track> inside <{parent}>: tracks must be children of <annotations>",
+                             place=self.place())
         elif name == "box" and parent == "track":
             self.add_box(attrs)
         elif parent == "track" and name in _OTHER_SHAPES and self.current is not None:
@@ -93,7 +106,7 @@ class _Reader:
         place = self.place()
         if "id" not in attrs:
             raise InputError(self.path, "<track> has no id attribute", place=place)
-        track_id = parse_int(self.path, place, "track id", attrs["id"])
+        track_id = check_id(self.path, place, parse_int(self.path, place, "track id", attrs["id"]), "track id")
         label = attrs.get("label", "").strip()
         if not label:
             raise InputError(self.path, f"<track id={track_id}> has no label attribute", place=place)
@@ -107,9 +120,7 @@ class _Reader:
     def add_box(self, attrs: dict[str, str]) -> None:
         assert self.current is not None
         place = self.place()
-        frame = parse_int(self.path, place, "frame", attrs.get("frame"))
-        if frame < 0:
-            raise InputError(self.path, f"frame {frame} is negative", place=place)
+        frame = check_frame(self.path, place, parse_int(self.path, place, "frame", attrs.get("frame")))
         x1, y1, x2, y2 = (parse_float(self.path, place, key, attrs.get(key)) for key in ("xtl", "ytl", "xbr", "ybr"))
         outside = attrs.get("outside", "0").strip()
         if outside not in ("0", "1"):
@@ -140,7 +151,7 @@ def read_cvat(
     annotated on (boxes of another resolution would land in the wrong place). ``frame_count``, the frames of
     the video, bounds the frames of the boxes: one past it is an error, found before interpolating.
     """
-    path = Path(path)
+    path = regular_file(path, "CVAT XML file")
     reader = _Reader(path)
     try:
         with path.open("rb") as handle:
@@ -149,6 +160,8 @@ def read_cvat(
         raise InputError(path, "file not found") from None
     except IsADirectoryError:
         raise InputError(path, "is a directory, expected a CVAT XML file") from None
+    except (LookupError, ValueError) as error:  # an unknown encoding in the XML declaration
+        raise InputError(path, f"malformed XML ({error})", place="line 1") from None
     except expat.ExpatError as error:
         if error.code == expat.errors.codes[expat.errors.XML_ERROR_NO_ELEMENTS]:
             raise InputError(path, "empty file: expected CVAT for video XML") from None

@@ -16,6 +16,7 @@ import re
 from pathlib import Path
 
 from wecook_core.errors import InputError
+from wecook_core.files import regular_file
 from wecook_core.formats.fields import Warn, ignore_warning
 from wecook_core.formats.tracks import fill_sparse
 from wecook_core.formats.video import usable_frames
@@ -29,8 +30,9 @@ _MOT_ROW = re.compile(r"^\s*-?\d+(\.\d*)?\s*(,\s*-?[\d.eE+-]+\s*){5,}(,.*)?$")
 
 def _head(path: Path, what: str) -> str:
     """The first few KB of ``path`` as text, stripped of a BOM and leading space."""
-    if not path.exists():
+    if not path.exists() and not path.is_symlink():
         raise InputError(path, f"no such {what}")
+    regular_file(path, what)
     try:
         with path.open("rb") as handle:
             data = handle.read(4096)

@@ -19,7 +19,17 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from wecook_core.errors import InputError
-from wecook_core.formats.fields import Box, Warn, check_box, ignore_warning, parse_float, parse_int
+from wecook_core.files import read_text
+from wecook_core.formats.fields import (
+    Box,
+    Warn,
+    check_box,
+    check_frame,
+    check_id,
+    ignore_warning,
+    parse_float,
+    parse_int,
+)
 from wecook_core.formats.tracks import object_tracks
 from wecook_core.model import ObjectTrack
 
@@ -62,6 +72,8 @@ def read_labels(path: str | Path) -> MotLabels:
     if all(pairs):
         for (number, _), match in zip(entries, pairs, strict=True):
             assert match is not None
+            if len(match.group(1)) > 12:
+                raise InputError(path, f"{by} {match.group(1)[:20]}... is too large", place=f"line {number}")
             key, label = int(match.group(1)), match.group(2).strip()
             if not label:
                 raise InputError(path, f"no label after {key},", place=f"line {number}")
@@ -106,6 +118,8 @@ def read_mot(
         if track_id < 1:
             raise InputError(path, f"id {track_id}: expected track ids from 1 (a detection file has -1; wecook "
                              "needs tracks)", place=place)
+        check_frame(path, place, frame - 1, "frame")
+        check_id(path, place, track_id)
         left, top, width, height = (parse_float(path, place, name, text)
                                     for name, text in zip(("left", "top", "width", "height"), fields[2:6],
                                                           strict=True))
@@ -136,11 +150,4 @@ def read_mot(
 
 
 def _text(path: Path, what: str) -> str:
-    try:
-        return path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(path, f"{what} not found") from None
-    except IsADirectoryError:
-        raise InputError(path, f"is a directory, expected a {what}") from None
-    except UnicodeDecodeError as error:
-        raise InputError(path, f"not a text file (byte {error.start} is not UTF-8)") from None
+    return read_text(path, what)

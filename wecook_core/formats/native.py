@@ -11,6 +11,8 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from wecook_core.errors import InputError
+from wecook_core.files import regular_file
+from wecook_core.formats.fields import MAX_COORDINATE, check_frame, check_id
 from wecook_core.formats.tracks import hand_tracks, object_tracks
 from wecook_core.model import HANDS, HandTrack, ObjectTrack
 
@@ -20,8 +22,9 @@ HAND_COLUMNS = ("frame", "hand", "x", "y", "x1", "y1", "x2", "y2")
 
 def _rows(path: Path, columns: tuple[str, ...]) -> Iterator[tuple[int, list[str]]]:
     """Data rows with their 1-based line numbers, after checking the header."""
+    regular_file(path, "CSV file")
     try:
-        handle = path.open(newline="", encoding="utf-8")
+        handle = path.open(newline="", encoding="utf-8-sig")  # a byte-order mark is no part of the header
     except FileNotFoundError:
         raise InputError(path, "file not found") from None
     except OSError as error:
@@ -56,7 +59,9 @@ def _int(path: Path, line: int, column: str, text: str) -> int:
         raise InputError(path, f"{column} must be an integer, found {text!r}", place=f"line {line}") from None
     if value < 0:
         raise InputError(path, f"{column} must not be negative, found {value}", place=f"line {line}")
-    return value
+    if column == "frame":
+        return check_frame(path, f"line {line}", value)
+    return check_id(path, f"line {line}", value, column)
 
 
 def _floats(path: Path, line: int, columns: Sequence[str], texts: Sequence[str]) -> list[float]:
@@ -66,8 +71,9 @@ def _floats(path: Path, line: int, columns: Sequence[str], texts: Sequence[str])
             value = float(text)
         except ValueError:
             raise InputError(path, f"{column} must be a number, found {text!r}", place=f"line {line}") from None
-        if not math.isfinite(value):
-            raise InputError(path, f"{column} must be finite, found {text!r}", place=f"line {line}")
+        if not math.isfinite(value) or abs(value) > MAX_COORDINATE:
+            raise InputError(path, f"{column} must be a finite pixel position (at most {MAX_COORDINATE:g}), "
+                             f"found {text!r}", place=f"line {line}")
         values.append(value)
     return values
 

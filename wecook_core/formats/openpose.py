@@ -21,7 +21,6 @@ is missing in that frame. Left and right are the person's own, as OpenPose repor
 
 from __future__ import annotations
 
-import json
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -29,8 +28,9 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from wecook_core.errors import InputError, json_error
-from wecook_core.formats.fields import Warn, ignore_warning
+from wecook_core.errors import InputError, load_json
+from wecook_core.files import read_text
+from wecook_core.formats.fields import MAX_COORDINATE, Warn, check_frame, ignore_warning
 from wecook_core.model import HandTrack
 
 _FRAME = re.compile(r"(\d+)_keypoints\.json$")
@@ -131,7 +131,9 @@ def _frame_files(path: Path) -> list[tuple[int, Path]]:
         match = _FRAME.search(file.name)
         if match is None:
             raise InputError(file, "no frame number before _keypoints.json in the file name")
-        frame = int(match.group(1))
+        if len(match.group(1)) > 12:
+            raise InputError(file, f"frame {match.group(1)[:20]}... in the file name is too large")
+        frame = check_frame(file, "file name", int(match.group(1)))
         if frame in frames:
             raise InputError(file, f"frame {frame} again (also {frames[frame].name})")
         frames[frame] = file
@@ -141,16 +143,10 @@ def _frame_files(path: Path) -> list[tuple[int, Path]]:
 
 
 def _people(file: Path) -> list[tuple[int, dict[str, object]]]:
-    try:
-        text = file.read_text(encoding="utf-8")
-    except UnicodeDecodeError:
-        raise InputError(file, "not a text file") from None
+    text = read_text(file, "OpenPose JSON file")
     if not text.strip():
         raise InputError(file, "empty file: expected OpenPose JSON")
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as error:
-        raise json_error(file, error) from None
+    data = load_json(file, text)
     if not isinstance(data, dict) or not isinstance(data.get("people"), list):
         raise InputError(file, "expected an object with a 'people' list (OpenPose JSON)")
     people = []
@@ -180,6 +176,8 @@ def _keypoints(file: Path, person: dict[str, object], index: int, key: str, expe
         raise InputError(file, f"{len(points)} keypoints, expected {expected}", place=place)
     if not np.isfinite(points).all():
         raise InputError(file, "a keypoint is not a finite number", place=place)
+    if (np.abs(points[:, :2]) > MAX_COORDINATE).any():
+        raise InputError(file, f"a keypoint lies beyond {MAX_COORDINATE:g} pixels: not a pixel position", place=place)
     return points
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from wecook_core.errors import InputError
+from wecook_core.files import regular_file
 from wecook_core.model import VideoInfo
 
 MAX_EXTRA_FRAMES = 100_000
@@ -36,6 +37,7 @@ def probe_video(path: str | Path, *, count_frames: bool = False) -> VideoInfo:
         raise InputError(path, "no such video file")
     if path.is_dir():
         raise InputError(path, "is a directory, expected a video file")
+    regular_file(path, "video file")  # a FIFO or a device would block the decoder
     capture = cv2.VideoCapture(str(path))
     try:
         if not capture.isOpened():

@@ -27,6 +27,7 @@ from typing import Any
 import yaml
 
 from wecook_core.errors import InputError, yaml_error
+from wecook_core.files import read_text
 from wecook_core.knowledge.nouns import match, normalise
 from wecook_core.model import Category
 from wecook_core.resources import ASSETS_DIR
@@ -135,10 +136,9 @@ def parse_categories(text: str, path: str | Path) -> CategoryTable:
 
 def read_categories(path: Path) -> CategoryTable:
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(path, f"cannot read the category table: {getattr(error, 'strerror', None) or error}") \
-            from None
+        text = read_text(path, "category table")
+    except InputError as error:
+        raise InputError(path, f"cannot read the category table: {error.message}") from None
     return parse_categories(text, path)
 
 

@@ -9,7 +9,15 @@ seconds apply.
 
 from __future__ import annotations
 
+import dataclasses
+import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from wecook_core.errors import InputError
+from wecook_core.model import HANDS
 
 DEFAULT_FPS = 30.0
 """Frame rate assumed when a video does not say its own."""
@@ -124,3 +132,59 @@ class FrameParams:
     hold_switch_frames: float
     decode_step: int
     """Frames per bin of the held-object decoder (:data:`DECODE_S`)."""
+
+
+MAX_BREAKPOINTS = 1000
+"""The most breakpoints per hand ``k_max`` and ``k`` may ask for (GGS's time grows with it)."""
+MAX_BREAKPOINTS_PER_MINUTE = 600.0
+"""The largest ``k_per_minute`` (ten breakpoints a second)."""
+MAX_PARAM_FRAMES = 10**6
+"""The largest value of a whole-number parameter."""
+_FRACTIONS = frozenset({"contain_fraction", "min_share", "near_fraction", "dwell_fraction", "hand_share",
+                        "still_fraction", "dwell_own_fraction", "moving_fraction", "coherent_fraction",
+                        "mover_share", "seen_share"})
+_UPPER: dict[str, float] = {"k_max": MAX_BREAKPOINTS, "k_per_minute": MAX_BREAKPOINTS_PER_MINUTE,
+                            "seed": 2**63 - 1, "lamb": 1e6, "min_segment_s": 3600.0}
+
+
+def params_from_dict(value: Any, path: str | Path | None = None, place: str = "params",
+                     unknown: list[str] | None = None) -> Params:
+    """The :class:`Params` of a ``params`` mapping, every value checked (type, sign, upper bound): a bad one is
+    an :class:`InputError` at ``params.NAME``. Names that are not parameters are appended to ``unknown``."""
+    if value is None:
+        return Params()
+    if not isinstance(value, Mapping):
+        raise InputError(path, f"expected a mapping of parameter -> value, got {type(value).__name__}", place=place)
+    known = {f.name: f for f in dataclasses.fields(Params)}
+    values: dict[str, Any] = {}
+    for name, item in value.items():
+        if name not in known:
+            if unknown is not None:
+                unknown.append(str(name))
+            continue
+        values[name] = _check_param(str(name), item, path, f"{place}.{name}")
+    return Params(**values)
+
+
+def _check_param(name: str, value: Any, path: str | Path | None, place: str) -> Any:
+    default = getattr(Params(), name)
+    if name == "k":
+        if not isinstance(value, Mapping):
+            raise InputError(path, f"expected a mapping of hand -> breakpoints, got {value!r:.60}", place=place)
+        for hand, k in value.items():
+            if hand not in HANDS:
+                raise InputError(path, f"unknown hand {hand!r:.40}, expected one of {' '.join(HANDS)}", place=place)
+            if isinstance(k, bool) or not isinstance(k, int) or not 0 <= k <= MAX_BREAKPOINTS:
+                raise InputError(path, f"{hand}: expected a whole number of breakpoints from 0 to {MAX_BREAKPOINTS}, "
+                                 f"got {k!r:.60}", place=place)
+        return dict(value)
+    whole = isinstance(default, int)
+    if isinstance(value, bool) or not isinstance(value, int | float) or (whole and not isinstance(value, int)):
+        raise InputError(path, f"expected {'a whole number' if whole else 'a number'}, got {value!r:.60}",
+                         place=place)
+    upper = _UPPER.get(name, 1.0 if name in _FRACTIONS else MAX_PARAM_FRAMES if whole else 1e6)
+    number = float(value) if not whole else value
+    if (not whole and not math.isfinite(number)) or number < 0 or number > upper or (name == "lamb" and number == 0):
+        low = "above 0" if name == "lamb" else "from 0"
+        raise InputError(path, f"expected a value {low} to {upper:g}, got {value!r:.60}", place=place)
+    return value if whole else float(value)

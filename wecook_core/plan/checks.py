@@ -6,10 +6,58 @@ import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
+from xml.parsers import expat
 
 from wecook_core.errors import InputError
 from wecook_core.model import COLLABORATIONS, PERSONS, VERBS, Category
 from wecook_core.plan.model import ARM_REACH, PLAN_VERBS, PLAN_VERSION, SHAPES, Plan, PlanAction
+
+MAX_PLAN_ACTIONS = 10_000
+"""The most actions a plan may have (a cooking video yields tens)."""
+MAX_PLAN_OBJECTS = 500
+"""The most objects a plan's scene may hold (each is a body in the simulation)."""
+MAX_METRES = 10.0
+"""The largest distance from the origin, table side, table height or reach a plan may give, in metres (a
+kitchen table is 1-2 m; a plan beyond this is not one the arms can act in)."""
+MAX_URDF_BYTES = 16 << 20
+"""The largest robot URDF file a plan may name."""
+
+
+def robot_problem(robot: str) -> str | None:
+    """Why the robot URDF ``robot`` (relative to ``pybullet_data`` unless absolute) cannot be an arm, or None:
+    it must be a readable ``.urdf`` file whose XML root is ``<robot>``."""
+    path = Path(robot)
+    if not path.is_absolute():
+        import pybullet_data
+
+        path = Path(pybullet_data.getDataPath()) / path
+    if path.suffix.lower() != ".urdf":
+        return f"robot {robot!r} is not a .urdf file"
+    try:
+        if not path.is_file():
+            return f"robot URDF {robot!r} not found (looked at {path})"
+        if path.stat().st_size > MAX_URDF_BYTES:
+            return f"robot URDF {robot!r} is larger than {MAX_URDF_BYTES} bytes"
+        roots: list[str] = []
+        parser = expat.ParserCreate()
+
+        def start(name: str, attrs: dict[str, str]) -> None:
+            roots.append(name)
+            parser.StartElementHandler = None
+
+        parser.StartElementHandler = start
+        with path.open("rb") as handle:
+            parser.ParseFile(handle)
+    except (OSError, expat.ExpatError) as error:
+        return f"robot URDF {robot!r} does not read as XML ({error})"
+    if roots != ["robot"]:
+        return f"robot URDF {robot!r} is not a URDF (its XML root is not <robot>)"
+    return None
+
+
+def _finite_extent(bad: Any, place: str, values: Sequence[float]) -> None:
+    if not all(math.isfinite(v) and abs(v) <= MAX_METRES for v in values):
+        bad(place, f"expected finite metres within {MAX_METRES:g} m, got {[float(v) for v in values]}")
 
 
 def _place(index: int, action: PlanAction, name: str) -> str:
@@ -33,10 +81,23 @@ def plan_problems(plan: Plan, path: str | Path | None = None) -> list[InputError
             bad(f"agents[{i}].pid", f"unknown pid {agent.pid!r}, expected one of {', '.join(PERSONS)}")
         if not agent.robot:
             bad(f"agents[{i}].robot", "empty robot URDF path")
+        elif problem := robot_problem(agent.robot):
+            bad(f"agents[{i}].robot", problem)
+        _finite_extent(bad, f"agents[{i}].base.position", agent.base_position)
+        if not math.isfinite(agent.base_yaw):
+            bad(f"agents[{i}].base.yaw", f"expected finite radians, got {agent.base_yaw}")
         pids.add(agent.pid)
     table = plan.scene.table
+    _finite_extent(bad, "scene.table.size", table.size)
+    _finite_extent(bad, "scene.table.height", (table.height,))
+    _finite_extent(bad, "scene.table.reach", table.reach)
     if min(table.size) <= 0:
         bad("scene.table.size", f"table size must be positive, got {list(table.size)}")
+    if len(plan.actions) > MAX_PLAN_ACTIONS:
+        bad("actions", f"{len(plan.actions)} actions, more than the {MAX_PLAN_ACTIONS} a plan may have")
+    if len(plan.scene.objects) > MAX_PLAN_OBJECTS:
+        bad("scene.objects", f"{len(plan.scene.objects)} objects, more than the {MAX_PLAN_OBJECTS} a scene may "
+            "hold")
     names: set[str] = set()
     for i, obj in enumerate(plan.scene.objects):
         place = f"scene.objects[{i}] ({obj.name})"
@@ -45,7 +106,9 @@ def plan_problems(plan: Plan, path: str | Path | None = None) -> list[InputError
         names.add(obj.name)
         if obj.shape not in SHAPES:
             bad(f"{place}.shape", f"unknown shape {obj.shape!r}, expected one of {', '.join(SHAPES)}")
-        if min(obj.size) <= 0:
+        if not all(math.isfinite(v) for v in (*obj.size, obj.x, obj.y, obj.yaw)):
+            bad(f"{place}", "size and pose must be finite numbers")
+        elif min(obj.size) <= 0:
             bad(f"{place}.size", f"sizes must be positive metres, got {list(obj.size)}")
         elif not table.holds(obj.x, obj.y, *obj.half_extents()):
             bad(f"{place}.pose", f"({obj.x:.3f}, {obj.y:.3f}) is off the table "

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -9,6 +10,7 @@ from typing import Any
 import yaml
 
 from wecook_core.errors import InputError, yaml_error
+from wecook_core.files import read_text, write_atomic
 from wecook_core.model import Category
 from wecook_core.plan.checks import validate
 from wecook_core.plan.model import DEFAULT_ROBOT, PLAN_VERSION, Act, Agent, Plan, PlanAction, Scene, SceneObject, Table
@@ -62,12 +64,90 @@ def dump_plan(plan: Plan) -> str:
     return yaml.safe_dump(plan_to_dict(plan), sort_keys=False, default_flow_style=None, width=120)
 
 
-def write_plan(plan: Plan, path: str | Path) -> Path:
-    """Write the plan's YAML (creating the folder); returns the path."""
-    out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(dump_plan(plan))
-    return out
+def write_plan(plan: Plan, path: str | Path, *, replace: bool = True) -> Path:
+    """Write the plan's YAML atomically (creating the folder); returns the path. An existing file is replaced
+    whole (never torn) unless ``replace`` is False: then it is an :class:`InputError`."""
+    return write_atomic(path, dump_plan(plan), replace=replace, what="plan")
+
+
+MAX_PLAN_BYTES = 64 << 20
+"""The largest plan file read (64 MiB; a plan of 10,000 actions is about 3 MiB)."""
+MAX_PLAN_DEPTH = 64
+"""The deepest nesting of YAML collections in a plan (a plan needs 6)."""
+MAX_PLAN_NODES = 2_000_000
+"""The most YAML values a plan may hold once its aliases are expanded (an alias bomb of a few KB expands
+to billions)."""
+
+
+def _short(value: Any, limit: int = 80) -> str:
+    """``repr(value)`` cut to ``limit`` characters (an error message quotes what it refuses, never all of it)."""
+    if isinstance(value, Mapping | list) and len(value) > 8:
+        return f"a {type(value).__name__} of {len(value)} items"
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+class _PlanLoader(yaml.SafeLoader):
+    """The safe loader with the nesting bounded by :data:`MAX_PLAN_DEPTH` while composing."""
+
+    depth = 0
+
+    def compose_node(self, parent: Any, index: Any) -> Any:
+        self.depth += 1
+        try:
+            if self.depth > MAX_PLAN_DEPTH:
+                mark = self.peek_event().start_mark
+                raise yaml.MarkedYAMLError(problem=f"nested deeper than {MAX_PLAN_DEPTH} levels", problem_mark=mark)
+            return super().compose_node(parent, index)
+        finally:
+            self.depth -= 1
+
+
+def _expanded_size(node: yaml.Node, path: str | Path | None) -> int:
+    """Values in ``node`` counting every alias as a copy; an :class:`InputError` past :data:`MAX_PLAN_NODES`."""
+    sizes: dict[int, int] = {}
+    order: list[yaml.Node] = []
+    stack = [node]
+    while stack:  # post-order without recursion; shared (aliased) nodes are sized once
+        current = stack.pop()
+        if id(current) in sizes:
+            continue
+        sizes[id(current)] = -1
+        order.append(current)
+        if isinstance(current, yaml.SequenceNode):
+            stack.extend(current.value)
+        elif isinstance(current, yaml.MappingNode):
+            stack.extend(item for pair in current.value for item in pair)
+    for current in reversed(order):
+        if isinstance(current, yaml.SequenceNode):
+            children = current.value
+        elif isinstance(current, yaml.MappingNode):
+            children = [item for pair in current.value for item in pair]
+        else:
+            children = []
+        total = 1 + sum(max(sizes[id(child)], 1) for child in children)
+        if total > MAX_PLAN_NODES:
+            raise InputError(path, f"more than {MAX_PLAN_NODES} values once its aliases are expanded (an alias "
+                             "bomb?)", place=f"line {current.start_mark.line + 1}")
+        sizes[id(current)] = total
+    return sizes[id(node)]
+
+
+def _parse_yaml(text: str, path: str | Path | None) -> Any:
+    """The data of plan YAML text, with nesting and alias expansion bounded."""
+    loader = _PlanLoader(text)
+    try:
+        node = loader.get_single_node()
+        if node is None:
+            return None
+        _expanded_size(node, path)
+        return loader.construct_document(node)
+    except RecursionError:
+        raise InputError(path, f"not valid YAML (nested deeper than {MAX_PLAN_DEPTH} levels)") from None
+    except (ValueError, OverflowError) as error:  # an integer of more than 4300 digits, a date out of range
+        raise InputError(path, f"not valid YAML ({str(error)[:100]})") from None
+    finally:
+        loader.dispose()
 
 
 class _Reader:
@@ -95,18 +175,24 @@ class _Reader:
         if value is None and optional:
             return None
         if not isinstance(value, str) or not value:
-            raise self.fail(place, f"expected a name, got {value!r}")
+            raise self.fail(place, f"expected a name, got {_short(value)}")
         return value
 
     def number(self, value: Any, place: str) -> float:
         if isinstance(value, bool) or not isinstance(value, int | float):
-            raise self.fail(place, f"expected a number, got {value!r}")
-        return float(value)
+            raise self.fail(place, f"expected a number, got {_short(value)}")
+        try:
+            number = float(value)
+        except OverflowError:
+            raise self.fail(place, f"expected a number of metres or radians, got {_short(value)}") from None
+        if not math.isfinite(number):
+            raise self.fail(place, f"expected a finite number, got {value!r}")
+        return number
 
     def numbers(self, value: Any, place: str, n: int) -> tuple[float, ...]:
         items = self.seq(value, place)
         if len(items) != n:
-            raise self.fail(place, f"expected {n} numbers, got {value!r}")
+            raise self.fail(place, f"expected {n} numbers, got {_short(value)}")
         return tuple(self.number(v, f"{place}[{k}]") for k, v in enumerate(items))
 
     def names(self, value: Any, place: str) -> tuple[str, ...]:
@@ -119,7 +205,8 @@ def plan_from_dict(data: Any, path: str | Path | None = None) -> Plan:
     top = r.mapping(data, "top level")
     version = top.get("wecook_plan")
     if not isinstance(version, int) or isinstance(version, bool):
-        raise r.fail("wecook_plan", f"not a wecook plan: expected `wecook_plan: {PLAN_VERSION}`, got {version!r}")
+        raise r.fail("wecook_plan", f"not a wecook plan: expected `wecook_plan: {PLAN_VERSION}`, got "
+                     f"{_short(version)}")
     agents = []
     for i, raw in enumerate(r.seq(top.get("agents"), "agents")):
         m = r.mapping(raw, f"agents[{i}]")
@@ -145,7 +232,7 @@ def plan_from_dict(data: Any, path: str | Path | None = None) -> Plan:
         try:
             category = Category(str(m.get("category")))
         except ValueError:
-            raise r.fail(f"{place}.category", f"unknown category {m.get('category')!r}, expected one of "
+            raise r.fail(f"{place}.category", f"unknown category {_short(m.get('category'))}, expected one of "
                          + ", ".join(c.value for c in Category)) from None
         pose = r.mapping(m.get("pose"), f"{place}.pose")
         osize = r.numbers(m.get("size"), f"{place}.size", 3)
@@ -158,7 +245,7 @@ def plan_from_dict(data: Any, path: str | Path | None = None) -> Plan:
     for i, raw in enumerate(r.seq(scene_raw.get("containing"), "scene.containing")):
         pair = r.names(raw, f"scene.containing[{i}]")
         if len(pair) != 2:
-            raise r.fail(f"scene.containing[{i}]", f"expected [ingredient, container], got {raw!r}")
+            raise r.fail(f"scene.containing[{i}]", f"expected [ingredient, container], got {_short(raw)}")
         containing.append((pair[0], pair[1]))
     actions = []
     for i, raw in enumerate(r.seq(top.get("actions"), "actions")):
@@ -179,7 +266,7 @@ def plan_from_dict(data: Any, path: str | Path | None = None) -> Plan:
         if m.get("frames") is not None:
             fr = r.seq(m["frames"], f"{place}.frames")
             if len(fr) != 2 or not all(isinstance(v, int) and not isinstance(v, bool) for v in fr):
-                raise r.fail(f"{place}.frames", f"expected [start, end] frame indices, got {m['frames']!r}")
+                raise r.fail(f"{place}.frames", f"expected [start, end] frame indices, got {_short(m['frames'])}")
             frames = (int(fr[0]), int(fr[1]))
         tree = m.get("tree")
         actions.append(PlanAction(
@@ -197,7 +284,7 @@ def plan_from_dict(data: Any, path: str | Path | None = None) -> Plan:
 def load_plan(text: str, path: str | Path | None = None, *, check: bool = True) -> Plan:
     """Parse plan YAML text (and validate it unless ``check`` is False)."""
     try:
-        data = yaml.safe_load(text)
+        data = _parse_yaml(text, path)
     except yaml.YAMLError as error:
         raise yaml_error(path, error, "not valid YAML") from None
     plan = plan_from_dict(data, path)
@@ -209,7 +296,7 @@ def load_plan(text: str, path: str | Path | None = None, *, check: bool = True) 
 def read_plan(path: str | Path, *, check: bool = True) -> Plan:
     """Read and validate a plan file; any problem raises :class:`InputError` naming the file and the place."""
     try:
-        text = Path(path).read_text()
-    except OSError as error:
-        raise InputError(path, f"cannot read the plan ({error.strerror or error})") from None
+        text = read_text(path, "plan", MAX_PLAN_BYTES)
+    except InputError as error:
+        raise InputError(path, f"cannot read the plan ({error.message})", place=error.place) from None
     return load_plan(text, path, check=check)

@@ -34,6 +34,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from wecook_core.files import read_bytes
+from wecook_core.formats.fields import MAX_FRAME
 from wecook_core.model import HANDS, VERBS, Corrections, SegmentStatus
 
 TORN_SUFFIX = ".torn"
@@ -48,6 +50,11 @@ OPS: dict[str, dict[str, str]] = {
     "merge": {"frame": "frame"},
 }
 """Correction operations and their fields (field -> kind of value)."""
+
+MAX_JOURNAL_BYTES = 256 << 20
+"""The largest journal read (256 MiB, some million corrections); a larger one is an InputError."""
+MAX_NAME_CHARS = 200
+"""The longest object name a correction may carry."""
 
 
 
@@ -74,7 +81,7 @@ def check_correction(correction: Mapping[str, Any]) -> tuple[str, dict[str, Any]
     """(op, fields) of a correction, or ValueError saying what is wrong."""
     op = correction.get("op")
     if op not in OPS:
-        raise ValueError(f"unknown correction op {op!r}; expected one of {', '.join(OPS)}")
+        raise ValueError(f"unknown correction op {op!r:.40}; expected one of {', '.join(OPS)}")
     spec = OPS[op]
     extra = set(correction) - set(spec) - {"op"}
     if extra:
@@ -89,11 +96,11 @@ def check_correction(correction: Mapping[str, Any]) -> tuple[str, dict[str, Any]
 
 def _check_value(op: str, name: str, kind: str, value: Any) -> Any:
     def bad(expected: str) -> ValueError:
-        return ValueError(f"{op}: {name} must be {expected}, got {value!r}")
+        return ValueError(f"{op}: {name} must be {expected}, got {value!r:.60}")
 
     if kind == "frame":
-        if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-            raise bad("a frame index (int >= 0)")
+        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_FRAME:
+            raise bad(f"a frame index (int from 0 to {MAX_FRAME})")
         return value
     if kind == "hand":
         if value not in HANDS:
@@ -110,11 +117,12 @@ def _check_value(op: str, name: str, kind: str, value: Any) -> Any:
     if kind in ("name", "name?"):
         if value is None and kind == "name?":
             return None
-        if not isinstance(value, str) or not value:
+        if not isinstance(value, str) or not value or len(value) > MAX_NAME_CHARS:
             raise bad("an object name")
         return value
     if kind == "names":
-        if not isinstance(value, list | tuple) or not all(isinstance(v, str) and v for v in value):
+        if not isinstance(value, list | tuple) \
+                or not all(isinstance(v, str) and v and len(v) <= MAX_NAME_CHARS for v in value):
             raise bad("a list of object names")
         return list(value)
     raise AssertionError(kind)
@@ -186,10 +194,9 @@ def fold(entries: Sequence[JournalEntry]) -> Corrections:
 
 def read_journal(path: Path) -> tuple[list[JournalEntry], list[str], bool]:
     """(entries, warnings, torn tail): unreadable lines are warnings, never errors."""
-    try:
-        data = path.read_bytes()
-    except FileNotFoundError:
+    if not path.exists() and not path.is_symlink():
         return [], [], False
+    data = read_bytes(path, "journal", MAX_JOURNAL_BYTES)  # a folder, a FIFO, too large: InputError
     entries: list[JournalEntry] = []
     warnings: list[str] = []
     lines = data.split(b"\n")
@@ -218,16 +225,17 @@ def read_journal(path: Path) -> tuple[list[JournalEntry], list[str], bool]:
 def _parse_line(raw: bytes) -> tuple[JournalEntry | None, str]:
     try:
         value = json.loads(raw)
-    except (json.JSONDecodeError, UnicodeDecodeError) as error:
-        return None, f"not JSON: {error}"
+    except (ValueError, RecursionError) as error:  # JSONDecodeError, not UTF-8, too deep, an int too long
+        return None, f"not JSON: {str(error)[:80] or type(error).__name__}"
     if not isinstance(value, dict):
         return None, "not a JSON object"
     seq, time, op = value.pop("seq", None), value.pop("time", ""), value.pop("op", None)
-    if isinstance(seq, bool) or not isinstance(seq, int) or seq < 1:
-        return None, f"bad seq {seq!r}"
+    if isinstance(seq, bool) or not isinstance(seq, int) or not 1 <= seq < 2**63:
+        return None, f"bad seq {seq!r:.40}"
     if op in ("undo", "redo"):
         target = value.get("target")
-        if isinstance(target, bool) or not isinstance(target, int) or set(value) != {"target"}:
+        if isinstance(target, bool) or not isinstance(target, int) or set(value) != {"target"} \
+                or not 1 <= target < 2**63:
             return None, f"{op} needs only an int target"
         return JournalEntry(seq, str(time), op, {"target": target}), ""
     try:

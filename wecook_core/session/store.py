@@ -30,10 +30,12 @@ import yaml
 
 from wecook_core import __version__
 from wecook_core.errors import InputError, yaml_error
+from wecook_core.files import read_text
+from wecook_core.formats.detect import HAND_FORMATS, OBJECT_FORMATS
 from wecook_core.formats.video import probe_video, usable_frames
 from wecook_core.model import Corrections, Observations, VideoInfo
 from wecook_core.observations.importer import Imported, import_observations
-from wecook_core.perception.params import Params
+from wecook_core.perception.params import Params, params_from_dict
 from wecook_core.session.inputs import InputFile, content_hash, input_problem, record_input
 from wecook_core.session.journal import Journal, JournalEntry, read_journal, replay
 
@@ -43,6 +45,8 @@ if TYPE_CHECKING:
 SESSION_FILE = "session.yaml"
 JOURNAL_FILE = "journal.jsonl"
 SESSION_FORMAT = 1
+MAX_SESSION_BYTES = 1 << 20
+"""The largest session.yaml read (1 MiB; wecook writes about 2 KB)."""
 ENV_ROOT = "WECOOK_SESSIONS"
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$")
@@ -53,9 +57,17 @@ _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$")
 def sessions_root(root: str | Path | None = None) -> Path:
     """Where sessions live: ``root`` when given, else ``$WECOOK_SESSIONS``, else ``./sessions``."""
     if root is not None:
-        return Path(root)
-    env = os.environ.get(ENV_ROOT)
-    return Path(env) if env else Path.cwd() / "sessions"
+        path = Path(root)
+    else:
+        env = os.environ.get(ENV_ROOT)
+        path = Path(env) if env else Path.cwd() / "sessions"
+    for folder in (path, *path.parents):
+        if folder.exists():
+            if not folder.is_dir():
+                raise InputError(folder, "is not a folder: sessions live in a folder (--root DIR or "
+                                 "$WECOOK_SESSIONS)")
+            break
+    return path
 
 
 def check_name(name: str) -> str:
@@ -89,7 +101,7 @@ class Session:
         self.created: str = str(meta.get("created", ""))
         self.version: str = str(meta.get("wecook_version", ""))
         self.inputs: dict[str, InputFile] = _inputs(meta.get("inputs"), warnings)
-        self.params: Params = _params(meta.get("params"), warnings)
+        self.params: Params = _params(meta.get("params"), warnings, path / SESSION_FILE)
         self.video: VideoInfo | None = _video(meta.get("video"))
         """The video's facts when the session was made (without opening the video)."""
         self.journal = Journal(self.path / JOURNAL_FILE)
@@ -183,6 +195,10 @@ class Session:
 
     def _import(self, video: str, facts: VideoInfo) -> Imported:
         objects, hands = self._input("objects"), self._input("hands")
+        for item, formats in ((objects, OBJECT_FORMATS), (hands, HAND_FORMATS)):
+            if item.format is not None and item.format not in formats:
+                raise InputError(self.path / SESSION_FILE, f"unknown {item.role} format {item.format!r:.40}; "
+                                 f"expected one of {', '.join(formats)}", place=f"inputs.{item.role}.format")
         labels = self.inputs.get("labels")
         return import_observations(
             video, objects.path, hands.path, objects_format=objects.format, hands_format=hands.format,
@@ -233,7 +249,10 @@ def _inputs(value: Any, warnings: list[str]) -> dict[str, InputFile]:
         warnings.append("session.yaml: inputs is not a mapping of role -> file; no inputs")
         return inputs
     for role, item in value.items():
-        if not isinstance(item, dict) or not {"path", "sha256", "size", "mtime_ns"} <= set(item):
+        if not isinstance(item, dict) or not {"path", "sha256", "size", "mtime_ns"} <= set(item) \
+                or not all(isinstance(item.get(k), str) for k in ("path", "sha256")) \
+                or not all(isinstance(item.get(k), str | None) for k in ("format", "select")) \
+                or not all(isinstance(item.get(k), int) for k in ("size", "mtime_ns")):
             warnings.append(f"session.yaml: input {role!r} is incomplete; ignored")
             continue
         inputs[role] = InputFile(role=role, **{k: v for k, v in item.items() if k in names and k != "role"})
@@ -243,17 +262,13 @@ def _inputs(value: Any, warnings: list[str]) -> dict[str, InputFile]:
     return inputs
 
 
-def _params(value: Any, warnings: list[str]) -> Params:
-    known = {f.name for f in dataclasses.fields(Params)}
-    value = dict(value or {})
-    unknown = sorted(set(value) - known)
+def _params(value: Any, warnings: list[str], path: Path) -> Params:
+    """The session's parameters; a value of the wrong type or out of range is an InputError at its place."""
+    unknown: list[str] = []
+    params = params_from_dict(value, path, unknown=unknown)
     if unknown:
-        warnings.append(f"session.yaml: unknown parameters {', '.join(unknown)} ignored")
-    try:
-        return Params(**{k: v for k, v in value.items() if k in known})
-    except TypeError as error:
-        warnings.append(f"session.yaml: parameters unusable ({error}); defaults used")
-        return Params()
+        warnings.append(f"session.yaml: unknown parameters {', '.join(sorted(unknown))} ignored")
+    return params
 
 
 def _video(value: Any) -> VideoInfo | None:
@@ -361,12 +376,16 @@ def open_session(path: str | Path) -> Session:
     meta_path = path / SESSION_FILE
     if not path.is_dir():
         raise InputError(path, "no such session")
+    if not meta_path.exists() and not meta_path.is_symlink():
+        raise InputError(path, f"not a session: no {SESSION_FILE}")
     try:
-        meta = yaml.safe_load(meta_path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError(path, f"not a session: no {SESSION_FILE}") from None
+        meta = yaml.safe_load(read_text(meta_path, "session file", MAX_SESSION_BYTES))
     except yaml.YAMLError as error:
         raise yaml_error(meta_path, error) from None
+    except RecursionError:
+        raise InputError(meta_path, "malformed YAML (nested too deeply)") from None
+    except (ValueError, OverflowError) as error:  # an integer of more than 4300 digits, a bad date
+        raise InputError(meta_path, f"malformed YAML ({str(error)[:100]})") from None
     if not isinstance(meta, dict) or "inputs" not in meta:
         raise InputError(meta_path, "not a wecook session file (no inputs)")
     warnings: list[str] = []
@@ -400,13 +419,13 @@ def list_sessions(root: str | Path) -> list[SessionSummary]:
         if not (folder / SESSION_FILE).exists():
             continue
         try:
-            meta = yaml.safe_load((folder / SESSION_FILE).read_text(encoding="utf-8"))
+            meta = yaml.safe_load(read_text(folder / SESSION_FILE, "session file", MAX_SESSION_BYTES))
             video = str(meta["inputs"]["video"]["path"])
             created = str(meta.get("created", ""))
-        except (OSError, yaml.YAMLError, KeyError, TypeError) as error:
-            summaries.append(SessionSummary(folder.name, folder, "", "", 0, f"unreadable session.yaml ({error})"))
+            entries, _, _ = read_journal(folder / JOURNAL_FILE)
+        except (InputError, RecursionError, yaml.YAMLError, KeyError, TypeError) as error:
+            summaries.append(SessionSummary(folder.name, folder, "", "", 0, f"unreadable session ({error})"))
             continue
-        entries, _, _ = read_journal(folder / JOURNAL_FILE)
         summaries.append(SessionSummary(folder.name, folder, video, created, len(replay(entries).applied)))
     return summaries
 

@@ -36,6 +36,7 @@ def register(sub: Any) -> None:
     record.add_argument("--record", type=Path, metavar="FILE.mcap",
                         help="recording (default: runs/<plan>-<time>.mcap beside the plan or in its session)")
     record.add_argument("--no-record", action="store_true", help="do not record the run")
+    execute.add_argument("--force", action="store_true", help="replace the --record file if it exists")
     execute.add_argument("--seed", type=int, default=0, help="seed of the run (same seed, same run)")
     execute.add_argument("--realtime", action="store_true", help="pace the simulation at real time")
     execute.add_argument("--jsonl", action="store_true",
@@ -59,6 +60,18 @@ def default_record_path(plan_path: Path, now: dt.datetime | None = None) -> Path
     if folder.name == "plans" and (folder.parent / "session.yaml").is_file():
         folder = folder.parent
     return folder / "runs" / f"{plan_path.stem}-{stamp}.mcap"
+
+
+def recording_path(record: Path | None, plan_path: Path, *, force: bool = False) -> Path:
+    """Where the run is recorded: ``record`` (created exclusively; an existing file only with ``force``), else
+    :func:`default_record_path` numbered ``-2``, ``-3``... when taken, so two runs never share a file."""
+    from wecook_core.files import check_output, create_new
+
+    if record is None:
+        return create_new(default_record_path(plan_path), number=True, what="recording")
+    if force:
+        return check_output(record, replace=True, what="recording")
+    return create_new(record, what="recording")
 
 
 @dataclass
@@ -244,7 +257,7 @@ def run_execute(args: argparse.Namespace) -> int:
     if not args.no_record:
         from wecook_core.execution.recorder import McapRecorder
 
-        record_path = args.record or default_record_path(args.plan)
+        record_path = recording_path(args.record, args.plan, force=getattr(args, "force", False))
         recorder = McapRecorder(record_path)
         observers.insert(0, recorder)
     server = _live_server(args, console)

@@ -41,6 +41,7 @@ def register(sub: Any) -> None:
     export.add_argument("--urdfs", type=Path, action="append", default=[], metavar="FILE",
                         help="wecook-ros: a URDF table laid over the shipped one (wecook_ros_objects: 1), repeatable")
     export.add_argument("--real", action="store_true", help="wecook-ros: for the real arms (ifSim false)")
+    export.add_argument("--force", action="store_true", help="replace what -o names if it exists")
     export.add_argument("--schema", action="store_true", help="print the JSON Schema of plan files and stop")
     export.set_defaults(func=run_export, parser=export)
 
@@ -87,12 +88,12 @@ def run_export(args: argparse.Namespace) -> int:
         if args.plan is not None and out.resolve() == args.plan.resolve():
             raise InputError(out, "is the plan being exported: give another file with -o")
 
-        write_plan(plan, out)
+        write_plan(plan, out, replace=args.force)
         print(f"wrote {out}: {_counts(plan)}")
     elif args.format == "wecook-ros":
         _export_ros(args, plan, out, title, source)
     else:
-        _export_pddl(plan, out, title)
+        _export_pddl(plan, out, title, replace=args.force or args.out is None)
     return 0
 
 
@@ -105,7 +106,7 @@ def _export_yaml(args: argparse.Namespace) -> int:
     from wecook_core.workflows import export_session_plan
 
     session = sessions_root(args.root) / check_name(args.name)
-    exported = export_session_plan(session, args.out, robot=args.robot)
+    exported = export_session_plan(session, args.out, robot=args.robot, force=args.force)
     for warning in exported.warnings:
         print(f"wecook: warning: {warning}", file=sys.stderr)
     print(f"wrote {exported.path}: {_counts(exported.plan)}")
@@ -118,10 +119,12 @@ def _export_ros(args: argparse.Namespace, plan: Plan, out: Path, title: str, sou
     from wecook_core.plan.ros_script import dispatch_script
 
     script, export = dispatch_script(plan, title, load_urdf_table(args.urdfs), if_sim=not args.real, source=source)
+    from wecook_core.files import check_output, write_atomic
+
     if out.is_dir():
         raise InputError(out, "is a folder: give the script's file name with -o")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(script)
+    check_output(out, replace=args.force or args.out is None, what="dispatch script")
+    write_atomic(out, script, replace=True, what="dispatch script")
     out.chmod(out.stat().st_mode | 0o111)
     for warning in export.warnings():
         print(f"wecook: warning: {warning}", file=sys.stderr)
@@ -130,12 +133,15 @@ def _export_ros(args: argparse.Namespace, plan: Plan, out: Path, title: str, sou
           f"objects for WeCookDispatch ({'simulation' if task.if_sim else 'real arms'})")
 
 
-def _export_pddl(plan: Plan, out: Path, title: str) -> None:
+def _export_pddl(plan: Plan, out: Path, title: str, *, replace: bool) -> None:
     from wecook_core.errors import InputError
     from wecook_core.plan.pddl import export_pddl, write_pddl
 
     if out.exists() and not out.is_dir():
         raise InputError(out, "is a file: pddl writes a folder (domain.pddl, problem.pddl, plan.pddl)")
+    taken = [name for name in ("domain.pddl", "problem.pddl", "plan.pddl") if (out / name).exists()]
+    if taken and not replace:
+        raise InputError(out / taken[0], "exists; not overwritten (pass --force to replace the PDDL files)")
     export = export_pddl(plan, title)
     paths = write_pddl(export, out)
     print(f"wrote {', '.join(str(p) for p in paths)}: {len(export.steps)} steps for {len(plan.actions)} actions")

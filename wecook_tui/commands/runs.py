@@ -24,6 +24,7 @@ def register(sub: Any) -> None:
     recover = runs_sub.add_parser("recover", help="rewrite the recording of a killed run as a complete file")
     recover.add_argument("file", type=Path, help="recording (.mcap)")
     recover.add_argument("-o", "--out", type=Path, help="output (default: FILE with .recovered.mcap)")
+    recover.add_argument("--force", action="store_true", help="replace the output if it exists")
     recover.set_defaults(func=run_recover)
     show = runs_sub.add_parser("show", help="print a run's summary: plan, result table, duration, topics")
     show.add_argument("file", type=Path, help="recording (.mcap)")
@@ -56,11 +57,13 @@ def run_recover(args: argparse.Namespace) -> int:
     from wecook_core.execution.runs import recover_recording
 
     out = args.out or args.file.with_name(args.file.stem + ".recovered.mcap")
-    report = recover_recording(args.file, out)
-    state = "the run had finished; nothing was lost" if report.complete else \
-        f"the run had not finished; read {report.bytes_read} of {report.bytes_total} bytes ({report.stopped})"
+    report = recover_recording(args.file, out, replace=getattr(args, "force", False))
+    state = "the run had finished" if report.finished else "the run had not finished"
+    state += "; nothing was lost" if not report.lost else f"; of its {report.bytes_total} bytes, lost:"
     print(f"wrote {report.out}: {report.total} messages, {report.attachments} attachments, "
           f"{report.metadata} metadata records; {state}")
+    for line in report.lost:
+        print(f"  lost: {line}")
     if report.closed_actions:
         print(f"marked as interrupted: {', '.join(report.closed_actions)}")
     return 0

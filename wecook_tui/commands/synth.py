@@ -15,6 +15,7 @@ def register(sub: Any) -> None:
                     "holding things; writes the video, object boxes, hand tracks, OpenPose keypoints and the "
                     "true action trees. The same seed gives the same files.")
     parser.add_argument("out_dir", type=Path, help="folder to write (created)")
+    parser.add_argument("--force", action="store_true", help="replace a scenario already in the folder")
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     parser.add_argument("--persons", type=int, choices=(1, 2), default=2, help="1 or 2 persons (default 2)")
     parser.add_argument("--duration", type=float, default=None, metavar="S",
@@ -43,12 +44,14 @@ def run(args: argparse.Namespace) -> int:
 
     from wecook_core.errors import InputError
     from wecook_core.synth import synthesize, write_scenario
+    from wecook_core.synth.files import check_scenario_folder
     from wecook_core.trees.notation import has_action
 
     if args.duration is not None and args.duration <= 0:
         raise InputError(None, f"--duration must be positive, found {args.duration:g}")
     if args.fps <= 0:
         raise InputError(None, f"--fps must be positive, found {args.fps:g}")
+    check_scenario_folder(args.out_dir, replace=getattr(args, "force", False))  # before the slow part
     started = time.perf_counter()
     scenario = synthesize(args.seed, args.persons, duration_s=args.duration, fps=args.fps, size=_size(args.size))
     out = write_scenario(scenario, args.out_dir, video=not args.no_video, openpose=not args.no_openpose)

@@ -1,0 +1,155 @@
+"""Reading the user's files safely and writing wecook's own without losing anything.
+
+Reading: :func:`regular_file` refuses what is not a plain file (a folder, a FIFO that would block forever, a
+device, a dangling link) before anything opens it; :func:`read_text` also bounds the size and decodes UTF-8
+(a byte-order mark is dropped), each problem an :class:`InputError` naming the file.
+
+Writing: :func:`write_atomic` writes a whole file under a temporary name in the target's folder, fsyncs it and
+moves it into place in one step, so a reader sees the old file or the new one, never a torn one; an existing
+target is only replaced when asked (``replace=True``), else the move itself refuses it (``link`` fails when the
+name exists, so two writers cannot both win). :func:`create_new` claims a name for a file that is written
+as it goes (a recording): created exclusively, never truncating anything, with a numbered name when wanted.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import stat
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+from typing import IO
+
+from wecook_core.errors import InputError
+
+MAX_INPUT_BYTES = 1 << 30
+"""The largest text file wecook reads whole (1 GiB): plans, session files, JSON and CSV inputs."""
+
+
+def _a(what: str) -> str:
+    """``what`` with its article (``a plan``, ``an object box file``) unless it has one."""
+    if what.startswith(("a ", "an ")):
+        return what
+    return ("an " if what[:1].lower() in "aeiou" else "a ") + what
+
+
+def regular_file(path: str | Path, what: str = "file") -> Path:
+    """``path`` when it is a regular file (after links), else an :class:`InputError` saying what it is."""
+    path = Path(path)
+    try:
+        mode = path.stat().st_mode
+    except FileNotFoundError:
+        if path.is_symlink():
+            raise InputError(path, f"dangling symbolic link, expected {_a(what)}") from None
+        raise InputError(path, f"{what} not found") from None
+    except OSError as error:
+        raise InputError(path, f"cannot read: {error.strerror or error}") from None
+    if stat.S_ISDIR(mode):
+        raise InputError(path, f"is a directory, expected {_a(what)}")
+    if not stat.S_ISREG(mode):
+        kind = "a FIFO" if stat.S_ISFIFO(mode) else "a socket" if stat.S_ISSOCK(mode) else "a device"
+        raise InputError(path, f"is {kind}, not a regular file: expected {_a(what)}")
+    return path
+
+
+def read_bytes(path: str | Path, what: str = "file", max_bytes: int = MAX_INPUT_BYTES) -> bytes:
+    """The bytes of the regular file ``path``, at most ``max_bytes`` of them (else an :class:`InputError`)."""
+    path = regular_file(path, what)
+    try:
+        with path.open("rb") as handle:
+            data = handle.read(max_bytes + 1)
+    except OSError as error:
+        raise InputError(path, f"cannot read: {error.strerror or error}") from None
+    if len(data) > max_bytes:
+        raise InputError(path, f"larger than {max_bytes} bytes, the most wecook reads for {_a(what)}")
+    return data
+
+
+def read_text(path: str | Path, what: str = "file", max_bytes: int = MAX_INPUT_BYTES) -> str:
+    """The UTF-8 text of the regular file ``path`` (a leading byte-order mark dropped), bounded like
+    :func:`read_bytes`; text that is not UTF-8 is an :class:`InputError` naming the byte."""
+    data = read_bytes(path, what, max_bytes)
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        line = data[: error.start].count(b"\n") + 1
+        raise InputError(path, f"not a text file (byte {error.start} is {data[error.start]:#04x}, not UTF-8)",
+                         place=f"line {line}") from None
+
+
+def check_output(path: str | Path, *, replace: bool = False, what: str = "file") -> Path:
+    """``path`` when a file may be written there: not a folder, its folder not a file, and not existing
+    unless ``replace`` (the ``--force`` of the command line)."""
+    path = Path(path)
+    if path.is_dir():
+        raise InputError(path, f"is a folder; give the name of the {what} to write")
+    for parent in path.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise InputError(parent, f"is not a folder, so the {what} {path.name} cannot go in it")
+            break
+    if (path.exists() or path.is_symlink()) and not replace:
+        raise InputError(path, f"exists; not overwritten (pass --force to replace the {what})")
+    return path
+
+
+def fsync_dir(path: str | Path) -> None:
+    """Make a rename or a new name in the folder ``path`` durable."""
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def write_atomic(path: str | Path, write: Callable[[IO[bytes]], None] | bytes | str, *, replace: bool = False,
+                 what: str = "file") -> Path:
+    """Write a whole file at ``path``: ``write`` (bytes, text, or a function given the open binary file) goes to
+    a temporary file beside it, which is fsynced and then moved into place. An existing ``path`` is an
+    :class:`InputError` unless ``replace``; either way the old file stays whole until the new one is complete."""
+    path = check_output(path, replace=replace, what=what)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as handle:
+            if callable(write):
+                write(handle)
+            else:
+                handle.write(write.encode("utf-8") if isinstance(write, str) else write)
+            handle.flush()
+            os.fsync(handle.fileno())
+        if replace:
+            os.replace(tmp, path)
+        else:
+            try:
+                os.link(tmp, path)  # fails when the name exists: nothing is ever overwritten
+            except FileExistsError:
+                raise InputError(path, f"exists; not overwritten (pass --force to replace the {what})") from None
+            os.unlink(tmp)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
+    fsync_dir(path.parent)
+    return path
+
+
+def create_new(path: str | Path, *, number: bool = False, what: str = "file", limit: int = 1000) -> Path:
+    """Create ``path`` empty and exclusively (``O_EXCL``) for a file written as it goes; an existing one is an
+    :class:`InputError`, or with ``number`` the next free ``stem-2.suffix``, ``stem-3.suffix``... is taken, so
+    two writers starting at once never share a file."""
+    path = check_output(path, replace=number, what=what)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    for k in range(1, limit + 1):
+        candidate = path if k == 1 else path.with_name(f"{path.stem}-{k}{path.suffix}")
+        try:
+            fd = os.open(candidate, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
+        except FileExistsError:
+            if not number:
+                raise InputError(path, f"exists; not overwritten (pass --force to replace the {what})") from None
+            continue
+        os.close(fd)
+        fsync_dir(candidate.parent)
+        return candidate
+    raise InputError(path, f"{limit} {what}s of that name exist already")
