@@ -48,9 +48,6 @@ def session_plan(session_path: str | Path, *, table: Table = DEFAULT_TABLE,
     from wecook_core.perception.pipeline import analyze
     from wecook_core.session.store import open_session
 
-    replace = force or out is None
-    if out is not None:
-        check_output(out, replace=replace, what="plan")  # before the analysis, not after
     session = open_session(session_path)
     obs = session.load_observations()
     analysis = analyze(obs, load_knowledge(), session.params, session.corrections)
