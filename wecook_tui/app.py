@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import gc
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from textual import work
 from textual.app import App, SystemCommand
@@ -20,12 +20,18 @@ from textual.reactive import var
 from textual.screen import Screen
 
 from wecook_core.errors import InputError
+from wecook_core.session.journal import JournalChangedError
 from wecook_tui.keymap import LoadedKeymap, load_keymap
 from wecook_tui.messages import AnalysisFailed, AnalysisReady, SessionFailed, SessionOpened
 from wecook_tui.screens.help import HelpScreen
 from wecook_tui.screens.main import MAIN_BINDINGS, MainScreen
 from wecook_tui.widgets.frame_view import FrameView
 from wecook_tui.workspace import Opened, analyze_workspace, open_workspace
+
+if TYPE_CHECKING:
+    from wecook_core.model import Corrections, Segment
+    from wecook_core.perception.pipeline import Analysis
+    from wecook_core.session.corrections import Correction
 
 
 class WecookApp(App[None]):
@@ -37,7 +43,7 @@ class WecookApp(App[None]):
 
     def __init__(self, session_path: Path, *, keys: LoadedKeymap | None = None,
                  opener: Callable[[Path], Opened] = open_workspace,
-                 analyzer: Callable[[Opened, Any], Any] = analyze_workspace) -> None:
+                 analyzer: Callable[[Opened, Sequence[Correction]], Analysis] = analyze_workspace) -> None:
         super().__init__()
         self.session_path = Path(session_path)
         self.session_name = self.session_path.name
@@ -45,7 +51,10 @@ class WecookApp(App[None]):
         self.analyzer = analyzer
         self.keys = keys if keys is not None else load_keymap(known_ids=_binding_ids())
         self.opened: Opened | None = None
-        self.analysis: Any = None
+        self.analysis: Analysis | None = None
+        self.last_message = ""
+        """The answer to the latest edit, undo or redo."""
+        self._folded: tuple[tuple[int, int], Corrections] | None = None
         self.generation = 0
         self._analysing = False
         """Bumped by every journal change; an analysis of an older generation is dropped."""
@@ -66,8 +75,27 @@ class WecookApp(App[None]):
         return self.opened.observations if self.opened else None
 
     @property
-    def corrections(self) -> Any:
-        return self.session.corrections if self.session is not None else None
+    def corrections(self) -> Corrections | None:
+        """The journal's corrections in effect, folded against the current segments (span corrections cover
+        each segment of their action), so statuses show at once, before the analysis returns."""
+        from wecook_core.session.corrections import fold
+
+        if self.session is None:
+            return None
+        key = (self.generation, id(self.analysis))
+        if self._folded is None or self._folded[0] != key:
+            self._folded = (key, fold(self.session.applied_corrections, self._segments()))
+        return self._folded[1]
+
+    def _segments(self) -> tuple[Segment, ...] | None:
+        """The segments the corrections in effect give: GGS's cut by the journal's splits and merges."""
+        from wecook_core.perception.pipeline import apply_cuts
+        from wecook_core.session.corrections import fold
+
+        ggs = self.opened.segmentation if self.opened is not None else None
+        if ggs is not None and self.session is not None:
+            return apply_cuts(ggs, fold(self.session.applied_corrections)).segments
+        return self.analysis.segmentation.segments if self.analysis is not None else None
 
     @property
     def frame_count(self) -> int:
@@ -126,18 +154,19 @@ class WecookApp(App[None]):
 
     # ---------------------------------------------------------------------------- corrections
 
-    def correct(self, record: dict) -> bool:
-        """Journal one correction (fsynced before this returns), show it, recompute the analysis."""
+    def correct(self, correction: Correction) -> bool:
+        """Journal one correction (fsynced before this returns), say what changed, show it, recompute."""
+        from wecook_core.session.corrections import describe
+
         if self.session is None:
             self.notify("The session is not open yet.", severity="warning")
             return False
         try:
-            self.session.record(record)
-        except (InputError, ValueError, KeyError, OSError, RuntimeError) as error:
-            # RuntimeError: the session's SessionChangedError (another wecook wrote the journal)
+            self.session.record(correction)
+        except (InputError, ValueError, KeyError, OSError, JournalChangedError) as error:
             self.notify(f"Not recorded: {error}", severity="error", timeout=30)
             return False
-        self.journal_changed()
+        self.journal_changed(f"✎ {describe(correction)}{self._where(correction)}", correction)
         return True
 
     def undo(self) -> None:
@@ -147,22 +176,49 @@ class WecookApp(App[None]):
         self._history("redo")
 
     def _history(self, name: str) -> None:
+        from wecook_core.session.corrections import describe
+
         if self.session is None:
             return
         try:
-            done = getattr(self.session, name)()
-        except (InputError, ValueError, IndexError, OSError, RuntimeError) as error:
+            changed = getattr(self.session, name)()
+        except (InputError, ValueError, IndexError, OSError, JournalChangedError) as error:
             self.notify(str(error), severity="warning")
             return
-        if done is False:
-            self.notify(f"Nothing to {name}.")
+        if not changed:
+            self.say(f"Nothing to {name}.")
             return
-        self.journal_changed()
+        verb = "Undone" if name == "undo" else "Redone"
+        self.journal_changed(f"{verb}: {describe(changed)}{self._where(changed)}", changed)
 
-    def journal_changed(self) -> None:
+    def _where(self, correction: Correction) -> str:
+        from wecook_core.session.corrections import Merge, Split, covered
+
+        if isinstance(correction, Split | Merge):
+            return ""
+        spread = covered(correction, self._segments())
+        end = f", {correction.end}" if correction.end is not None else ""
+        count = f", {len(spread)} segments" if len(spread) > 1 else ""
+        return f" at [{correction.segment}{end}){count}"
+
+    def say(self, message: str) -> None:
+        """The one-line answer to an edit, undo or redo (shown on the status line and as a notice)."""
+        self.last_message = message
+        self.notify(message, timeout=4)
+        self.main.refresh_view()
+
+    def journal_changed(self, message: str = "", correction: Correction | None = None) -> None:
+        """The journal moved on: show it at once (statuses), jump to what changed, recompute the analysis."""
+        from wecook_core.session.corrections import span_of
+
         self.generation += 1
+        self._folded = None
+        if correction is not None:
+            self.main.jump_to(span_of(correction))
         self.main.data_changed()
         self.recompute()
+        if message:
+            self.say(message)
 
     def recompute(self) -> None:
         """Analyse the latest corrections: at most one analysis runs; corrections made meanwhile are folded
@@ -173,7 +229,7 @@ class WecookApp(App[None]):
         if self._analysing:
             return
         self._analysing = True
-        self._analyze(self.generation, self.corrections)
+        self._analyze(self.generation, self.session.applied_corrections)
 
     def _analysed(self, generation: int) -> bool:
         """An analysis ended; start the next if the journal moved on. True if ``generation`` is current."""
@@ -185,7 +241,7 @@ class WecookApp(App[None]):
         return True
 
     @work(thread=True, group="analysis", exit_on_error=False)
-    def _analyze(self, generation: int, corrections: Any) -> None:
+    def _analyze(self, generation: int, corrections: tuple[Correction, ...]) -> None:
         assert self.opened is not None
         started = time.perf_counter()
         try:
@@ -202,14 +258,12 @@ class WecookApp(App[None]):
             self._write_results(message.analysis)
 
     @work(thread=True, exclusive=True, group="results", exit_on_error=False)
-    def _write_results(self, analysis: Any) -> None:
+    def _write_results(self, analysis: Analysis) -> None:
         """Keep the session's ``trees.yaml`` and ``graph.yaml`` in step with the corrections."""
-        from wecook_core.trees.graph import write_graph_file
-        from wecook_core.trees.treefile import write_tree_file
+        from wecook_core.workflows import write_results
 
         try:
-            write_tree_file(self.session.trees_path, analysis.trees)
-            write_graph_file(self.session.graph_path, analysis.graph)
+            write_results(self.session, analysis)
         except (OSError, AttributeError, ValueError) as error:
             self.call_from_thread(self.notify, f"Cannot write the analysis results: {error}", severity="warning")
 

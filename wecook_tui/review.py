@@ -2,7 +2,7 @@
 
 Pure functions of ``Observations`` and ``Analysis`` (no Textual here): which segment holds a frame, the lanes
 of the timeline, the inspector's facts, the overlay of the frame, the picker candidates, and the correction
-records that ``Session.record`` journals.
+typed corrections (:mod:`wecook_core.session.corrections`) that ``Session.record`` journals.
 """
 
 from __future__ import annotations
@@ -26,6 +26,7 @@ from wecook_core.model import (
     SegmentStatus,
     TreeSpan,
 )
+from wecook_core.session.corrections import Merge, SetHandObject, SetObjectObject, SetStatus, SetVerb, Split
 from wecook_tui.frames import BoxMark, HandMark, LinkMark, Overlay
 
 NOTHING = "-"
@@ -81,11 +82,13 @@ def status_of(corrections: Corrections | None, start: int) -> SegmentStatus:
     return SegmentStatus.UNREVIEWED
 
 
-def next_unreviewed(segs: tuple[Segment, ...], corrections: Corrections | None, current: int) -> int | None:
-    """The first unreviewed segment after ``current``, wrapping around; None when all are reviewed."""
+def next_unreviewed(segs: tuple[Segment, ...], corrections: Corrections | None, current: int,
+                    direction: int = 1) -> int | None:
+    """The first unreviewed segment after ``current`` (before it: ``direction`` -1), wrapping around; None when
+    all are reviewed."""
     n = len(segs)
     for step in range(1, n + 1):
-        index = (current + step) % n
+        index = (current + direction * step) % n
         if status_of(corrections, segs[index].start) is SegmentStatus.UNREVIEWED:
             return index
     return None
@@ -314,25 +317,37 @@ def segment_objects(assoc: Associations | None, action: Action | None, hand: str
 # ------------------------------------------------------------------------------------- corrections
 
 
-def set_status(seg: Segment, status: SegmentStatus) -> dict:
-    return {"op": "set_status", "segment": seg.start, "status": str(status)}
+def span_of(action: Action | None, seg: Segment) -> tuple[int, int | None]:
+    """(segment, end) a correction of the whole action records: the action's span, or ``seg`` alone."""
+    if action is None:
+        return seg.start, None
+    return action.start, action.end
 
 
-def set_verb(seg: Segment, hand: str, verb: str) -> dict:
-    return {"op": "set_verb", "segment": seg.start, "hand": hand, "verb": verb}
+def set_status(seg: Segment, status: SegmentStatus) -> SetStatus:
+    return SetStatus(seg.start, SegmentStatus(status))
 
 
-def set_hand_object(seg: Segment, hand: str, name: str | None) -> dict:
-    return {"op": "set_hand_object", "segment": seg.start, "hand": hand, "object": name}
+def set_verb(seg: Segment, hand: str, verb: str, action: Action | None = None) -> SetVerb:
+    """The verb of ``hand`` in ``seg``, or over the whole ``action`` when given."""
+    start, end = span_of(action, seg)
+    return SetVerb(start, hand, verb, end)
 
 
-def set_object_object(seg: Segment, held: str, targets: tuple[str, ...]) -> dict:
-    return {"op": "set_object_object", "segment": seg.start, "object": held, "targets": list(targets)}
+def set_hand_object(seg: Segment, hand: str, name: str | None, action: Action | None = None) -> SetHandObject:
+    start, end = span_of(action, seg)
+    return SetHandObject(start, hand, name, end)
 
 
-def split(frame: int) -> dict:
-    return {"op": "split", "frame": frame}
+def set_object_object(seg: Segment, held: str, targets: tuple[str, ...],
+                      action: Action | None = None) -> SetObjectObject:
+    start, end = span_of(action, seg)
+    return SetObjectObject(start, held, tuple(targets), end)
 
 
-def merge(next_start: int) -> dict:
-    return {"op": "merge", "frame": next_start}
+def split(frame: int) -> Split:
+    return Split(frame)
+
+
+def merge(next_start: int) -> Merge:
+    return Merge(next_start)

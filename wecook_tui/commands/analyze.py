@@ -1,6 +1,6 @@
 """`wecook analyze NAME [--root DIR]`: run the perception pipeline on a session and write its results.
 
-Loads the session's inputs and corrections, runs every stage (:func:`wecook_core.pipeline.analyze`), writes
+Loads the session's inputs and corrections, runs every stage (:func:`wecook_core.workflows.analyse_session`), writes
 ``trees.yaml`` and ``graph.yaml`` into the session folder and prints what was found, per tree case.
 """
 
@@ -22,42 +22,21 @@ def register(sub: Any) -> None:
     parser.set_defaults(func=run)
 
 
-def session_path(name: str, root: str | Path | None) -> Path:
-    """A session's folder: ``NAME`` itself when it is a folder path, else ``ROOT/NAME``."""
-    from wecook_core.session.store import check_name, sessions_root
-
-    direct = Path(name)
-    if ("/" in name or name.startswith(".")) and direct.is_dir():
-        return direct
-    return sessions_root(root) / check_name(name)
-
-
 def run(args: argparse.Namespace) -> int:
     from collections import Counter
 
-    from wecook_core.errors import InputError
     from wecook_core.knowledge.recognize import load_knowledge
     from wecook_core.model import SegmentStatus
-    from wecook_core.perception.params import Params
-    from wecook_core.perception.pipeline import analyze
-    from wecook_core.session.store import open_session
-    from wecook_core.trees.graph import CASES, case_of, write_graph_file
-    from wecook_core.trees.treefile import write_tree_file
+    from wecook_core.session.store import find_session
+    from wecook_core.trees.graph import CASES, case_of
+    from wecook_core.workflows import analyse_session
 
-    path = session_path(args.name, args.root)
-    if not path.is_dir():
-        raise InputError(path, "no such session folder")
-    session = open_session(path)
-    obs = session.load_observations()
+    path = find_session(args.name, args.root)
     knowledge = load_knowledge(Path(args.knowledge) if args.knowledge else None)
-    params = getattr(session, "params", None) or Params()
-    corrections = session.corrections
-    analysis = analyze(obs, knowledge, params, corrections)
-    write_tree_file(session.trees_path, analysis.trees)
-    write_graph_file(session.graph_path, analysis.graph)
-
+    done = analyse_session(path, knowledge)
+    session, obs, analysis = done.session, done.observations, done.analysis
     counts = Counter(case_of(action, obs.categories) for action in analysis.actions)
-    rejected = sum(1 for s in corrections.status.values() if s is SegmentStatus.REJECTED)
+    rejected = sum(1 for s in analysis.corrections.status.values() if s is SegmentStatus.REJECTED)
     seconds = sum(analysis.seconds.values())
     print(f"{path.name}: {len(analysis.segmentation.segments)} segments, {len(analysis.trees)} trees, "
           f"{len(analysis.graph.nodes)} graph nodes, {len(analysis.graph.edges)} edges "

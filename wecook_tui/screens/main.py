@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, cast
-
 from rich.text import Text
 from textual.app import ComposeResult
 from textual.binding import Binding
@@ -13,7 +11,7 @@ from textual.screen import Screen
 from textual.timer import Timer
 from textual.widgets import Footer
 
-from wecook_core.model import VERBS, Segment, SegmentStatus
+from wecook_core.model import VERBS, Action, Segment, SegmentStatus
 from wecook_tui import review
 from wecook_tui.screens.links import LinkPickerScreen
 from wecook_tui.screens.picker import PickerScreen
@@ -21,9 +19,7 @@ from wecook_tui.widgets.frame_view import FrameView
 from wecook_tui.widgets.inspector import Inspector
 from wecook_tui.widgets.status_line import StatusLine
 from wecook_tui.widgets.timeline import Timeline
-
-if TYPE_CHECKING:
-    from wecook_tui.app import WecookApp
+from wecook_tui.workbench_state import Workbench, workbench
 
 MAIN_BINDINGS: list[Binding] = [
     Binding("right,l", "step(1)", "Next frame", id="next-frame"),
@@ -33,13 +29,18 @@ MAIN_BINDINGS: list[Binding] = [
     Binding("down,n", "segment(1)", "Next segment", id="next-segment"),
     Binding("up,p", "segment(-1)", "Prev segment", show=False, id="prev-segment"),
     Binding("u", "next_unreviewed", "Next unreviewed", id="next-unreviewed"),
+    Binding("U", "next_unreviewed(-1)", "Prev unreviewed", show=False, id="prev-unreviewed"),
+    Binding("g", "go_to", "Go to frame/time/segment", show=False, id="go-to"),
     Binding("space", "play_pause", "Play/pause", id="play-pause"),
     Binding("t", "next_hand", "Select hand", show=False, id="next-hand"),
     Binding("a", "accept", "Accept", id="accept"),
     Binding("x", "reject", "Reject", id="reject"),
     Binding("c", "change_action", "Change action", id="change-action"),
+    Binding("C", "change_action(False)", "Change action (segment only)", show=False, id="change-action-here"),
     Binding("o", "change_object", "Change object", show=False, id="change-object"),
+    Binding("O", "change_object(False)", "Change object (segment only)", show=False, id="change-object-here"),
     Binding("k", "change_link", "Change link", show=False, id="change-link"),
+    Binding("K", "change_link(False)", "Change link (segment only)", show=False, id="change-link-here"),
     Binding("s", "split", "Split here", show=False, id="split"),
     Binding("m", "merge", "Merge with next", show=False, id="merge"),
     Binding("z,ctrl+z", "undo", "Undo", id="undo"),
@@ -67,11 +68,12 @@ class MainScreen(Screen[None]):
         self._inspected: tuple | None = None
         self._timer: Timer | None = None
         self._hand_chosen = False
-        """The user picked a hand (t); until then the first hand acting in the segment is selected."""
+        """The user picked a hand (t) in this segment; until then the first hand acting there is selected."""
+        self._segment: Segment | None = None
 
     @property
-    def wb(self) -> WecookApp:
-        return cast("WecookApp", self.app)
+    def wb(self) -> Workbench:
+        return workbench(self.app)
 
     def compose(self) -> ComposeResult:
         with Horizontal(id="top"):
@@ -98,11 +100,8 @@ class MainScreen(Screen[None]):
     def data_changed(self) -> None:
         """Session, analysis or corrections changed: redraw everything."""
         wb = self.wb
+        self._select_acting_hand()
         hands = review.hands_of(wb.obs)
-        if self.selected_hand not in hands or not self._hand_chosen:
-            index, seg = self.current()
-            acting = [h for h in hands if h in review.actions_of(wb.analysis, seg, index)]
-            self.selected_hand = (acting or list(hands) or [None])[0]
         if wb.obs is not None:
             timeline = self.query_one(Timeline)
             segs = self.segments()
@@ -112,9 +111,28 @@ class MainScreen(Screen[None]):
         self._inspected = None
         self.refresh_view()
 
+    def _select_acting_hand(self) -> None:
+        """Select the first hand acting in the segment, unless the user chose one (t) here."""
+        hands = review.hands_of(self.wb.obs)
+        if self.selected_hand in hands and self._hand_chosen:
+            return
+        index, seg = self.current()
+        acting = [h for h in hands if h in review.actions_of(self.wb.analysis, seg, index)]
+        self.selected_hand = (acting or list(hands) or [None])[0]
+
+    def jump_to(self, span: tuple[int, int | None]) -> None:
+        """Show what an edit changed: move the cursor to ``span``'s start unless it is already inside."""
+        start, end = span
+        if not (start <= self.frame < (end if end is not None else start + 1)):
+            self.frame = max(0, min(self.frame_count - 1, start))
+
     def refresh_view(self) -> None:
         wb = self.wb
         index, seg = self.current()
+        if seg != self._segment:
+            self._segment = seg
+            self._hand_chosen = False
+            self._select_acting_hand()
         assoc = review.associations_of(wb.analysis, index, seg)
         self.query_one(FrameView).show(self.frame, review.overlay(wb.obs, assoc, self.frame, self.selected_hand))
         timeline = self.query_one(Timeline)
@@ -136,7 +154,8 @@ class MainScreen(Screen[None]):
             f"  segment {index + 1}/{len(self.segments())}",
             f"  hand {self.selected_hand or '-'}",
             ("  ▶ playing" if self.playing else ""),
-            ("  recomputing…" if wb.pending else ("  opening…" if wb.opened is None else ""), "yellow"),
+            ("  recomputing…" if wb.pending else ("  opening…" if wb.opened is None else ""), "bold yellow"),
+            (f"  {wb.last_message}" if wb.last_message else "", "italic"),
         )
         self.query_one(StatusLine).show(line)
 
@@ -156,9 +175,9 @@ class MainScreen(Screen[None]):
         index = review.segment_index(segs, self.frame)
         self.frame = segs[max(0, min(len(segs) - 1, index + delta))].start
 
-    def action_next_unreviewed(self) -> None:
+    def action_next_unreviewed(self, direction: int = 1) -> None:
         segs = self.segments()
-        index = review.next_unreviewed(segs, self.wb.corrections, review.segment_index(segs, self.frame))
+        index = review.next_unreviewed(segs, self.wb.corrections, review.segment_index(segs, self.frame), direction)
         if index is None:
             self.notify("Every segment is reviewed.")
         else:
@@ -202,13 +221,27 @@ class MainScreen(Screen[None]):
             self.notify("No hand tracks in this session.", severity="warning")
         return self.selected_hand
 
-    def action_change_action(self) -> None:
+    def _target(self, hand: str, whole: bool) -> tuple[Segment, Action | None, str]:
+        """(segment, the action corrected as a whole or None for this segment only, where: for titles)."""
+        index, seg = self.current()
+        action = review.actions_of(self.wb.analysis, seg, index).get(hand)
+        if whole and action is not None:
+            return seg, action, f"its whole action [{action.start}, {action.end})"
+        return seg, None, f"segment [{seg.start}, {seg.end}) only"
+
+    def action_change_action(self, whole: bool = True) -> None:
         hand = self._hand_or_warn()
         if hand is None:
             return
         index, seg = self.current()
         assoc = review.associations_of(self.wb.analysis, index, seg)
         action = review.actions_of(self.wb.analysis, seg, index).get(hand)
+        held = assoc.hand_object.get(hand) if assoc else None
+        if action is None and not held:
+            self.notify(f"Not recorded: {hand} holds nothing in [{seg.start}, {seg.end}), so it has no verb; "
+                        "set its object first (o) or select another hand (t).", severity="warning")
+            return
+        seg, whole_action, where = self._target(hand, whole)
         ranking = list(review.ranking_of(self.wb.analysis, seg, index, hand))
         if not ranking:
             ranking = self.wb.rank(review.segment_objects(assoc, action, hand))
@@ -219,12 +252,11 @@ class MainScreen(Screen[None]):
 
         def chosen(verb: str | None) -> None:
             if verb:
-                self.wb.correct(review.set_verb(seg, hand, verb))
+                self.wb.correct(review.set_verb(seg, hand, verb, whole_action))
 
-        self.app.push_screen(PickerScreen(f"Action of {hand} in [{seg.start}, {seg.end})", options, current),
-                             chosen)
+        self.app.push_screen(PickerScreen(f"Action of {hand}, {where}", options, current), chosen)
 
-    def action_change_object(self) -> None:
+    def action_change_object(self, whole: bool = True) -> None:
         hand = self._hand_or_warn()
         obs = self.wb.obs
         if hand is None or obs is None:
@@ -234,15 +266,16 @@ class MainScreen(Screen[None]):
         options = [(name, f"{name:<16} {d:6.0f} px") for name, d in near] + [(review.NOTHING, "(nothing)")]
         assoc = review.associations_of(self.wb.analysis, index, seg)
         current = assoc.hand_object.get(hand) if assoc else None
+        seg, whole_action, where = self._target(hand, whole)
 
         def chosen(name: str | None) -> None:
             if name:
-                self.wb.correct(review.set_hand_object(seg, hand, None if name == review.NOTHING else name))
+                held = None if name == review.NOTHING else name
+                self.wb.correct(review.set_hand_object(seg, hand, held, whole_action))
 
-        self.app.push_screen(PickerScreen(f"Object held by {hand} in [{seg.start}, {seg.end})", options, current),
-                             chosen)
+        self.app.push_screen(PickerScreen(f"Object held by {hand}, {where}", options, current), chosen)
 
-    def action_change_link(self) -> None:
+    def action_change_link(self, whole: bool = True) -> None:
         hand = self._hand_or_warn()
         obs = self.wb.obs
         if hand is None or obs is None:
@@ -257,13 +290,13 @@ class MainScreen(Screen[None]):
         near = review.link_candidates(obs, held, self.frame, seg)
         options = [(name, f"{name:<16} {d:6.0f} px") for name, d in near]
         targets = assoc.object_object.get(held, ()) if assoc else ()
+        seg, whole_action, where = self._target(hand, whole)
 
         def chosen(new: tuple[str, ...] | None) -> None:
             if new is not None and new != tuple(targets):
-                self.wb.correct(review.set_object_object(seg, held, new))
+                self.wb.correct(review.set_object_object(seg, held, new, whole_action))
 
-        self.app.push_screen(LinkPickerScreen(f"What {held} acts on in [{seg.start}, {seg.end})", options,
-                                              targets), chosen)
+        self.app.push_screen(LinkPickerScreen(f"What {held} acts on, {where}", options, targets), chosen)
 
     def action_split(self) -> None:
         _, seg = self.current()

@@ -27,7 +27,9 @@ PLAN_BINDINGS: list[Binding] = [
 
 def plan_file(session_path: Path) -> Path:
     """Where export writes: ``plans/plan.yaml`` in the session (as `wecook export` does)."""
-    return session_path / "plans" / "plan.yaml"
+    from wecook_core.session.paths import session_paths
+
+    return session_paths(session_path).plan
 
 
 def plan_renderable(plan: Any) -> Group:

@@ -45,7 +45,9 @@ def execute_command(plan: Path, mcap: Path) -> list[str]:
 
 
 def runs_dir(session_path: Path) -> Path:
-    return session_path / "runs"
+    from wecook_core.session.paths import session_paths
+
+    return session_paths(session_path).runs
 
 
 def past_runs(session_path: Path) -> list[dict[str, Any]]:
