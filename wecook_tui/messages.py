@@ -70,9 +70,16 @@ class PlanExported(Message):
 
 @dataclass
 class RunOutput(Message):
-    """One line printed by the ``wecook execute`` subprocess."""
+    """One line of the ``wecook execute`` subprocess' messages (stderr), for the log."""
 
     line: str
+
+
+@dataclass
+class RunEvent(Message):
+    """One event of ``wecook execute --jsonl`` (a JSON object with ``kind``)."""
+
+    event: dict[str, Any]
 
 
 @dataclass
