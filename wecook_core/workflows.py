@@ -18,7 +18,7 @@ from wecook_core.plan import DEFAULT_ROBOT, DEFAULT_TABLE, Plan, Table, plan_fro
 
 if TYPE_CHECKING:
     from wecook_core.knowledge.recognize import Knowledge
-    from wecook_core.model import Observations, Segmentation
+    from wecook_core.model import Observations, Scores, Segmentation
     from wecook_core.perception.params import Params
     from wecook_core.perception.pipeline import Analysis
     from wecook_core.session.corrections import Correction
@@ -194,8 +194,8 @@ def demo_session(root: str | Path | None = None) -> Path:
 @dataclass(frozen=True)
 class DemoReport:
     analysed: Analysed
-    scores: object
-    """:class:`wecook_core.perception.evaluation.Scores` of the trees against the demo's truth."""
+    scores: Scores
+    """The trees scored against the demo's truth."""
 
 
 def run_demo(root: str | Path | None = None) -> DemoReport:

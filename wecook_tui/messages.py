@@ -17,7 +17,7 @@ class SessionOpened(Message):
     """The session, its observations, the commonsense tables and the video are open (``open`` worker)."""
 
     opened: Any
-    """A ``wecook_tui.app.Opened``: session, observations (None if unreadable), knowledge, frame source."""
+    """A ``wecook_tui.workspace.Opened``: session, observations (None if unreadable), knowledge, frame source."""
     warnings: tuple[str, ...] = ()
     """Problems to show in a notice: changed input, torn journal line, missing video, ..."""
 
@@ -31,7 +31,7 @@ class SessionFailed(Message):
 
 @dataclass
 class AnalysisReady(Message):
-    """``pipeline.analyze`` finished for the corrections of journal generation ``generation``."""
+    """The analysis (``workflows.analyse``) finished for the corrections of journal generation ``generation``."""
 
     analysis: Any
     generation: int

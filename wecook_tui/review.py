@@ -281,12 +281,13 @@ def overlay(obs: Observations | None, assoc: Associations | None, frame: int, se
         boxes.append(BoxMark(track.name, tuple(float(v) for v in box), colour, track.name in held))  # type: ignore[arg-type]
     hands = []
     hand_points: dict[str, tuple[float, float]] = {}
-    for track in obs.hands:
-        xy = hand_xy(obs, track.hand, frame)
+    for hand_track in obs.hands:
+        hand = hand_track.hand
+        xy = hand_xy(obs, hand, frame)
         if xy is None:
             continue
-        hand_points[track.hand] = xy
-        hands.append(HandMark(track.hand, xy, HAND_COLOURS.get(track.hand, (255, 255, 255)), track.hand == selected))
+        hand_points[hand] = xy
+        hands.append(HandMark(hand, xy, HAND_COLOURS.get(hand, (255, 255, 255)), hand == selected))
     links = []
     if assoc is not None:
         for hand, name in assoc.hand_object.items():

@@ -23,7 +23,7 @@ class Opened:
     """What opening a session yields (the ``open`` worker's result)."""
 
     session: Any
-    """A ``wecook_core.session.Session``."""
+    """A ``wecook_core.session.store.Session``."""
     observations: Any
     """``Observations``; None when even the boxes and hands cannot be read."""
     knowledge: Any
@@ -41,7 +41,8 @@ def open_workspace(path: Path) -> Opened:
     review = open_review(path)
     obs, warnings = review.observations, review.warnings
     frames = FrameSource(obs.video.path) if obs is not None else None
-    if frames is not None and frames.facts.error and not any(str(obs.video.path) in w for w in warnings):
+    if obs is not None and frames is not None and frames.facts.error and not any(str(obs.video.path) in w
+                                                                                  for w in warnings):
         warnings.append(f"{frames.facts.error}: boxes and hands are drawn on a blank frame")
     return Opened(review.session, obs, review.knowledge, frames, warnings)
 

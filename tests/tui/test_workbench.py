@@ -298,7 +298,7 @@ async def test_a_verb_for_a_hand_holding_nothing_is_refused_with_a_reason(sessio
         await settle(pilot, app)
         segs = app.analysis.segmentation.segments
         hands = review.hands_of(app.obs)
-        index, seg, idle = next((i, s, h) for i, s in enumerate(segs) for h in hands
+        _, seg, idle = next((i, s, h) for i, s in enumerate(segs) for h in hands
                                 if h not in review.actions_of(app.analysis, s, i)
                                 and not review.associations_of(app.analysis, i, s).hand_object.get(h))
         app.main.frame = seg.start

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(subparsers: argparse._SubParsersAction) -> None:
     opener = subparsers.add_parser("open", help="review and correct a session in the workbench")
     opener.add_argument("name", help="session name (in the sessions folder) or a session folder's path")
     opener.add_argument("--root", type=Path, default=None,

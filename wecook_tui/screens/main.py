@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 from rich.text import Text
 from textual.app import ComposeResult
-from textual.binding import Binding
+from textual.binding import Binding, BindingType
 from textual.containers import Horizontal
 from textual.reactive import var
 from textual.screen import Screen
@@ -54,7 +56,7 @@ MAIN_BINDINGS: list[Binding] = [
 
 
 class MainScreen(Screen[None]):
-    BINDINGS = MAIN_BINDINGS
+    BINDINGS: ClassVar[list[BindingType]] = [*MAIN_BINDINGS]
 
     # `var`: a change calls the watcher but does not repaint the whole screen (widgets refresh themselves)
     frame: var[int] = var(0, init=False)
@@ -118,7 +120,8 @@ class MainScreen(Screen[None]):
             return
         index, seg = self.current()
         acting = [h for h in hands if h in review.actions_of(self.wb.analysis, seg, index)]
-        self.selected_hand = (acting or list(hands) or [None])[0]
+        choices: list[str | None] = [*acting, *hands, None]
+        self.selected_hand = choices[0]
 
     def jump_to(self, span: tuple[int, int | None]) -> None:
         """Show what an edit changed: move the cursor to ``span``'s start unless it is already inside."""

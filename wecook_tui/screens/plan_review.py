@@ -4,14 +4,14 @@ export writes the plan YAML into the session and says where."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 from rich.console import Group
 from rich.table import Table
 from rich.text import Text
 from textual import work
 from textual.app import ComposeResult
-from textual.binding import Binding
+from textual.binding import Binding, BindingType
 from textual.containers import VerticalScroll
 from textual.screen import Screen
 from textual.widgets import Footer, Static
@@ -70,7 +70,7 @@ def plan_renderable(plan: Any) -> Group:
 
 
 class PlanReviewScreen(Screen[None]):
-    BINDINGS = PLAN_BINDINGS
+    BINDINGS: ClassVar[list[BindingType]] = [*PLAN_BINDINGS]
 
     def __init__(self, analysis: Any, obs: Any, session_path: Path) -> None:
         super().__init__()

@@ -17,12 +17,12 @@ import threading
 import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 from rich.text import Text
 from textual import work
 from textual.app import ComposeResult
-from textual.binding import Binding
+from textual.binding import Binding, BindingType
 from textual.containers import Horizontal, Vertical
 from textual.screen import Screen
 from textual.widgets import DataTable, Footer, OptionList, ProgressBar, RichLog, Static
@@ -95,7 +95,7 @@ def past_runs(session_path: Path) -> list[dict[str, Any]]:
 
 
 class RunScreen(Screen[None]):
-    BINDINGS = RUN_BINDINGS
+    BINDINGS: ClassVar[list[BindingType]] = [*RUN_BINDINGS]
 
     def __init__(self, session_path: Path, analysis: Any, obs: Any, command: Command = execute_command) -> None:
         super().__init__()
