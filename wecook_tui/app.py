@@ -117,6 +117,11 @@ class WecookApp(App[None]):
 
         return list(rank(knowledge, objects))
 
+    def watch_pending(self) -> None:
+        """Show and clear the "recomputing" state at once."""
+        if self.main.is_mounted:
+            self.main.refresh_view()
+
     # -------------------------------------------------------------------------------- opening
 
     def on_mount(self) -> None:

@@ -131,6 +131,42 @@ def actions_of(analysis: object | None, seg: Segment, index: int = -1) -> dict[s
     return found
 
 
+def whole_action(analysis: object | None, seg: Segment, hand: str) -> Action | None:
+    """The merged action (a tree's span) ``hand`` takes part in during ``seg``: what a correction of the whole
+    action covers."""
+    if analysis is None:
+        return None
+    for action in analysis.actions:  # type: ignore[attr-defined]
+        hands = {action.hand, action.partner.hand if action.partner is not None else None}
+        if hand in hands and action.start < seg.end and seg.start < action.end:
+            return action  # type: ignore[no-any-return]
+    return None
+
+
+def verb_span(analysis: object | None, seg: Segment, hand: str) -> tuple[int, int] | None:
+    """The frames of the whole action whose segments carry ``hand``'s verb: from the first to the last segment of
+    its merged action where the hand's own action has a verb (reaching for a tool and putting it down have none,
+    and keep none). None when the hand has no verb in ``seg``."""
+    action = whole_action(analysis, seg, hand)
+    if action is None:
+        return None
+    segs = segments(analysis, 0)
+    run: list[Segment] = []
+    for index, other in enumerate(segs):
+        if not (other.start < action.end and action.start < other.end):
+            continue
+        own = actions_of(analysis, other, index).get(hand)
+        if own is not None and own.verb and own.kind not in (ActionKind.GRASP, ActionKind.HOLDING):
+            run.append(other)
+        elif seg in run:
+            break
+        else:
+            run = []
+    if seg not in run:
+        return None
+    return run[0].start, run[-1].end
+
+
 def ranking_of(analysis: object | None, seg: Segment, index: int, hand: str) -> tuple[tuple[str, float], ...]:
     """The commonsense ranking the pipeline computed for ``hand`` in ``seg`` (empty if none)."""
     record = _segment_actions(analysis, index, seg)
@@ -318,31 +354,32 @@ def segment_objects(assoc: Associations | None, action: Action | None, hand: str
 # ------------------------------------------------------------------------------------- corrections
 
 
-def span_of(action: Action | None, seg: Segment) -> tuple[int, int | None]:
-    """(segment, end) a correction of the whole action records: the action's span, or ``seg`` alone."""
-    if action is None:
+def span_of(span: tuple[int, int] | None, seg: Segment) -> tuple[int, int | None]:
+    """(segment, end) a correction records: the whole action's ``span``, or ``seg`` alone (end None)."""
+    if span is None:
         return seg.start, None
-    return action.start, action.end
+    return span
 
 
 def set_status(seg: Segment, status: SegmentStatus) -> SetStatus:
     return SetStatus(seg.start, SegmentStatus(status))
 
 
-def set_verb(seg: Segment, hand: str, verb: str, action: Action | None = None) -> SetVerb:
-    """The verb of ``hand`` in ``seg``, or over the whole ``action`` when given."""
-    start, end = span_of(action, seg)
+def set_verb(seg: Segment, hand: str, verb: str, span: tuple[int, int] | None = None) -> SetVerb:
+    """The verb of ``hand`` in ``seg``, or over the whole action's ``span`` when given."""
+    start, end = span_of(span, seg)
     return SetVerb(start, hand, verb, end)
 
 
-def set_hand_object(seg: Segment, hand: str, name: str | None, action: Action | None = None) -> SetHandObject:
-    start, end = span_of(action, seg)
+def set_hand_object(seg: Segment, hand: str, name: str | None,
+                    span: tuple[int, int] | None = None) -> SetHandObject:
+    start, end = span_of(span, seg)
     return SetHandObject(start, hand, name, end)
 
 
 def set_object_object(seg: Segment, held: str, targets: tuple[str, ...],
-                      action: Action | None = None) -> SetObjectObject:
-    start, end = span_of(action, seg)
+                      span: tuple[int, int] | None = None) -> SetObjectObject:
+    start, end = span_of(span, seg)
     return SetObjectObject(start, held, tuple(targets), end)
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 from tui_fake import fake_analyze, make_obs
 
-from wecook_core.model import Action, ActionKind, Corrections, Segment, SegmentStatus
+from wecook_core.model import Corrections, Segment, SegmentStatus
 from wecook_core.session.corrections import SetVerb
 from wecook_tui import review
 from wecook_tui.keymap import load_keymap
@@ -69,7 +69,7 @@ def test_corrections_are_what_the_session_journals() -> None:
     from wecook_core.session.corrections import parse, to_record
     from wecook_core.session.journal import check_correction
 
-    action = Action(ActionKind.TOOL, "RH_P1", SEGS[0].start, SEGS[2].end, verb="cut", held="knife")
+    action = (SEGS[0].start, SEGS[2].end)
     records = [review.set_status(SEGS[1], SegmentStatus.ACCEPTED), review.set_verb(SEGS[0], "RH_P1", "peel"),
                review.set_hand_object(SEGS[0], "LH_P1", None), review.set_hand_object(SEGS[0], "LH_P1", "bowl"),
                review.set_object_object(SEGS[2], "knife", ("tomato",)), review.split(33), review.merge(40),

@@ -13,7 +13,7 @@ from textual.screen import Screen
 from textual.timer import Timer
 from textual.widgets import Footer
 
-from wecook_core.model import VERBS, Action, Segment, SegmentStatus
+from wecook_core.model import VERBS, Segment, SegmentStatus
 from wecook_tui import review
 from wecook_tui.screens.links import LinkPickerScreen
 from wecook_tui.screens.picker import PickerScreen
@@ -224,12 +224,18 @@ class MainScreen(Screen[None]):
             self.notify("No hand tracks in this session.", severity="warning")
         return self.selected_hand
 
-    def _target(self, hand: str, whole: bool) -> tuple[Segment, Action | None, str]:
-        """(segment, the action corrected as a whole or None for this segment only, where: for titles)."""
-        index, seg = self.current()
-        action = review.actions_of(self.wb.analysis, seg, index).get(hand)
-        if whole and action is not None:
-            return seg, action, f"its whole action [{action.start}, {action.end})"
+    def _target(self, hand: str, whole: bool, verb: bool = False) -> tuple[Segment, tuple[int, int] | None, str]:
+        """(segment, the span of the whole action corrected, or None for this segment only; where, for titles).
+        A verb covers the segments of the action that carry it; an object or link the whole action."""
+        _, seg = self.current()
+        if whole:
+            if verb:
+                span = review.verb_span(self.wb.analysis, seg, hand)
+            else:
+                action = review.whole_action(self.wb.analysis, seg, hand)
+                span = (action.start, action.end) if action is not None else None
+            if span is not None and span != (seg.start, seg.end):
+                return seg, span, f"its whole action [{span[0]}, {span[1]})"
         return seg, None, f"segment [{seg.start}, {seg.end}) only"
 
     def action_change_action(self, whole: bool = True) -> None:
@@ -244,7 +250,7 @@ class MainScreen(Screen[None]):
             self.notify(f"Not recorded: {hand} holds nothing in [{seg.start}, {seg.end}), so it has no verb; "
                         "set its object first (o) or select another hand (t).", severity="warning")
             return
-        seg, whole_action, where = self._target(hand, whole)
+        seg, whole_action, where = self._target(hand, whole, verb=True)
         ranking = list(review.ranking_of(self.wb.analysis, seg, index, hand))
         if not ranking:
             ranking = self.wb.rank(review.segment_objects(assoc, action, hand))
