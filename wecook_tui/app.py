@@ -25,6 +25,7 @@ from wecook_tui.keymap import LoadedKeymap, load_keymap
 from wecook_tui.messages import AnalysisFailed, AnalysisReady, SessionFailed, SessionOpened
 from wecook_tui.screens.help import HelpScreen
 from wecook_tui.screens.main import MAIN_BINDINGS, MainScreen
+from wecook_tui.search import SearchProvider
 from wecook_tui.widgets.frame_view import FrameView
 from wecook_tui.workspace import Opened, analyze_workspace, open_workspace
 
@@ -37,6 +38,7 @@ if TYPE_CHECKING:
 class WecookApp(App[None]):
     CSS_PATH = "workbench.tcss"
     TITLE = "wecook"
+    COMMANDS = App.COMMANDS | {SearchProvider}
 
     pending: var[bool] = var(False, init=False)
     """An analysis is being recomputed for the latest corrections."""
@@ -150,7 +152,12 @@ class WecookApp(App[None]):
             self.notify(warning, title="Session", severity="warning", timeout=30)
         obs = self.obs
         if obs is not None:
+            from wecook_tui.resume import load_position
+
             self.main.query_one(FrameView).set_source(self.opened.frames, (obs.video.width, obs.video.height))
+            resume = load_position(self.session_path)
+            if resume is not None:
+                self.main.frame = min(resume, self.frame_count - 1)
             self.recompute()
         self.main.data_changed()
 
@@ -173,6 +180,9 @@ class WecookApp(App[None]):
             return False
         self.journal_changed(f"✎ {describe(correction)}{self._where(correction)}", correction)
         return True
+
+    def go_to(self, frame: int) -> None:
+        self.main.frame = max(0, min(self.frame_count - 1, frame))
 
     def undo(self) -> None:
         self._history("undo")

@@ -139,7 +139,7 @@ def whole_action(analysis: object | None, seg: Segment, hand: str) -> Action | N
     for action in analysis.actions:  # type: ignore[attr-defined]
         hands = {action.hand, action.partner.hand if action.partner is not None else None}
         if hand in hands and action.start < seg.end and seg.start < action.end:
-            return action  # type: ignore[no-any-return]
+            return action
     return None
 
 

@@ -5,6 +5,7 @@ The app (:class:`wecook_tui.app.WecookApp`) satisfies it; screens reach it as ``
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol, cast
 
 if TYPE_CHECKING:
@@ -17,6 +18,7 @@ if TYPE_CHECKING:
 
 class Workbench(Protocol):
     session_name: str
+    session_path: Path
     analysis: Analysis | None
     pending: bool
     """An analysis is being recomputed for the latest corrections."""
@@ -43,6 +45,9 @@ class Workbench(Protocol):
 
     def correct(self, correction: Correction) -> bool:
         """Journal one correction (durable on return), say what changed, recompute."""
+
+    def go_to(self, frame: int) -> None:
+        """Move the review's cursor to ``frame`` (clamped to the video)."""
 
     def undo(self) -> None: ...
 

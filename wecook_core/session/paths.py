@@ -19,6 +19,7 @@ GRAPH_FILE = "graph.yaml"
 PLANS_DIR = "plans"
 PLAN_FILE = "plan.yaml"
 RUNS_DIR = "runs"
+VIEW_FILE = "workbench.json"
 ENV_ROOT = "WECOOK_SESSIONS"
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$")
@@ -76,6 +77,11 @@ class SessionPaths:
     @property
     def runs(self) -> Path:
         return self.folder / RUNS_DIR
+
+    @property
+    def view(self) -> Path:
+        """Where the workbench left off (its cursor), so reopening resumes there."""
+        return self.folder / VIEW_FILE
 
 
 def session_paths(folder: str | Path) -> SessionPaths:

@@ -136,6 +136,8 @@ class MainScreen(Screen[None]):
             self._segment = seg
             self._hand_chosen = False
             self._select_acting_hand()
+            if wb.opened is not None:
+                self._remember()
         assoc = review.associations_of(wb.analysis, index, seg)
         self.query_one(FrameView).show(self.frame, review.overlay(wb.obs, assoc, self.frame, self.selected_hand))
         timeline = self.query_one(Timeline)
@@ -185,6 +187,21 @@ class MainScreen(Screen[None]):
             self.notify("Every segment is reviewed.")
         else:
             self.frame = segs[index].start
+
+    def action_go_to(self) -> None:
+        from wecook_tui.screens.goto import GoToScreen, parse_target
+
+        def chosen(text: str | None) -> None:
+            if text is None:
+                return
+            frame = parse_target(text, self.wb.fps, tuple(s.start for s in self.segments()))
+            if frame is None:
+                self.notify(f"Cannot go to {text!r}: type a frame (120), a time (4.5s, 1:05) or a segment (#12).",
+                            severity="warning")
+                return
+            self.frame = max(0, min(self.frame_count - 1, frame))
+
+        self.app.push_screen(GoToScreen(), chosen)
 
     def action_next_hand(self) -> None:
         hands = review.hands_of(self.wb.obs)
@@ -342,5 +359,12 @@ class MainScreen(Screen[None]):
     def action_help(self) -> None:
         self.wb.open_help()
 
+    def _remember(self) -> None:
+        from wecook_tui.resume import save_position
+
+        save_position(self.wb.session_path, self.frame)
+
     async def action_quit(self) -> None:
+        if self.wb.opened is not None:
+            self._remember()
         self.app.exit()
