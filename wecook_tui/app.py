@@ -304,9 +304,15 @@ class WecookApp(App[None]):
         if self.analysis is None:
             self.notify("The analysis is not ready yet.", severity="warning")
             return
-        from wecook_tui.screens.plan_review import PlanReviewScreen
+        from wecook_core.model import SegmentStatus
+        from wecook_tui.review import status_of
+        from wecook_tui.screens.plan_review import PlanReviewScreen, ReviewCounts
 
-        self.push_screen(PlanReviewScreen(self.analysis, self.obs, self.session_path))
+        segs = self.analysis.segmentation.segments
+        statuses = [status_of(self.corrections, s.start) for s in segs]
+        counts = ReviewCounts(len(segs), statuses.count(SegmentStatus.UNREVIEWED),
+                              statuses.count(SegmentStatus.REJECTED))
+        self.push_screen(PlanReviewScreen(self.analysis, self.obs, self.session_path, counts))
 
     def open_runs(self, start: bool) -> None:
         if start and self.analysis is None:

@@ -65,6 +65,12 @@ async def test_plan_review_and_export(session_path: Path) -> None:
         ids = [a.id for a in screen.plan.actions]
         assert ids and set(ids) <= set(nodes)  # grasp-only nodes are not robot actions
         assert all(a.frames == (nodes[a.id].span.start, nodes[a.id].span.end) for a in screen.plan.actions)
+        segs = app.analysis.segmentation.segments
+        assert screen.review.unreviewed == screen.review.segments == len(segs)
+        assert f"{len(segs)} of {len(segs)} segments unreviewed" in str(screen.query_one("#plan-review").render())
+        await pilot.press("w")  # asks first: nothing is reviewed
+        await pilot.pause(0.2)
+        assert screen.exported is None and "still unreviewed" in str(screen.query_one("#plan-status").render())
         await pilot.press("w")
         assert await wait_for(pilot, lambda: screen.exported is not None)
         assert screen.exported == plan_file(session_path)
@@ -90,6 +96,8 @@ async def test_export_follows_corrections(session_path: Path) -> None:
         await pilot.press("e")
         screen = app.screen
         assert isinstance(screen, PlanReviewScreen)
+        assert screen.review.rejected == len(inside)
+        assert screen.review.unreviewed == len(segs) - len(inside)
         assert await wait_for(pilot, lambda: screen.plan is not None)
         assert not [a for a in screen.plan.actions if a.frames and a.frames[0] < end and start < a.frames[1]]
 

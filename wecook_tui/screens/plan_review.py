@@ -3,6 +3,7 @@ export writes the plan YAML into the session and says where."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -69,18 +70,40 @@ def plan_renderable(plan: Any) -> Group:
     return Group(*parts)
 
 
+@dataclass(frozen=True)
+class ReviewCounts:
+    """How far the review got: segments, unreviewed ones, rejected ones (left out of the plan)."""
+
+    segments: int
+    unreviewed: int
+    rejected: int
+
+    def line(self) -> Text:
+        if not self.segments:
+            return Text("")
+        style = "bold yellow" if self.unreviewed else "bold green"
+        return Text.assemble(
+            (f"{self.unreviewed} of {self.segments} segments unreviewed" if self.unreviewed
+             else f"all {self.segments} segments reviewed", style),
+            (f", {self.rejected} rejected (left out of the plan)" if self.rejected else "", "red"))
+
+
 class PlanReviewScreen(Screen[None]):
     BINDINGS: ClassVar[list[BindingType]] = [*PLAN_BINDINGS]
 
-    def __init__(self, analysis: Any, obs: Any, session_path: Path) -> None:
+    def __init__(self, analysis: Any, obs: Any, session_path: Path, review: ReviewCounts | None = None) -> None:
         super().__init__()
         self.analysis = analysis
         self.obs = obs
         self.session_path = session_path
+        self.review = review or ReviewCounts(0, 0, 0)
         self.plan: Any = None
         self.exported: Path | None = None
+        self.asked = False
+        """The user was told the plan is not fully reviewed; the next export goes ahead."""
 
     def compose(self) -> ComposeResult:
+        yield Static(self.review.line(), id="plan-review")
         with VerticalScroll(id="plan"):
             yield Static("Building the plan…", id="plan-body")
         yield Static(id="plan-status")
@@ -113,6 +136,12 @@ class PlanReviewScreen(Screen[None]):
     def action_export(self) -> None:
         if self.plan is None:
             self.notify("The plan is not built yet.", severity="warning")
+            return
+        if self.review.unreviewed and not self.asked:
+            self.asked = True
+            self.query_one("#plan-status", Static).update(Text(
+                f"{self.review.unreviewed} of {self.review.segments} segments are still unreviewed: press w again "
+                "to export anyway, escape to go back and review", style="bold yellow"))
             return
         self._export(self.plan, plan_file(self.session_path))
 
