@@ -39,10 +39,11 @@ CATEGORY_COLOURS: Mapping[str, tuple[int, int, int]] = {
     "tool": (240, 240, 90), "container": (120, 230, 120), "ingredient": (240, 120, 220),
 }
 ACTION_COLOURS: Mapping[str, str] = {
-    "cut": "#d9534f", "peel": "#f0ad4e", "stir": "#5bc0de", "pour": "#428bca", "sprinkle": "#9b59b6",
-    "roll": "#8d6e63", "spread": "#e67e22", "squeeze": "#c0ca33", "wrap": "#26a69a", "dip": "#ec407a",
-    "transfer": "#7e57c2", "holding": "#2e7d32", "handover": "#00acc1", "grasp": "#607d8b",
+    "cut": "#e6194b", "peel": "#f58231", "stir": "#42d4f4", "pour": "#4363d8", "sprinkle": "#911eb4",
+    "roll": "#9a6324", "spread": "#ffe119", "squeeze": "#bfef45", "wrap": "#469990", "dip": "#f032e6",
+    "transfer": "#fabed4", "holding": "#3cb44b", "handover": "#aaffc3", "grasp": "#a9a9a9",
 }
+"""One colour per action, none alike (Trubetskoy's distinct colours)."""
 STATUS_GLYPHS: Mapping[SegmentStatus, tuple[str, str]] = {
     SegmentStatus.UNREVIEWED: ("·", "#808080"),
     SegmentStatus.ACCEPTED: ("✓", "#4caf50"),
