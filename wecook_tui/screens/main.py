@@ -23,7 +23,9 @@ from wecook_tui.widgets.status_line import StatusLine
 from wecook_tui.widgets.timeline import Timeline
 from wecook_tui.workbench_state import Workbench, workbench
 
-MAIN_BINDINGS: list[Binding] = [
+MAIN_BINDINGS: list[Binding] = [  # help and quit first: the footer is cut on the right in a narrow terminal
+    Binding("question_mark,f1", "help", "Help", id="help"),
+    Binding("q", "quit", "Quit", id="quit"),
     Binding("right,l", "step(1)", "Next frame", id="next-frame"),
     Binding("left,h", "step(-1)", "Prev frame", id="prev-frame"),
     Binding("shift+right,L", "step(10)", "+10 frames", show=False, id="forward-10"),
@@ -50,8 +52,6 @@ MAIN_BINDINGS: list[Binding] = [
     Binding("e", "plan", "Plan / export", id="export-plan"),
     Binding("r", "run", "Run", id="run"),
     Binding("R", "runs", "Past runs", show=False, id="open-runs"),
-    Binding("question_mark,f1", "help", "Help", id="help"),
-    Binding("q", "quit", "Quit", id="quit"),
 ]
 
 

@@ -37,9 +37,9 @@ class Inspector(VerticalScroll):
 
     def compose(self) -> ComposeResult:
         yield Static(id="segment-header")
-        yield SegmentTree("trees", id="segment-trees")
         yield Static(id="segment-actions")
         yield Static(id="segment-associations")
+        yield SegmentTree("trees", id="segment-trees")
 
     def show(self, index: int, count: int, seg: Segment, status: SegmentStatus, trees: tuple[TreeSpan, ...],
              assoc: Associations | None, actions: Mapping[str, Action], selected: str | None,
