@@ -22,7 +22,7 @@ from textual.screen import Screen
 from wecook_core.errors import InputError
 from wecook_core.session.journal import JournalChangedError
 from wecook_tui.keymap import LoadedKeymap, load_keymap
-from wecook_tui.messages import AnalysisFailed, AnalysisReady, SessionFailed, SessionOpened
+from wecook_tui.messages import AnalysisFailed, AnalysisReady, FirstFramePainted, SessionFailed, SessionOpened
 from wecook_tui.screens.help import HelpScreen
 from wecook_tui.screens.main import MAIN_BINDINGS, MainScreen
 from wecook_tui.search import SearchProvider
@@ -158,8 +158,21 @@ class WecookApp(App[None]):
             resume = load_position(self.session_path)
             if resume is not None:
                 self.main.frame = min(resume, self.frame_count - 1)
-            self.recompute()
+            frames = self.opened.frames if self.opened is not None else None
+            self.pending = True  # recomputing from the start: the first analysis is on its way
+            if frames is not None and frames.ok:
+                self.set_timer(1.0, self.recompute_once)  # in case no frame ever paints
+            else:
+                self.recompute_once()
         self.main.data_changed()
+
+    def on_first_frame_painted(self, message: FirstFramePainted) -> None:
+        self.recompute_once()
+
+    def recompute_once(self) -> None:
+        """The first analysis, started once the first frame is on screen (or at once without a video)."""
+        if self.analysis is None and not self._analysing:
+            self.recompute()
 
     def on_session_failed(self, message: SessionFailed) -> None:
         self.notify(message.error, title="Cannot open session", severity="error", timeout=60)

@@ -53,6 +53,12 @@ class FrameDecoded(Message):
 
 
 @dataclass
+class FirstFramePainted(Message):
+    """The frame view painted its first video frame (the app starts the analysis only then: it would hold
+    the interpreter while the first picture is drawn)."""
+
+
+@dataclass
 class PlanBuilt(Message):
     """``plan_from_graph`` finished (plan review screen)."""
 

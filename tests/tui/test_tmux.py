@@ -65,6 +65,11 @@ class Terminal:
         self.wait(lambda: "segment 1/" in (screen := self.screen()) and "opening" not in screen
                   and "recomputing" not in screen, "the workbench never became ready")
 
+    def wait_settled(self) -> None:
+        """Until the analysis matches the journal (the status bar no longer says recomputing)."""
+        self.wait(lambda: "segment " in (screen := self.screen()) and "opening" not in screen
+                  and "recomputing" not in screen, "the workbench never settled")
+
     def wait_text(self, text: str, timeout: float = 30.0) -> None:
         self.wait(lambda: text in self.screen(), f"never showed {text!r}", timeout)
 
@@ -100,6 +105,8 @@ def test_open_step_correct_export_in_a_real_terminal(session_path: Path, tmp_pat
     terminal.wait_text("✓ accepted")
     terminal.keys("e")
     terminal.wait_text("Press w to write")
+    terminal.keys("w")
+    terminal.wait_text("still unreviewed")  # asks first
     terminal.keys("w")
     terminal.wait_text("Plan written to")
     assert (session_path / "plans" / "plan.yaml").is_file()
@@ -140,3 +147,50 @@ async def test_sigkill_mid_session_loses_nothing(session_path: Path, tmp_path: P
         assert app.corrections.verbs == {}
         await pilot.press("y")  # the undone verb change can still be redone after the crash
         assert len(app.corrections.verbs) == 1
+
+
+@pytest.mark.tmux
+def test_correct_a_multi_segment_action_with_one_key_sequence_quit_reopen(session_path: Path, tmp_path: Path,
+                                                                        terminal: Terminal) -> None:
+    """Open, split an action so it spans two segments, change its verb once (c, a verb, enter), quit, reopen:
+    the change covers both segments, and the workbench resumes where it was."""
+    from wecook_core.workflows import analyse_session
+    from wecook_tui import review
+
+    analysis = analyse_session(session_path, write=False).analysis
+    segs = analysis.segmentation.segments
+    index, seg, hand = next((i, s, h) for i, s in enumerate(segs) for h, a in
+                            review.actions_of(analysis, s, i).items() if a.verb and a.kind == "tool" and len(s) > 4)
+    terminal.start(open_command(session_path, tmp_path))
+    terminal.wait_ready()
+    middle = seg.start + len(seg) // 2
+    terminal.keys("g")
+    terminal.wait_text("Go to:")
+    terminal.keys(*str(middle), "Enter")
+    terminal.wait_text(f"frame {middle}/")
+    terminal.keys("s")  # split the action's segment in two
+    terminal.wait(lambda: len(journal(session_path)) == 1, "the split was not journaled")
+    terminal.wait_settled()
+    terminal.wait_text(f"segment {index + 2}/{len(segs) + 1}")
+    terminal.wait_text(f"hand {hand}")
+    terminal.keys("c")
+    terminal.wait_text("its whole action")
+    terminal.keys("Down", "Enter")
+    terminal.wait(lambda: len(journal(session_path)) == 2, "the verb change was not journaled")
+    entry = journal(session_path)[-1]
+    assert entry["op"] == "set_verb" and (entry["segment"], entry["end"]) == (seg.start, seg.end)
+    terminal.wait_text("2 segments")  # the answer on the status line
+    terminal.wait_settled()
+    terminal.keys("q")
+    terminal.wait(lambda: not terminal.alive(), "wecook did not quit on q")
+    terminal.start(open_command(session_path, tmp_path))
+    terminal.wait_text(f"frame {middle}/")
+    terminal.wait_settled()  # resumed where it was
+    after = analyse_session(session_path, write=False).analysis
+    halves = [s for s in after.segmentation.segments if seg.start <= s.start < seg.end]
+    assert len(halves) == 2
+    verbs = {review.actions_of(after, s, after.segmentation.segments.index(s))[hand].verb for s in halves}
+    assert verbs == {entry["verb"]}
+    terminal.wait_text("✎ corrected")
+    terminal.keys("q")
+    terminal.wait(lambda: not terminal.alive(), "wecook did not quit on q")

@@ -20,6 +20,7 @@ PLANS_DIR = "plans"
 PLAN_FILE = "plan.yaml"
 RUNS_DIR = "runs"
 VIEW_FILE = "workbench.json"
+CACHE_FILE = "cache/observations.npz"
 ENV_ROOT = "WECOOK_SESSIONS"
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$")
@@ -77,6 +78,11 @@ class SessionPaths:
     @property
     def runs(self) -> Path:
         return self.folder / RUNS_DIR
+
+    @property
+    def cache(self) -> Path:
+        """The imported observations, kept so that opening does not import the inputs again."""
+        return self.folder / CACHE_FILE
 
     @property
     def view(self) -> Path:

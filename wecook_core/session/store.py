@@ -151,13 +151,20 @@ class Session:
 
     # inputs
     def import_observations(self, *, video_optional: bool = False) -> Imported:
-        """Import the inputs again (cached): InputError when one is missing or no longer reads.
+        """Import the inputs (kept in memory, and on disk in ``cache/`` while the inputs and the import code stay
+        the same): InputError when one is missing or no longer reads.
 
         ``video_optional``: a video that is missing, does not open, or no longer holds the frames of the boxes
         and hands (cut short since) is no error when the session recorded its facts: those stand in, and
         :attr:`Imported.video_problem` says what is wrong with the video (the boxes and hands are checked
         against the recorded facts as usual). That import is not cached.
         """
+        if self._imported is not None:
+            return self._imported
+        from wecook_core.session.cache import cache_key, load_cached, save_cached
+
+        key = cache_key(self.inputs)
+        self._imported = load_cached(self.paths.cache, key)
         if self._imported is not None:
             return self._imported
         video = self._input("video")
@@ -174,6 +181,7 @@ class Session:
             if not video_optional or self.video is None or _same_video(facts, self.video):
                 raise
             return self._with_recorded_video(video.path, self.video, str(error))
+        save_cached(self.paths.cache, key, self._imported)
         return self._imported
 
     def _with_recorded_video(self, video: str, recorded: VideoInfo, problem: str) -> Imported:
@@ -348,6 +356,9 @@ def create_session(
     except BaseException:
         shutil.rmtree(building, ignore_errors=True)
         raise
+    from wecook_core.session.cache import cache_key, save_cached
+
+    save_cached(SessionPaths(target).cache, cache_key(inputs), imported)  # the first open need not import again
     return target
 
 

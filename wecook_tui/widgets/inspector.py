@@ -11,7 +11,6 @@ from textual.widgets import Static, Tree
 from textual.widgets.tree import TreeNode
 
 from wecook_core.model import Action, Associations, Node, Segment, SegmentStatus, TreeSpan
-from wecook_core.trees.notation import format_tree
 from wecook_tui.review import STATUS_GLYPHS, action_label
 
 
@@ -53,6 +52,8 @@ class Inspector(VerticalScroll):
         self.query_one("#segment-header", Static).update(header)
         tree = self.query_one("#segment-trees", SegmentTree)
         tree.clear()
+        if trees:
+            from wecook_core.trees.notation import format_tree  # lark: loaded with the first trees, not at start
         tree.root.set_label(Text(f"{len(trees)} tree(s)", style="dim"))
         for span in trees:
             node = tree.root.add(Text(f"[{span.start}, {span.end})  {format_tree(span.tree)}", style="dim"),
