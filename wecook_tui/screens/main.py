@@ -72,6 +72,8 @@ class MainScreen(Screen[None]):
         self._hand_chosen = False
         """The user picked a hand (t) in this segment; until then the first hand acting there is selected."""
         self._segment: Segment | None = None
+        self._clock = (0.0, 0)
+        """(perf_counter, frame) when playback started."""
 
     @property
     def wb(self) -> Workbench:
@@ -215,18 +217,26 @@ class MainScreen(Screen[None]):
 
     def watch_playing(self, playing: bool) -> None:
         if playing:
-            rate = min(self.wb.fps, 20.0)
-            self._timer = self.set_interval(1 / rate, self._tick)
+            import time
+
+            self._clock = (time.perf_counter(), self.frame)
+            self._timer = self.set_interval(1 / max(1.0, self.wb.fps), self._tick)
         elif self._timer is not None:
             self._timer.stop()
             self._timer = None
         self.refresh_view()
 
     def _tick(self) -> None:
-        if self.frame >= self.frame_count - 1:
+        """Show the frame the video's clock has reached (frames are dropped, never slowed, when painting lags)."""
+        import time
+
+        started, first = self._clock
+        target = first + int((time.perf_counter() - started) * self.wb.fps)
+        if target >= self.frame_count - 1:
+            self.frame = self.frame_count - 1
             self.playing = False
-        else:
-            self.frame += 1
+        elif target != self.frame:
+            self.frame = target
 
     # ------------------------------------------------------------------------------ corrections
 
