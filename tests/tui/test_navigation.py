@@ -89,3 +89,17 @@ async def test_reopening_resumes_where_the_user_left_off(session_path: Path) -> 
     async with again.run_test(size=SIZE) as pilot:
         await settle(pilot, again)
         assert again.main.frame == left
+
+
+@pilot_test
+async def test_a_click_on_the_timeline_moves_the_cursor(session_path: Path) -> None:
+    from wecook_tui.widgets.timeline import LABEL_WIDTH, Timeline
+
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        timeline = app.main.query_one(Timeline)
+        column = timeline.track_width // 2
+        await pilot.click(Timeline, offset=(LABEL_WIDTH + column, 2))
+        assert app.main.frame == timeline._frames[column]
+        assert timeline._frames[timeline.column_of(app.main.frame)] == app.main.frame  # the cursor is drawn there

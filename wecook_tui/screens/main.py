@@ -190,6 +190,9 @@ class MainScreen(Screen[None]):
         else:
             self.frame = segs[index].start
 
+    def on_timeline_seek(self, message: Timeline.Seek) -> None:
+        self.frame = max(0, min(self.frame_count - 1, message.frame))
+
     def action_go_to(self) -> None:
         from wecook_tui.screens.goto import GoToScreen, parse_target
 
