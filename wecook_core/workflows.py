@@ -146,16 +146,28 @@ class Exported:
     """The session's warnings (changed inputs, torn journal lines), to show the user."""
 
 
+def plan_of(analysis: Analysis, obs: Observations, *, table: Table = DEFAULT_TABLE,
+            robot: str = DEFAULT_ROBOT) -> Plan:
+    """The robot plan of an analysis: its graph laid out on ``table``."""
+    return plan_from_graph(analysis.graph, obs, table=table, robot=robot)
+
+
+def write_checked_plan(plan: Plan, path: str | Path) -> Path:
+    """Check ``plan`` (InputError naming ``path`` when invalid) and write it there (its folder made if missing)."""
+    path = Path(path)
+    validate(plan, path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return Path(write_plan(plan, path))
+
+
 def export_session_plan(session_path: str | Path, out: str | Path | None = None, *,
                         table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT) -> Exported:
     """Analyse the session at ``session_path`` and write its plan to ``out`` (default
     ``<session>/plans/plan.yaml``); ``robot`` is the arms' URDF (relative to ``pybullet_data`` unless absolute).
     Unreadable inputs or an invalid plan raise :class:`InputError`."""
     done = analyse_session(session_path, write=False)
-    plan = plan_from_graph(done.analysis.graph, done.observations, table=table, robot=robot)
-    path = Path(out) if out is not None else done.session.paths.plan
-    validate(plan, path)
-    write_plan(plan, path)
+    plan = plan_of(done.analysis, done.observations, table=table, robot=robot)
+    path = write_checked_plan(plan, Path(out) if out is not None else done.session.paths.plan)
     return Exported(plan, path, tuple(done.session.warnings))
 
 
@@ -169,8 +181,7 @@ def demo_plan(table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT) -> Plan:
 
     folder = demo_dir()
     obs = load_observations(folder / "video.mp4", folder / "objects.csv", folder / "hands.csv")
-    analysis = analyse(obs, load_knowledge(), Params())
-    return plan_from_graph(analysis.graph, obs, table=table, robot=robot)
+    return plan_of(analyse(obs, load_knowledge(), Params()), obs, table=table, robot=robot)
 
 
 # ----------------------------------------------------------------------------------------------- demo

@@ -114,10 +114,10 @@ class PlanReviewScreen(Screen[None]):
 
     @work(thread=True, exclusive=True, group="plan", exit_on_error=False)
     def _build(self) -> None:
-        from wecook_core.plan import plan_from_graph
+        from wecook_core.workflows import plan_of
 
         try:
-            plan = plan_from_graph(self.analysis.graph, self.obs)
+            plan = plan_of(self.analysis, self.obs)
         except Exception as error:  # shown, never a traceback
             self.post_message(PlanBuilt(None, f"{type(error).__name__}: {error}"))
             return
@@ -147,12 +147,10 @@ class PlanReviewScreen(Screen[None]):
 
     @work(thread=True, exclusive=True, group="plan-export", exit_on_error=False)
     def _export(self, plan: Any, path: Path) -> None:
-        from wecook_core.plan import validate, write_plan
+        from wecook_core.workflows import write_checked_plan
 
         try:
-            validate(plan, path)
-            path.parent.mkdir(parents=True, exist_ok=True)
-            written = write_plan(plan, path)
+            written = write_checked_plan(plan, path)
         except Exception as error:
             self.post_message(PlanExported(path, f"{type(error).__name__}: {error}"))
             return

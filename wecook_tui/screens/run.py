@@ -194,14 +194,14 @@ class RunScreen(Screen[None]):
 
     @work(thread=True, exclusive=True, group="run", exit_on_error=False)
     def _execute(self, mcap: Path) -> None:
-        from wecook_core.plan import plan_from_graph, write_plan
+        from wecook_core.workflows import plan_of, write_checked_plan
 
         started = time.perf_counter()
         runs_dir(self.session_path).mkdir(parents=True, exist_ok=True)
         log_path = mcap.with_suffix(".log")
         try:
-            plan = plan_from_graph(self.analysis.graph, self.obs)
-            plan_path = write_plan(plan, plan_file(self.session_path))
+            plan = plan_of(self.analysis, self.obs)
+            plan_path = write_checked_plan(plan, plan_file(self.session_path))
             self.app.call_from_thread(self._show_plan, plan)
             env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "120", "NO_COLOR": "1"}
             self.process = subprocess.Popen(self.command(Path(plan_path), mcap), stdout=subprocess.PIPE,
