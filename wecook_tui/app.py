@@ -230,9 +230,8 @@ class WecookApp(App[None]):
         return f" at [{correction.segment}{end}){count}"
 
     def say(self, message: str) -> None:
-        """The one-line answer to an edit, undo or redo (shown on the status line and as a notice)."""
+        """The one-line answer to an edit, undo or redo, on the status line (a notice would cover it)."""
         self.last_message = message
-        self.notify(message, timeout=4)
         self.main.refresh_view()
 
     def journal_changed(self, message: str = "", correction: Correction | None = None) -> None:

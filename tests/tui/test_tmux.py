@@ -74,6 +74,25 @@ class Terminal:
         self.wait(lambda: text in self.screen(), f"never showed {text!r}", timeout)
 
 
+def acting_segment(session: Path, after: int = 0) -> int:
+    """The number (from 1) of the first segment after segment ``after`` where some hand acts: where `c` offers
+    verbs (for a hand holding nothing it refuses)."""
+    from wecook_core.workflows import analyse_session
+    from wecook_tui import review
+
+    analysis = analyse_session(session, write=False).analysis
+    segs = analysis.segmentation.segments
+    return next(i + 1 for i, s in enumerate(segs) if i >= after and review.actions_of(analysis, s, i))
+
+
+def go_to_segment(terminal: Terminal, number: int) -> None:
+    terminal.keys("g")
+    terminal.wait_text("Go to:")
+    terminal.keys("#", *str(number), "Enter")
+    terminal.wait(lambda: f"segment {number}/" in (screen := terminal.screen()) and "Go to:" not in screen,
+                  f"never went to segment {number}")
+
+
 @pytest.fixture
 def terminal(tmp_path: Path) -> Iterator[Terminal]:
     term = Terminal(f"wecook-test-{os.getpid()}-{tmp_path.name}", "wb")
@@ -94,6 +113,7 @@ def test_open_step_correct_export_in_a_real_terminal(session_path: Path, tmp_pat
     terminal.wait_ready()
     terminal.keys("l", "l", "l")
     terminal.wait_text("frame 3/")
+    go_to_segment(terminal, acting_segment(session_path))
     terminal.keys("c")
     terminal.wait_text("Action of")
     terminal.keys("Down", "Enter")
@@ -127,8 +147,7 @@ async def test_sigkill_mid_session_loses_nothing(session_path: Path, tmp_path: P
     terminal.wait_text("segment 2/")
     terminal.keys("x")
     terminal.wait(lambda: len(journal(session_path)) == 2, "reject was not journaled")
-    terminal.keys("Down")
-    terminal.wait_text("segment 3/")
+    go_to_segment(terminal, acting_segment(session_path, after=2))
     terminal.keys("c")
     terminal.wait_text("Action of")
     terminal.keys("Enter")
@@ -146,7 +165,7 @@ async def test_sigkill_mid_session_loses_nothing(session_path: Path, tmp_path: P
         assert app.corrections.status == {0: SegmentStatus.ACCEPTED, segs[1].start: SegmentStatus.REJECTED}
         assert app.corrections.verbs == {}
         await pilot.press("y")  # the undone verb change can still be redone after the crash
-        assert len(app.corrections.verbs) == 1
+        assert app.corrections.verbs and len(set(app.corrections.verbs.values())) == 1  # one change (its action)
 
 
 @pytest.mark.tmux
@@ -172,14 +191,20 @@ def test_correct_a_multi_segment_action_with_one_key_sequence_quit_reopen(sessio
     terminal.wait(lambda: len(journal(session_path)) == 1, "the split was not journaled")
     terminal.wait_settled()
     terminal.wait_text(f"segment {index + 2}/{len(segs) + 1}")
-    terminal.wait_text(f"hand {hand}")
+    for _ in range(4):  # the first acting hand is selected: t until it is this action's
+        if f"hand {hand} " in terminal.screen():
+            break
+        terminal.keys("t")
+        time.sleep(0.2)
+    terminal.wait_text(f"hand {hand} ")
     terminal.keys("c")
     terminal.wait_text("its whole action")
     terminal.keys("Down", "Enter")
     terminal.wait(lambda: len(journal(session_path)) == 2, "the verb change was not journaled")
     entry = journal(session_path)[-1]
-    assert entry["op"] == "set_verb" and (entry["segment"], entry["end"]) == (seg.start, seg.end)
-    terminal.wait_text("2 segments")  # the answer on the status line
+    assert entry["op"] == "set_verb" and entry["segment"] <= seg.start and entry["end"] >= seg.end
+    terminal.wait_text(f"✎ verb of {hand} -> {entry['verb']}")  # the answer on the status line
+    assert " segments" in terminal.screen()  # over the segments of the whole action
     terminal.wait_settled()
     terminal.keys("q")
     terminal.wait(lambda: not terminal.alive(), "wecook did not quit on q")

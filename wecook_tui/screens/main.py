@@ -162,7 +162,7 @@ class MainScreen(Screen[None]):
             f"  hand {self.selected_hand or '-'}",
             ("  ▶ playing" if self.playing else ""),
             ("  recomputing…" if wb.pending else ("  opening…" if wb.opened is None else ""), "bold yellow"),
-            (f"  {wb.last_message}" if wb.last_message else "", "italic"),
+            (f"  {wb.last_message}" if wb.last_message else "", "bold #ffb300"),
         )
         self.query_one(StatusLine).show(line)
 
