@@ -224,10 +224,13 @@ class WecookApp(App[None]):
 
         if isinstance(correction, Split | Merge):
             return ""
-        spread = covered(correction, self._segments())
-        end = f", {correction.end}" if correction.end is not None else ""
+        segments = self._segments()
+        spread = covered(correction, segments)
+        end = correction.end
+        if end is None:
+            end = next((s.end for s in segments or () if s.start == correction.segment), None)
         count = f", {len(spread)} segments" if len(spread) > 1 else ""
-        return f" at [{correction.segment}{end}){count}"
+        return f" at [{correction.segment}, {end}){count}" if end is not None else f" at frame {correction.segment}"
 
     def say(self, message: str) -> None:
         """The one-line answer to an edit, undo or redo, on the status line (a notice would cover it)."""

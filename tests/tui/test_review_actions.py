@@ -88,7 +88,7 @@ async def test_undo_and_redo_answer_and_jump_to_what_they_changed(session_path: 
         segs = app.analysis.segmentation.segments
         app.main.frame = segs[2].start
         await pilot.press("x")  # reject segment 3
-        assert app.last_message == f"✎ segment rejected at [{segs[2].start})"
+        assert app.last_message == f"✎ segment rejected at [{segs[2].start}, {segs[2].end})"
         app.main.frame = 0
         await pilot.press("z")
         assert app.last_message.startswith("Undone: segment rejected")

@@ -155,15 +155,18 @@ class MainScreen(Screen[None]):
                 index, len(self.segments()), seg, status, review.trees_of(wb.analysis, seg), assoc,
                 actions, self.selected_hand, wb.pending, rankings)
         fps = wb.fps
+        state = ("  ▶ playing" if self.playing else "",
+                 ("  recomputing…" if wb.pending else ("  opening…" if wb.opened is None else ""), "bold yellow"),
+                 (f"  {wb.last_message}" if wb.last_message else "", "bold #ffb300"))
         line = Text.assemble(
             (f" {wb.session_name} ", "bold reverse"),
             f"  frame {self.frame}/{max(0, self.frame_count - 1)} ({self.frame / fps:.2f} s)",
             f"  segment {index + 1}/{len(self.segments())}",
-            f"  hand {self.selected_hand or '-'}",
-            ("  ▶ playing" if self.playing else ""),
-            ("  recomputing…" if wb.pending else ("  opening…" if wb.opened is None else ""), "bold yellow"),
-            (f"  {wb.last_message}" if wb.last_message else "", "bold #ffb300"),
-        )
+            f"  hand {self.selected_hand or '-'}", *state)
+        if line.cell_len > self.size.width:  # a narrow terminal: the short form, so the answer still shows
+            line = Text.assemble(f" {self.frame}/{max(0, self.frame_count - 1)}",
+                                 f" seg {index + 1}/{len(self.segments())}", f" {self.selected_hand or '-'}",
+                                 *state)
         self.query_one(StatusLine).show(line)
 
     def watch_frame(self) -> None:
