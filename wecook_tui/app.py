@@ -15,7 +15,6 @@ from typing import TYPE_CHECKING, Any
 
 from textual import work
 from textual.app import App, SystemCommand
-from textual.binding import Binding
 from textual.reactive import var
 from textual.screen import Screen
 
@@ -23,6 +22,7 @@ from wecook_core.errors import InputError
 from wecook_core.session.journal import JournalChangedError
 from wecook_tui.keymap import LoadedKeymap, load_keymap
 from wecook_tui.messages import AnalysisFailed, AnalysisReady, FirstFramePainted, SessionFailed, SessionOpened
+from wecook_tui.screens.catalogue import binding_ids
 from wecook_tui.screens.help import HelpScreen
 from wecook_tui.screens.main import MAIN_BINDINGS, MainScreen
 from wecook_tui.search import SearchProvider
@@ -51,7 +51,7 @@ class WecookApp(App[None]):
         self.session_name = self.session_path.name
         self.opener = opener
         self.analyzer = analyzer
-        self.keys = keys if keys is not None else load_keymap(known_ids=_binding_ids())
+        self.keys = keys if keys is not None else load_keymap(known_ids=binding_ids())
         self.opened: Opened | None = None
         self.analysis: Analysis | None = None
         self.last_message = ""
@@ -182,6 +182,7 @@ class WecookApp(App[None]):
     def correct(self, correction: Correction) -> bool:
         """Journal one correction (fsynced before this returns), say what changed, show it, recompute."""
         from wecook_core.session.corrections import describe
+        from wecook_tui.edits import where
 
         if self.session is None:
             self.notify("The session is not open yet.", severity="warning")
@@ -191,7 +192,7 @@ class WecookApp(App[None]):
         except (InputError, ValueError, KeyError, OSError, JournalChangedError) as error:
             self.notify(f"Not recorded: {error}", severity="error", timeout=30)
             return False
-        self.journal_changed(f"✎ {describe(correction)}{self._where(correction)}", correction)
+        self.journal_changed(f"✎ {describe(correction)}{where(correction, self._segments())}", correction)
         return True
 
     def go_to(self, frame: int) -> None:
@@ -205,6 +206,7 @@ class WecookApp(App[None]):
 
     def _history(self, name: str) -> None:
         from wecook_core.session.corrections import describe
+        from wecook_tui.edits import where
 
         if self.session is None:
             return
@@ -217,20 +219,7 @@ class WecookApp(App[None]):
             self.say(f"Nothing to {name}.")
             return
         verb = "Undone" if name == "undo" else "Redone"
-        self.journal_changed(f"{verb}: {describe(changed)}{self._where(changed)}", changed)
-
-    def _where(self, correction: Correction) -> str:
-        from wecook_core.session.corrections import Merge, Split, covered
-
-        if isinstance(correction, Split | Merge):
-            return ""
-        segments = self._segments()
-        spread = covered(correction, segments)
-        end = correction.end
-        if end is None:
-            end = next((s.end for s in segments or () if s.start == correction.segment), None)
-        count = f", {len(spread)} segments" if len(spread) > 1 else ""
-        return f" at [{correction.segment}, {end}){count}" if end is not None else f" at frame {correction.segment}"
+        self.journal_changed(f"{verb}: {describe(changed)}{where(changed, self._segments())}", changed)
 
     def say(self, message: str) -> None:
         """The one-line answer to an edit, undo or redo, on the status line (a notice would cover it)."""
@@ -305,15 +294,9 @@ class WecookApp(App[None]):
     # -------------------------------------------------------------------------------- screens
 
     def open_help(self) -> None:
-        from wecook_tui.screens.links import LinkPickerScreen
-        from wecook_tui.screens.picker import PickerScreen
-        from wecook_tui.screens.plan_review import PLAN_BINDINGS
-        from wecook_tui.screens.run import RUN_BINDINGS
+        from wecook_tui.screens.catalogue import other_screens
 
-        more: dict[str, list[Binding]] = {"Plan review": PLAN_BINDINGS, "Run screen": RUN_BINDINGS,
-                "Pickers (enter chooses)": _bindings(PickerScreen.BINDINGS),
-                "Link picker (space toggles)": _bindings(LinkPickerScreen.BINDINGS)}
-        self.push_screen(HelpScreen(list(MAIN_BINDINGS), dict(self.keys.keymap), more))
+        self.push_screen(HelpScreen(list(MAIN_BINDINGS), dict(self.keys.keymap), other_screens()))
 
     def open_plan(self) -> None:
         if self.analysis is None:
@@ -352,18 +335,3 @@ def tune_gc() -> None:
     and with the default thresholds that triggers full (generation 2) collections of 50-130 ms every dozen
     steps: the p95 of key -> repaint fell from about 100 ms to about 30 ms with these (bench.workbench)."""
     gc.set_threshold(20_000, 50, 100)
-
-
-def _bindings(items: Iterable[object]) -> list[Binding]:
-    return [b for b in items if isinstance(b, Binding)]
-
-
-def _binding_ids() -> set[str]:
-    from wecook_tui.screens.links import LinkPickerScreen
-    from wecook_tui.screens.picker import PickerScreen
-    from wecook_tui.screens.plan_review import PLAN_BINDINGS
-    from wecook_tui.screens.run import RUN_BINDINGS
-
-    everything = (*MAIN_BINDINGS, *PLAN_BINDINGS, *RUN_BINDINGS, *PickerScreen.BINDINGS, *HelpScreen.BINDINGS,
-                  *LinkPickerScreen.BINDINGS)
-    return {b.id for b in everything if isinstance(b, Binding) and b.id}

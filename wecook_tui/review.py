@@ -2,7 +2,7 @@
 
 Pure functions of ``Observations`` and ``Analysis`` (no Textual here): which segment holds a frame, the lanes
 of the timeline, the inspector's facts, the overlay of the frame, the picker candidates, and the correction
-typed corrections (:mod:`wecook_core.session.corrections`) that ``Session.record`` journals.
+typed corrections that ``Session.record`` journals are built in :mod:`wecook_tui.edits`.
 """
 
 from __future__ import annotations
@@ -26,7 +26,6 @@ from wecook_core.model import (
     SegmentStatus,
     TreeSpan,
 )
-from wecook_core.session.corrections import Merge, SetHandObject, SetObjectObject, SetStatus, SetVerb, Split
 from wecook_tui.frames import BoxMark, HandMark, LinkMark, Overlay
 
 NOTHING = "-"
@@ -350,43 +349,3 @@ def segment_objects(assoc: Associations | None, action: Action | None, hand: str
             names.append(action.held)
         names.extend(action.targets)
     return tuple(dict.fromkeys(names))
-
-
-# ------------------------------------------------------------------------------------- corrections
-
-
-def span_of(span: tuple[int, int] | None, seg: Segment) -> tuple[int, int | None]:
-    """(segment, end) a correction records: the whole action's ``span``, or ``seg`` alone (end None)."""
-    if span is None:
-        return seg.start, None
-    return span
-
-
-def set_status(seg: Segment, status: SegmentStatus) -> SetStatus:
-    return SetStatus(seg.start, SegmentStatus(status))
-
-
-def set_verb(seg: Segment, hand: str, verb: str, span: tuple[int, int] | None = None) -> SetVerb:
-    """The verb of ``hand`` in ``seg``, or over the whole action's ``span`` when given."""
-    start, end = span_of(span, seg)
-    return SetVerb(start, hand, verb, end)
-
-
-def set_hand_object(seg: Segment, hand: str, name: str | None,
-                    span: tuple[int, int] | None = None) -> SetHandObject:
-    start, end = span_of(span, seg)
-    return SetHandObject(start, hand, name, end)
-
-
-def set_object_object(seg: Segment, held: str, targets: tuple[str, ...],
-                      span: tuple[int, int] | None = None) -> SetObjectObject:
-    start, end = span_of(span, seg)
-    return SetObjectObject(start, held, tuple(targets), end)
-
-
-def split(frame: int) -> Split:
-    return Split(frame)
-
-
-def merge(next_start: int) -> Merge:
-    return Merge(next_start)

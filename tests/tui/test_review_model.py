@@ -9,7 +9,7 @@ from tui_fake import fake_analyze, make_obs
 
 from wecook_core.model import Corrections, Segment, SegmentStatus
 from wecook_core.session.corrections import SetVerb
-from wecook_tui import review
+from wecook_tui import edits, review
 from wecook_tui.keymap import load_keymap
 
 SEGS = (Segment(0, 20), Segment(20, 40), Segment(40, 60))
@@ -70,10 +70,10 @@ def test_corrections_are_what_the_session_journals() -> None:
     from wecook_core.session.journal import check_correction
 
     action = (SEGS[0].start, SEGS[2].end)
-    records = [review.set_status(SEGS[1], SegmentStatus.ACCEPTED), review.set_verb(SEGS[0], "RH_P1", "peel"),
-               review.set_hand_object(SEGS[0], "LH_P1", None), review.set_hand_object(SEGS[0], "LH_P1", "bowl"),
-               review.set_object_object(SEGS[2], "knife", ("tomato",)), review.split(33), review.merge(40),
-               review.set_verb(SEGS[1], "RH_P1", "peel", action)]
+    records = [edits.set_status(SEGS[1], SegmentStatus.ACCEPTED), edits.set_verb(SEGS[0], "RH_P1", "peel"),
+               edits.set_hand_object(SEGS[0], "LH_P1", None), edits.set_hand_object(SEGS[0], "LH_P1", "bowl"),
+               edits.set_object_object(SEGS[2], "knife", ("tomato",)), edits.split(33), edits.merge(40),
+               edits.set_verb(SEGS[1], "RH_P1", "peel", action)]
     assert [check_correction(r)[0] for r in records] == [
         "set_status", "set_verb", "set_hand_object", "set_hand_object", "set_object_object", "split", "merge",
         "set_verb"]

@@ -14,7 +14,7 @@ from textual.timer import Timer
 from textual.widgets import Footer
 
 from wecook_core.model import VERBS, Segment, SegmentStatus
-from wecook_tui import review
+from wecook_tui import edits, review
 from wecook_tui.screens.links import LinkPickerScreen
 from wecook_tui.screens.picker import PickerScreen
 from wecook_tui.widgets.frame_view import FrameView
@@ -247,10 +247,10 @@ class MainScreen(Screen[None]):
     # ------------------------------------------------------------------------------ corrections
 
     def action_accept(self) -> None:
-        self.wb.correct(review.set_status(self.current()[1], SegmentStatus.ACCEPTED))
+        self.wb.correct(edits.set_status(self.current()[1], SegmentStatus.ACCEPTED))
 
     def action_reject(self) -> None:
-        self.wb.correct(review.set_status(self.current()[1], SegmentStatus.REJECTED))
+        self.wb.correct(edits.set_status(self.current()[1], SegmentStatus.REJECTED))
 
     def _hand_or_warn(self) -> str | None:
         if self.selected_hand is None:
@@ -294,7 +294,7 @@ class MainScreen(Screen[None]):
 
         def chosen(verb: str | None) -> None:
             if verb:
-                self.wb.correct(review.set_verb(seg, hand, verb, whole_action))
+                self.wb.correct(edits.set_verb(seg, hand, verb, whole_action))
 
         self.app.push_screen(PickerScreen(f"Action of {hand}, {where}", options, current), chosen)
 
@@ -313,7 +313,7 @@ class MainScreen(Screen[None]):
         def chosen(name: str | None) -> None:
             if name:
                 held = None if name == review.NOTHING else name
-                self.wb.correct(review.set_hand_object(seg, hand, held, whole_action))
+                self.wb.correct(edits.set_hand_object(seg, hand, held, whole_action))
 
         self.app.push_screen(PickerScreen(f"Object held by {hand}, {where}", options, current), chosen)
 
@@ -336,7 +336,7 @@ class MainScreen(Screen[None]):
 
         def chosen(new: tuple[str, ...] | None) -> None:
             if new is not None and new != tuple(targets):
-                self.wb.correct(review.set_object_object(seg, held, new, whole_action))
+                self.wb.correct(edits.set_object_object(seg, held, new, whole_action))
 
         self.app.push_screen(LinkPickerScreen(f"What {held} acts on, {where}", options, targets), chosen)
 
@@ -345,7 +345,7 @@ class MainScreen(Screen[None]):
         if self.frame <= seg.start:
             self.notify("Move the cursor inside the segment to split it.", severity="warning")
             return
-        self.wb.correct(review.split(self.frame))
+        self.wb.correct(edits.split(self.frame))
 
     def action_merge(self) -> None:
         segs = self.segments()
@@ -353,7 +353,7 @@ class MainScreen(Screen[None]):
         if index + 1 >= len(segs):
             self.notify("The last segment has no next segment to merge with.", severity="warning")
             return
-        self.wb.correct(review.merge(segs[index + 1].start))
+        self.wb.correct(edits.merge(segs[index + 1].start))
 
     def action_undo(self) -> None:
         self.wb.undo()
