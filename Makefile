@@ -29,7 +29,7 @@ test: $(STAMP)
 
 check: $(STAMP)
 	$(BIN)/ruff check wecook_core wecook_tui tests bench
-	$(BIN)/mypy wecook_core
+	$(BIN)/mypy wecook_core wecook_tui
 	$(BIN)/python -m pytest -q -n 2 --dist loadgroup
 
 bench: $(STAMP)

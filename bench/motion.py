@@ -4,7 +4,7 @@
   collision-free Panda configurations in the demo's scene, the other arm and the objects as obstacles;
   baseline: the pure-Python BiRRT on the same queries.
 - ``sim_speed_recording``: simulated seconds per wall second of the demo's plan
-  (:func:`wecook_core.export.demo_plan`, as ``wecook export demo`` writes it) while recording MCAP (target: at
+  (:func:`wecook_core.workflows.demo_plan`, as ``wecook export demo`` writes it) while recording MCAP (target: at
   least 5); baseline: the same run with an observer that drops everything.
 - ``demo_plan_done``: share of the demo plan's actions done over the run seeds :data:`DEMO_SEEDS`.
 - ``synthetic_plans_done``: share of the actions done over 10 synthetic two-arm plans

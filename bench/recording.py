@@ -4,7 +4,7 @@ and subscribed to every topic) and the steady camera at its default rate (``--ca
 against the bare run, and as simulated seconds per second of CPU (the execution speed target is 10x).
 
 With the real executor (``wecook_core.execution.executor.execute_plan``) on the demo's plan
-(:func:`wecook_core.export.demo_plan`, as ``wecook export demo`` writes it), the same plan and seed run twice
+(:func:`wecook_core.workflows.demo_plan`, as ``wecook export demo`` writes it), the same plan and seed run twice
 per repetition, interleaved: once with an observer that drops everything, once with :class:`McapRecorder`; the
 medians of the process CPU times are compared (the machine is shared: wall times are noisier), and the time
 spent inside the recorder's calls is reported too.

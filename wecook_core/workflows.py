@@ -1,12 +1,172 @@
-"""Exporting a session's plan: analyse the session (with its corrections) and lay the graph out as a plan."""
+"""The use cases, each written once: analyse a session, export its plan, the demo.
+
+The command line (``wecook analyze``, ``export``, ``demo``) and the workbench all call these, so the segments a
+person reviews are the ones exported: GGS always runs with :func:`segmentation_params` (``k_max`` raised to
+the video's length), and the journal's corrections are folded against the segmentation they apply to (span
+corrections cover every segment of their action).
+"""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from wecook_core.perception.pipeline import Analysis
+from wecook_core.errors import InputError
 from wecook_core.plan import DEFAULT_ROBOT, DEFAULT_TABLE, Plan, Table, plan_from_graph, validate, write_plan
+
+if TYPE_CHECKING:
+    from wecook_core.knowledge.recognize import Knowledge
+    from wecook_core.model import Observations, Scores, Segmentation
+    from wecook_core.perception.params import Params
+    from wecook_core.perception.pipeline import Analysis
+    from wecook_core.session.corrections import Correction
+    from wecook_core.session.store import Session
+
+
+# ------------------------------------------------------------------------------------------ analysis
+
+
+def segment(obs: Observations, params: Params) -> Segmentation:
+    """GGS's own segmentation of ``obs`` (before any split or merge), as every path computes it."""
+    from wecook_core.perception.pipeline import segmentation_params
+    from wecook_core.perception.segmentation import segment_hands
+
+    return segment_hands(obs, segmentation_params(obs, params))
+
+
+def analyse(obs: Observations, knowledge: Knowledge, params: Params, corrections: Sequence[Correction] = (), *,
+            segmentation: Segmentation | None = None, shots: Sequence[int] = ()) -> Analysis:
+    """Every stage with the typed ``corrections`` applied: splits and merges cut GGS's segmentation
+    (``segmentation``, computed by :func:`segment` when not given; corrections never change it), then the other
+    corrections are folded against the segments they cut."""
+    from wecook_core.perception.pipeline import analyze, apply_cuts
+    from wecook_core.session.corrections import fold
+
+    if segmentation is None:
+        segmentation = segment(obs, params)
+    cut = apply_cuts(segmentation, fold(corrections))
+    folded = fold(corrections, cut.segments)
+    return analyze(obs, knowledge, params, folded, segmentation=segmentation, shots=shots)
+
+
+@dataclass
+class Review:
+    """A session opened for review: what the workbench holds (observations None when they cannot be read)."""
+
+    session: Session
+    observations: Observations | None
+    knowledge: Knowledge | None
+    warnings: list[str] = field(default_factory=list)
+    video_problem: str | None = None
+    """What is wrong with the video when the boxes and hands are shown against the recorded facts."""
+    segmentation: Segmentation | None = None
+    """GGS's segmentation, computed by the first analysis and reused by the next ones."""
+
+    def analyse(self, corrections: Sequence[Correction] | None = None) -> Analysis:
+        """The analysis with ``corrections`` (default: the journal's, in effect now)."""
+        from wecook_core.knowledge.recognize import load_knowledge
+
+        if self.observations is None:
+            raise InputError(self.session.path, "the session's inputs cannot be read")
+        if self.segmentation is None:
+            self.segmentation = segment(self.observations, self.session.params)
+        knowledge = self.knowledge if self.knowledge is not None else load_knowledge()
+        applied = self.session.applied_corrections if corrections is None else corrections
+        return analyse(self.observations, knowledge, self.session.params, applied, segmentation=self.segmentation,
+                       shots=cached_shot_cuts(self.session.path, self.observations.video.path))
+
+
+def open_review(path: str | Path) -> Review:
+    """Open the session for review. Never fails on bad inputs (they are warnings): a video that does not open
+    gives the boxes and hands against its recorded facts; only a folder that is not a session is an InputError."""
+    from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.session.store import open_session
+
+    session = open_session(path)
+    review = Review(session, None, None, [str(w) for w in session.warnings])
+    try:
+        imported = session.import_observations(video_optional=True)
+        review.observations = imported.observations
+        if imported.video_problem:
+            review.video_problem = imported.video_problem
+            review.warnings.append(f"{imported.video_problem}: boxes and hands shown against the video facts "
+                                   "recorded in the session")
+    except (InputError, OSError) as error:
+        review.warnings.append(f"inputs cannot be read: {error}")
+    try:
+        review.knowledge = load_knowledge()
+    except InputError as error:
+        review.warnings.append(f"commonsense tables cannot be read ({error}); action picker unranked")
+    return review
+
+
+def write_results(session: Session, analysis: Analysis) -> None:
+    """Write the analysis' ``trees.yaml`` and ``graph.yaml`` into the session."""
+    from wecook_core.trees.graph import write_graph_file
+    from wecook_core.trees.treefile import write_tree_file
+
+    write_tree_file(session.trees_path, analysis.trees)
+    write_graph_file(session.graph_path, analysis.graph)
+
+
+SHOTS_FILE = "shots.json"
+"""The session's cache of its video's shot cuts (finding them decodes the whole video)."""
+
+
+def cached_shot_cuts(session: str | Path, video: str) -> tuple[int, ...]:
+    """The video's shot cuts, from ``session/shots.json`` when it was made from this very file (path, size
+    and modification time), else found (:func:`wecook_core.perception.shots.shot_cuts`) and written there.
+    A video that cannot be read has none."""
+    import contextlib
+    import json
+
+    from wecook_core.perception.shots import shot_cuts
+
+    source = Path(video)
+    if not source.is_file():
+        return ()
+    stat = source.stat()
+    key = {"video": str(source.resolve()), "size": stat.st_size, "mtime_ns": stat.st_mtime_ns}
+    cache = Path(session) / SHOTS_FILE
+    try:
+        data = json.loads(cache.read_text(encoding="utf-8"))
+        if {k: data.get(k) for k in key} == key and isinstance(data.get("cuts"), list):
+            return tuple(int(c) for c in data["cuts"])
+    except (OSError, ValueError, TypeError):
+        pass
+    cuts = shot_cuts(source)
+    with contextlib.suppress(OSError):  # a read-only session still analyses
+        cache.write_text(json.dumps({**key, "cuts": list(cuts)}) + "\n", encoding="utf-8")
+    return cuts
+
+
+@dataclass(frozen=True)
+class Analysed:
+    """A session analysed by :func:`analyse_session`."""
+
+    session: Session
+    observations: Observations
+    analysis: Analysis
+
+
+def analyse_session(path: str | Path, knowledge: Knowledge | None = None, *, write: bool = True) -> Analysed:
+    """Open the session at ``path``, import its inputs, analyse them with its corrections and (``write``) write
+    its trees and graph. Unreadable inputs raise :class:`InputError`."""
+    from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.session.store import open_session
+
+    session = open_session(path)
+    obs = session.load_observations()
+    analysis = analyse(obs, knowledge if knowledge is not None else load_knowledge(), session.params,
+                       session.applied_corrections, shots=cached_shot_cuts(session.path, obs.video.path))
+    if write:
+        write_results(session, analysis)
+    return Analysed(session, obs, analysis)
+
+
+# ---------------------------------------------------------------------------------------------- plans
 
 
 @dataclass(frozen=True)
@@ -18,41 +178,28 @@ class Exported:
     """The session's warnings (changed inputs, torn journal lines), to show the user."""
 
 
-@dataclass(frozen=True)
-class Analysed:
-    analysis: Analysis
-    trees_path: Path
-    graph_path: Path
+def plan_of(analysis: Analysis, obs: Observations, *, table: Table = DEFAULT_TABLE,
+            robot: str = DEFAULT_ROBOT) -> Plan:
+    """The robot plan of an analysis: its graph laid out on ``table``."""
+    return plan_from_graph(analysis.graph, obs, table=table, robot=robot)
 
 
-def analyze_session(session_path: str | Path) -> Analysed:
-    """Analyse the session at ``session_path`` with its corrections; write its trees and graph."""
-    from wecook_core.knowledge.recognize import load_knowledge
-    from wecook_core.perception.pipeline import analyze
-    from wecook_core.session.store import open_session
-    from wecook_core.trees.graph import write_graph_file
-    from wecook_core.trees.treefile import write_tree_file
-
-    session = open_session(session_path)
-    analysis = analyze(session.load_observations(), load_knowledge(), session.params, session.corrections)
-    write_tree_file(session.trees_path, analysis.trees)
-    write_graph_file(session.graph_path, analysis.graph)
-    return Analysed(analysis, session.trees_path, session.graph_path)
+def write_checked_plan(plan: Plan, path: str | Path, *, replace: bool = True) -> Path:
+    """Check ``plan`` (InputError naming ``path`` when invalid) and write it there atomically (its folder made if
+    missing; an existing file only when ``replace``)."""
+    path = Path(path)
+    validate(plan, path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return Path(write_plan(plan, path, replace=replace))
 
 
 def session_plan(session_path: str | Path, *, table: Table = DEFAULT_TABLE,
                  robot: str = DEFAULT_ROBOT) -> tuple[Plan, Path, tuple[str, ...]]:
     """The plan of the session at ``session_path``, analysed with its corrections (not validated), its
     ``plans/`` folder and its warnings. Unreadable inputs raise :class:`InputError`."""
-    from wecook_core.knowledge.recognize import load_knowledge
-    from wecook_core.perception.pipeline import analyze
-    from wecook_core.session.store import open_session
-
-    session = open_session(session_path)
-    obs = session.load_observations()
-    analysis = analyze(obs, load_knowledge(), session.params, session.corrections)
-    plan = plan_from_graph(analysis.graph, obs, table=table, robot=robot)
-    return plan, session.plans_dir, tuple(session.warnings)
+    done = analyse_session(session_path, write=False)
+    plan = plan_of(done.analysis, done.observations, table=table, robot=robot)
+    return plan, done.session.paths.plan.parent, tuple(done.session.warnings)
 
 
 def export_session_plan(session_path: str | Path, out: str | Path | None = None, *,
@@ -67,9 +214,7 @@ def export_session_plan(session_path: str | Path, out: str | Path | None = None,
     if out is not None:
         check_output(out, replace=replace, what="plan")  # before the analysis, not after
     plan, plans_dir, warnings = session_plan(session_path, table=table, robot=robot)
-    path = Path(out) if out is not None else plans_dir / "plan.yaml"
-    validate(plan, path)
-    write_plan(plan, path, replace=replace)
+    path = write_checked_plan(plan, Path(out) if out is not None else plans_dir / "plan.yaml", replace=replace)
     return Exported(plan, path, warnings)
 
 
@@ -78,10 +223,47 @@ def demo_plan(table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT) -> Plan:
     session: its observations analysed with the default parameters and no corrections, laid out on ``table``."""
     from wecook_core.knowledge.recognize import load_knowledge
     from wecook_core.observations.importer import load_observations
-    from wecook_core.perception.pipeline import analyze
+    from wecook_core.perception.params import Params
+    from wecook_core.perception.shots import shot_cuts
     from wecook_core.synth import demo_dir
 
     folder = demo_dir()
     obs = load_observations(folder / "video.mp4", folder / "objects.csv", folder / "hands.csv")
-    analysis = analyze(obs, load_knowledge())
-    return plan_from_graph(analysis.graph, obs, table=table, robot=robot)
+    analysis = analyse(obs, load_knowledge(), Params(), shots=shot_cuts(folder / "video.mp4"))
+    return plan_of(analysis, obs, table=table, robot=robot)
+
+
+# ----------------------------------------------------------------------------------------------- demo
+
+DEMO_NAME = "demo"
+
+
+def demo_session(root: str | Path | None = None) -> Path:
+    """The demo session under ``root`` (as :func:`sessions_root`), created from the bundled demo the first time."""
+    from wecook_core.session.store import SESSION_FILE, create_session, sessions_root
+    from wecook_core.synth import demo_dir
+
+    path = sessions_root(root) / DEMO_NAME
+    if (path / SESSION_FILE).is_file():
+        return path
+    assets = Path(demo_dir())
+    return Path(create_session(sessions_root(root), DEMO_NAME, assets / "video.mp4", assets / "objects.csv",
+                               assets / "hands.csv"))
+
+
+@dataclass(frozen=True)
+class DemoReport:
+    analysed: Analysed
+    scores: Scores
+    """The trees scored against the demo's truth."""
+
+
+def run_demo(root: str | Path | None = None) -> DemoReport:
+    """Make the demo session if missing, analyse it (writing its trees and graph) and score it against the truth."""
+    from wecook_core.perception.evaluation import evaluate
+    from wecook_core.synth import demo_dir
+    from wecook_core.trees.treefile import read_tree_file
+
+    analysed = analyse_session(demo_session(root))
+    scores = evaluate(analysed.analysis.trees, read_tree_file(Path(demo_dir()) / "truth.yaml"))
+    return DemoReport(analysed, scores)

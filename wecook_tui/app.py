@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import gc
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from functools import partial
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from textual import work
 from textual.app import App, SystemCommand
@@ -20,17 +20,26 @@ from textual.reactive import var
 from textual.screen import Screen
 
 from wecook_core.errors import InputError
+from wecook_core.session.journal import JournalChangedError
 from wecook_tui.keymap import LoadedKeymap, load_keymap
-from wecook_tui.messages import AnalysisFailed, AnalysisReady, SessionFailed, SessionOpened
+from wecook_tui.messages import AnalysisFailed, AnalysisReady, FirstFramePainted, SessionFailed, SessionOpened
+from wecook_tui.screens.catalogue import binding_ids
 from wecook_tui.screens.help import HelpScreen
 from wecook_tui.screens.main import MAIN_BINDINGS, MainScreen
+from wecook_tui.search import SearchProvider
 from wecook_tui.widgets.frame_view import FrameView
 from wecook_tui.workspace import Opened, analyze_workspace, open_workspace
+
+if TYPE_CHECKING:
+    from wecook_core.model import Corrections, Segment
+    from wecook_core.perception.pipeline import Analysis
+    from wecook_core.session.corrections import Correction
 
 
 class WecookApp(App[None]):
     CSS_PATH = "workbench.tcss"
     TITLE = "wecook"
+    COMMANDS = App.COMMANDS | {SearchProvider}
 
     BINDINGS: ClassVar = [Binding("B", "boxes", "Box mode", show=False, id="box-mode")]
 
@@ -39,15 +48,18 @@ class WecookApp(App[None]):
 
     def __init__(self, session_path: Path, *, keys: LoadedKeymap | None = None,
                  opener: Callable[[Path], Opened] = open_workspace,
-                 analyzer: Callable[[Opened, Any], Any] = analyze_workspace) -> None:
+                 analyzer: Callable[[Opened, Sequence[Correction]], Analysis] = analyze_workspace) -> None:
         super().__init__()
         self.session_path = Path(session_path)
         self.session_name = self.session_path.name
         self.opener = opener
         self.analyzer = analyzer
-        self.keys = keys if keys is not None else load_keymap(known_ids=_binding_ids())
+        self.keys = keys if keys is not None else load_keymap(known_ids=binding_ids())
         self.opened: Opened | None = None
-        self.analysis: Any = None
+        self.analysis: Analysis | None = None
+        self.last_message = ""
+        """The answer to the latest edit, undo or redo."""
+        self._folded: tuple[tuple[int, int], Corrections] | None = None
         self.generation = 0
         self._analysing = False
         """Bumped by every journal change; an analysis of an older generation is dropped."""
@@ -68,8 +80,27 @@ class WecookApp(App[None]):
         return self.opened.observations if self.opened else None
 
     @property
-    def corrections(self) -> Any:
-        return self.session.corrections if self.session is not None else None
+    def corrections(self) -> Corrections | None:
+        """The journal's corrections in effect, folded against the current segments (span corrections cover
+        each segment of their action), so statuses show at once, before the analysis returns."""
+        from wecook_core.session.corrections import fold
+
+        if self.session is None:
+            return None
+        key = (self.generation, id(self.analysis))
+        if self._folded is None or self._folded[0] != key:
+            self._folded = (key, fold(self.session.applied_corrections, self._segments()))
+        return self._folded[1]
+
+    def _segments(self) -> tuple[Segment, ...] | None:
+        """The segments the corrections in effect give: GGS's cut by the journal's splits and merges."""
+        from wecook_core.perception.pipeline import apply_cuts
+        from wecook_core.session.corrections import fold
+
+        ggs = self.opened.segmentation if self.opened is not None else None
+        if ggs is not None and self.session is not None:
+            return apply_cuts(ggs, fold(self.session.applied_corrections)).segments
+        return self.analysis.segmentation.segments if self.analysis is not None else None
 
     @property
     def frame_count(self) -> int:
@@ -90,6 +121,11 @@ class WecookApp(App[None]):
         from wecook_core.knowledge.recognize import rank
 
         return list(rank(knowledge, objects))
+
+    def watch_pending(self) -> None:
+        """Show and clear the "recomputing" state at once."""
+        if self.main.is_mounted:
+            self.main.refresh_view()
 
     # -------------------------------------------------------------------------------- opening
 
@@ -119,28 +155,51 @@ class WecookApp(App[None]):
             self.notify(warning, title="Session", severity="warning", timeout=30)
         obs = self.obs
         if obs is not None:
+            from wecook_tui.resume import load_position
+
             self.main.query_one(FrameView).set_source(self.opened.frames, (obs.video.width, obs.video.height))
-            self.recompute()
+            resume = load_position(self.session_path)
+            if resume is not None:
+                self.main.frame = min(resume, self.frame_count - 1)
+            frames = self.opened.frames if self.opened is not None else None
+            self.pending = True  # recomputing from the start: the first analysis is on its way
+            if frames is not None and frames.ok:
+                self.set_timer(1.0, self.recompute_once)  # in case no frame ever paints
+            else:
+                self.recompute_once()
         self.main.data_changed()
+
+    def on_first_frame_painted(self, message: FirstFramePainted) -> None:
+        self.recompute_once()
+
+    def recompute_once(self) -> None:
+        """The first analysis, started once the first frame is on screen (or at once without a video)."""
+        if self.analysis is None and not self._analysing:
+            self.recompute()
 
     def on_session_failed(self, message: SessionFailed) -> None:
         self.notify(message.error, title="Cannot open session", severity="error", timeout=60)
 
     # ---------------------------------------------------------------------------- corrections
 
-    def correct(self, record: dict) -> bool:
-        """Journal one correction (fsynced before this returns), show it, recompute the analysis."""
+    def correct(self, correction: Correction) -> bool:
+        """Journal one correction (fsynced before this returns), say what changed, show it, recompute."""
+        from wecook_core.session.corrections import describe
+        from wecook_tui.edits import where
+
         if self.session is None:
             self.notify("The session is not open yet.", severity="warning")
             return False
         try:
-            self.session.record(record)
-        except (InputError, ValueError, KeyError, OSError, RuntimeError) as error:
-            # RuntimeError: the session's SessionChangedError (another wecook wrote the journal)
+            self.session.record(correction)
+        except (InputError, ValueError, KeyError, OSError, JournalChangedError) as error:
             self.notify(f"Not recorded: {error}", severity="error", timeout=30)
             return False
-        self.journal_changed()
+        self.journal_changed(f"✎ {describe(correction)}{where(correction, self._segments())}", correction)
         return True
+
+    def go_to(self, frame: int) -> None:
+        self.main.frame = max(0, min(self.frame_count - 1, frame))
 
     def undo(self) -> None:
         self._history("undo")
@@ -149,22 +208,39 @@ class WecookApp(App[None]):
         self._history("redo")
 
     def _history(self, name: str) -> None:
+        from wecook_core.session.corrections import describe
+        from wecook_tui.edits import where
+
         if self.session is None:
             return
         try:
-            done = getattr(self.session, name)()
-        except (InputError, ValueError, IndexError, OSError, RuntimeError) as error:
+            changed = getattr(self.session, name)()
+        except (InputError, ValueError, IndexError, OSError, JournalChangedError) as error:
             self.notify(str(error), severity="warning")
             return
-        if done is False:
-            self.notify(f"Nothing to {name}.")
+        if not changed:
+            self.say(f"Nothing to {name}.")
             return
-        self.journal_changed()
+        verb = "Undone" if name == "undo" else "Redone"
+        self.journal_changed(f"{verb}: {describe(changed)}{where(changed, self._segments())}", changed)
 
-    def journal_changed(self) -> None:
+    def say(self, message: str) -> None:
+        """The one-line answer to an edit, undo or redo, on the status line (a notice would cover it)."""
+        self.last_message = message
+        self.main.refresh_view()
+
+    def journal_changed(self, message: str = "", correction: Correction | None = None) -> None:
+        """The journal moved on: show it at once (statuses), jump to what changed, recompute the analysis."""
+        from wecook_core.session.corrections import span_of
+
         self.generation += 1
+        self._folded = None
+        if correction is not None:
+            self.main.jump_to(span_of(correction))
         self.main.data_changed()
         self.recompute()
+        if message:
+            self.say(message)
 
     def recompute(self) -> None:
         """Analyse the latest corrections: at most one analysis runs; corrections made meanwhile are folded
@@ -175,7 +251,7 @@ class WecookApp(App[None]):
         if self._analysing:
             return
         self._analysing = True
-        self._analyze(self.generation, self.corrections)
+        self._analyze(self.generation, self.session.applied_corrections)
 
     def _analysed(self, generation: int) -> bool:
         """An analysis ended; start the next if the journal moved on. True if ``generation`` is current."""
@@ -187,7 +263,7 @@ class WecookApp(App[None]):
         return True
 
     @work(thread=True, group="analysis", exit_on_error=False)
-    def _analyze(self, generation: int, corrections: Any) -> None:
+    def _analyze(self, generation: int, corrections: tuple[Correction, ...]) -> None:
         assert self.opened is not None
         started = time.perf_counter()
         try:
@@ -204,14 +280,12 @@ class WecookApp(App[None]):
             self._write_results(message.analysis)
 
     @work(thread=True, exclusive=True, group="results", exit_on_error=False)
-    def _write_results(self, analysis: Any) -> None:
+    def _write_results(self, analysis: Analysis) -> None:
         """Keep the session's ``trees.yaml`` and ``graph.yaml`` in step with the corrections."""
-        from wecook_core.trees.graph import write_graph_file
-        from wecook_core.trees.treefile import write_tree_file
+        from wecook_core.workflows import write_results
 
         try:
-            write_tree_file(self.session.trees_path, analysis.trees)
-            write_graph_file(self.session.graph_path, analysis.graph)
+            write_results(self.session, analysis)
         except (OSError, AttributeError, ValueError) as error:
             self.call_from_thread(self.notify, f"Cannot write the analysis results: {error}", severity="warning")
 
@@ -223,23 +297,23 @@ class WecookApp(App[None]):
     # -------------------------------------------------------------------------------- screens
 
     def open_help(self) -> None:
-        from wecook_tui.screens.links import LinkPickerScreen
-        from wecook_tui.screens.picker import PickerScreen
-        from wecook_tui.screens.plan_review import PLAN_BINDINGS
-        from wecook_tui.screens.run import RUN_BINDINGS
+        from wecook_tui.screens.catalogue import other_screens
 
-        more = {"Plan review": PLAN_BINDINGS, "Run screen": RUN_BINDINGS,
-                "Pickers (enter chooses)": list(PickerScreen.BINDINGS),
-                "Link picker (space toggles)": list(LinkPickerScreen.BINDINGS)}
-        self.push_screen(HelpScreen(list(MAIN_BINDINGS), dict(self.keys.keymap), more))
+        self.push_screen(HelpScreen(list(MAIN_BINDINGS), dict(self.keys.keymap), other_screens()))
 
     def open_plan(self) -> None:
         if self.analysis is None:
             self.notify("The analysis is not ready yet.", severity="warning")
             return
-        from wecook_tui.screens.plan_review import PlanReviewScreen
+        from wecook_core.model import SegmentStatus
+        from wecook_tui.review import status_of
+        from wecook_tui.screens.plan_review import PlanReviewScreen, ReviewCounts
 
-        self.push_screen(PlanReviewScreen(self.analysis, self.obs, self.session_path))
+        segs = self.analysis.segmentation.segments
+        statuses = [status_of(self.corrections, s.start) for s in segs]
+        counts = ReviewCounts(len(segs), statuses.count(SegmentStatus.UNREVIEWED),
+                              statuses.count(SegmentStatus.REJECTED))
+        self.push_screen(PlanReviewScreen(self.analysis, self.obs, self.session_path, counts))
 
     def open_runs(self, start: bool) -> None:
         if start and self.analysis is None:
@@ -272,14 +346,3 @@ def tune_gc() -> None:
     and with the default thresholds that triggers full (generation 2) collections of 50-130 ms every dozen
     steps: the p95 of key -> repaint fell from about 100 ms to about 30 ms with these (bench.workbench)."""
     gc.set_threshold(20_000, 50, 100)
-
-
-def _binding_ids() -> set[str]:
-    from wecook_tui.screens.links import LinkPickerScreen
-    from wecook_tui.screens.picker import PickerScreen
-    from wecook_tui.screens.plan_review import PLAN_BINDINGS
-    from wecook_tui.screens.run import RUN_BINDINGS
-
-    everything = (*MAIN_BINDINGS, *PLAN_BINDINGS, *RUN_BINDINGS, *PickerScreen.BINDINGS, *HelpScreen.BINDINGS,
-                  *LinkPickerScreen.BINDINGS)
-    return {b.id for b in everything if isinstance(b, Binding) and b.id}

@@ -242,6 +242,14 @@ class Label:
     y: int
     text: str
     colour: tuple[int, int, int]
+    background: tuple[int, int, int] | None = None
+    """The cells' background; None: the image under the label."""
+
+
+def contrasting(rgb: tuple[int, int, int]) -> tuple[int, int, int]:
+    """Black or white, whichever reads better on ``rgb`` (by relative luminance)."""
+    r, g, b = rgb
+    return (0, 0, 0) if 0.2126 * r + 0.7152 * g + 0.0722 * b > 140 else (255, 255, 255)
 
 
 @dataclass
@@ -278,9 +286,10 @@ def draw(image: np.ndarray, overlay: Overlay, video_size: tuple[int, int]) -> Ca
     for mark in overlay.boxes:
         x1, y1, x2, y2 = mark.box
         cv2.rectangle(out, pt((x1, y1)), pt((x2, y2)), _bgr(mark.colour), 2 if mark.held else 1)
-        if overlay.labels:
+        if overlay.labels:  # a tag in the box colour, outside the box: above it, or below at the top edge
             cx, cy = pt((x1, y1))
-            labels.append(Label(max(0, cx), max(0, cy // 2), mark.name, mark.colour))
+            row = cy // 2 - 1 if cy // 2 >= 1 else pt((x2, y2))[1] // 2 + 1
+            labels.append(Label(max(0, cx), max(0, row), mark.name, contrasting(mark.colour), mark.colour))
     for link in overlay.links:
         cv2.line(out, pt(link.a), pt(link.b), _bgr(link.colour), 1)
     for hand in overlay.hands:
@@ -289,7 +298,7 @@ def draw(image: np.ndarray, overlay: Overlay, video_size: tuple[int, int]) -> Ca
         if hand.selected:
             cv2.circle(out, centre, 5, (255, 255, 255), 1)
         if overlay.labels:
-            labels.append(Label(max(0, centre[0] + 2), max(0, centre[1] // 2), hand.hand, hand.colour))
+            labels.append(Label(max(0, centre[0] + 2), max(0, centre[1] // 2), hand.hand, hand.colour, (0, 0, 0)))
     return Canvas(out, _spread(labels, width, height // 2))
 
 
@@ -304,7 +313,7 @@ def _spread(labels: list[Label], columns: int, rows: int) -> list[Label]:
         for row in (label.y, label.y + 1, label.y - 1, label.y + 2):
             if 0 <= row < max(rows, 1) and all(span[1] <= a or b <= span[0] for a, b in taken.get(row, [])):
                 taken.setdefault(row, []).append(span)
-                placed.append(Label(x, row, label.text, label.colour))
+                placed.append(Label(x, row, label.text, label.colour, label.background))
                 break
     return placed[::-1]
 
@@ -341,15 +350,19 @@ def _pair_style(key: int) -> Style:
 def _label_cells(labels: list[Label], bottom: list[int], width: int) -> dict[int, Segment]:
     cells: dict[int, Segment] = {}
     for label in labels:
-        fg = _colour(((label.colour[0] & _QUANT) << 16) | ((label.colour[1] & _QUANT) << 8)
-                     | (label.colour[2] & _QUANT))
+        fg = _colour(_pack(label.colour))
+        bg = _colour(_pack(label.background)) if label.background is not None else None
         for offset, char in enumerate(label.text[: max(0, width - label.x)]):
             x = label.x + offset
-            cells[x] = Segment(char, Style.from_color(fg, _colour(bottom[x])) + _BOLD)
+            cells[x] = Segment(char, Style.from_color(fg, bg or _colour(bottom[x])) + _BOLD)
     return cells
 
 
 _BOLD = Style(bold=True)
+
+
+def _pack(rgb: tuple[int, int, int]) -> int:
+    return ((rgb[0] & _QUANT) << 16) | ((rgb[1] & _QUANT) << 8) | (rgb[2] & _QUANT)
 
 
 def to_strips(canvas: Canvas) -> list[Strip]:

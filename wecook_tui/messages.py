@@ -17,7 +17,7 @@ class SessionOpened(Message):
     """The session, its observations, the commonsense tables and the video are open (``open`` worker)."""
 
     opened: Any
-    """A ``wecook_tui.app.Opened``: session, observations (None if unreadable), knowledge, frame source."""
+    """A ``wecook_tui.workspace.Opened``: session, observations (None if unreadable), knowledge, frame source."""
     warnings: tuple[str, ...] = ()
     """Problems to show in a notice: changed input, torn journal line, missing video, ..."""
 
@@ -31,7 +31,7 @@ class SessionFailed(Message):
 
 @dataclass
 class AnalysisReady(Message):
-    """``pipeline.analyze`` finished for the corrections of journal generation ``generation``."""
+    """The analysis (``workflows.analyse``) finished for the corrections of journal generation ``generation``."""
 
     analysis: Any
     generation: int
@@ -53,6 +53,12 @@ class FrameDecoded(Message):
 
 
 @dataclass
+class FirstFramePainted(Message):
+    """The frame view painted its first video frame (the app starts the analysis only then: it would hold
+    the interpreter while the first picture is drawn)."""
+
+
+@dataclass
 class PlanBuilt(Message):
     """``plan_from_graph`` finished (plan review screen)."""
 
@@ -70,9 +76,16 @@ class PlanExported(Message):
 
 @dataclass
 class RunOutput(Message):
-    """One line printed by the ``wecook execute`` subprocess."""
+    """One line of the ``wecook execute`` subprocess' messages (stderr), for the log."""
 
     line: str
+
+
+@dataclass
+class RunEvent(Message):
+    """One event of ``wecook execute --jsonl`` (a JSON object with ``kind``)."""
+
+    event: dict[str, Any]
 
 
 @dataclass

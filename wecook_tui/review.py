@@ -2,7 +2,7 @@
 
 Pure functions of ``Observations`` and ``Analysis`` (no Textual here): which segment holds a frame, the lanes
 of the timeline, the inspector's facts, the overlay of the frame, the picker candidates, and the correction
-records that ``Session.record`` journals.
+typed corrections that ``Session.record`` journals are built in :mod:`wecook_tui.edits`.
 """
 
 from __future__ import annotations
@@ -38,10 +38,11 @@ CATEGORY_COLOURS: Mapping[str, tuple[int, int, int]] = {
     "tool": (240, 240, 90), "container": (120, 230, 120), "ingredient": (240, 120, 220),
 }
 ACTION_COLOURS: Mapping[str, str] = {
-    "cut": "#d9534f", "peel": "#f0ad4e", "stir": "#5bc0de", "pour": "#428bca", "sprinkle": "#9b59b6",
-    "roll": "#8d6e63", "spread": "#e67e22", "squeeze": "#c0ca33", "wrap": "#26a69a", "dip": "#ec407a",
-    "transfer": "#7e57c2", "holding": "#2e7d32", "handover": "#00acc1", "grasp": "#607d8b",
+    "cut": "#e6194b", "peel": "#f58231", "stir": "#42d4f4", "pour": "#4363d8", "sprinkle": "#911eb4",
+    "roll": "#9a6324", "spread": "#ffe119", "squeeze": "#bfef45", "wrap": "#469990", "dip": "#f032e6",
+    "transfer": "#fabed4", "holding": "#3cb44b", "handover": "#aaffc3", "grasp": "#a9a9a9",
 }
+"""One colour per action, none alike (Trubetskoy's distinct colours)."""
 STATUS_GLYPHS: Mapping[SegmentStatus, tuple[str, str]] = {
     SegmentStatus.UNREVIEWED: ("·", "#808080"),
     SegmentStatus.ACCEPTED: ("✓", "#4caf50"),
@@ -81,11 +82,13 @@ def status_of(corrections: Corrections | None, start: int) -> SegmentStatus:
     return SegmentStatus.UNREVIEWED
 
 
-def next_unreviewed(segs: tuple[Segment, ...], corrections: Corrections | None, current: int) -> int | None:
-    """The first unreviewed segment after ``current``, wrapping around; None when all are reviewed."""
+def next_unreviewed(segs: tuple[Segment, ...], corrections: Corrections | None, current: int,
+                    direction: int = 1) -> int | None:
+    """The first unreviewed segment after ``current`` (before it: ``direction`` -1), wrapping around; None when
+    all are reviewed."""
     n = len(segs)
     for step in range(1, n + 1):
-        index = (current + step) % n
+        index = (current + direction * step) % n
         if status_of(corrections, segs[index].start) is SegmentStatus.UNREVIEWED:
             return index
     return None
@@ -126,6 +129,42 @@ def actions_of(analysis: object | None, seg: Segment, index: int = -1) -> dict[s
         if action.partner is not None:
             found.setdefault(action.partner.hand, action)
     return found
+
+
+def whole_action(analysis: object | None, seg: Segment, hand: str) -> Action | None:
+    """The merged action (a tree's span) ``hand`` takes part in during ``seg``: what a correction of the whole
+    action covers."""
+    if analysis is None:
+        return None
+    for action in analysis.actions:  # type: ignore[attr-defined]
+        hands = {action.hand, action.partner.hand if action.partner is not None else None}
+        if hand in hands and action.start < seg.end and seg.start < action.end:
+            return action
+    return None
+
+
+def verb_span(analysis: object | None, seg: Segment, hand: str) -> tuple[int, int] | None:
+    """The frames of the whole action whose segments carry ``hand``'s verb: from the first to the last segment of
+    its merged action where the hand's own action has a verb (reaching for a tool and putting it down have none,
+    and keep none). None when the hand has no verb in ``seg``."""
+    action = whole_action(analysis, seg, hand)
+    if action is None:
+        return None
+    segs = segments(analysis, 0)
+    run: list[Segment] = []
+    for index, other in enumerate(segs):
+        if not (other.start < action.end and action.start < other.end):
+            continue
+        own = actions_of(analysis, other, index).get(hand)
+        if own is not None and own.verb and own.kind not in (ActionKind.GRASP, ActionKind.HOLDING):
+            run.append(other)
+        elif seg in run:
+            break
+        else:
+            run = []
+    if seg not in run:
+        return None
+    return run[0].start, run[-1].end
 
 
 def ranking_of(analysis: object | None, seg: Segment, index: int, hand: str) -> tuple[tuple[str, float], ...]:
@@ -278,12 +317,13 @@ def overlay(obs: Observations | None, assoc: Associations | None, frame: int, se
         boxes.append(BoxMark(track.name, tuple(float(v) for v in box), colour, track.name in held))  # type: ignore[arg-type]
     hands = []
     hand_points: dict[str, tuple[float, float]] = {}
-    for track in obs.hands:
-        xy = hand_xy(obs, track.hand, frame)
+    for hand_track in obs.hands:
+        hand = hand_track.hand
+        xy = hand_xy(obs, hand, frame)
         if xy is None:
             continue
-        hand_points[track.hand] = xy
-        hands.append(HandMark(track.hand, xy, HAND_COLOURS.get(track.hand, (255, 255, 255)), track.hand == selected))
+        hand_points[hand] = xy
+        hands.append(HandMark(hand, xy, HAND_COLOURS.get(hand, (255, 255, 255)), hand == selected))
     links = []
     if assoc is not None:
         for hand, name in assoc.hand_object.items():
@@ -309,30 +349,3 @@ def segment_objects(assoc: Associations | None, action: Action | None, hand: str
             names.append(action.held)
         names.extend(action.targets)
     return tuple(dict.fromkeys(names))
-
-
-# ------------------------------------------------------------------------------------- corrections
-
-
-def set_status(seg: Segment, status: SegmentStatus) -> dict:
-    return {"op": "set_status", "segment": seg.start, "status": str(status)}
-
-
-def set_verb(seg: Segment, hand: str, verb: str) -> dict:
-    return {"op": "set_verb", "segment": seg.start, "hand": hand, "verb": verb}
-
-
-def set_hand_object(seg: Segment, hand: str, name: str | None) -> dict:
-    return {"op": "set_hand_object", "segment": seg.start, "hand": hand, "object": name}
-
-
-def set_object_object(seg: Segment, held: str, targets: tuple[str, ...]) -> dict:
-    return {"op": "set_object_object", "segment": seg.start, "object": held, "targets": list(targets)}
-
-
-def split(frame: int) -> dict:
-    return {"op": "split", "frame": frame}
-
-
-def merge(next_start: int) -> dict:
-    return {"op": "merge", "frame": next_start}

@@ -6,12 +6,16 @@ Opening never fails on a bad video: the boxes and hands are read without it (the
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from wecook_core.errors import InputError
 from wecook_tui.frames import FrameSource
+
+if TYPE_CHECKING:
+    from wecook_core.perception.pipeline import Analysis
+    from wecook_core.session.corrections import Correction
 
 
 @dataclass
@@ -19,7 +23,7 @@ class Opened:
     """What opening a session yields (the ``open`` worker's result)."""
 
     session: Any
-    """A ``wecook_core.session.Session``."""
+    """A ``wecook_core.session.store.Session``."""
     observations: Any
     """``Observations``; None when even the boxes and hands cannot be read."""
     knowledge: Any
@@ -31,38 +35,24 @@ class Opened:
 
 
 def open_workspace(path: Path) -> Opened:
-    """Open the session, read its observations and the commonsense tables, open the video."""
-    from wecook_core.knowledge.recognize import load_knowledge
-    from wecook_core.session.store import open_session
+    """Open the session for review (:func:`wecook_core.workflows.open_review`) and its video."""
+    from wecook_core.workflows import open_review
 
-    session = open_session(path)
-    warnings = [str(w) for w in getattr(session, "warnings", ())]
-    obs = None
-    try:
-        imported = session.import_observations(video_optional=True)
-        obs = imported.observations
-        if imported.video_problem:
-            warnings.append(f"{imported.video_problem}: boxes and hands shown against the video facts recorded "
-                            "in the session")
-    except (InputError, OSError) as error:
-        warnings.append(f"inputs cannot be read: {error}")
-    knowledge = None
-    try:
-        knowledge = load_knowledge()
-    except InputError as error:
-        warnings.append(f"commonsense tables cannot be read ({error}); action picker unranked")
+    review = open_review(path)
+    obs, warnings = review.observations, review.warnings
     frames = FrameSource(obs.video.path) if obs is not None else None
-    if frames is not None and frames.facts.error and not any(str(obs.video.path) in w for w in warnings):
+    if obs is not None and frames is not None and frames.facts.error and not any(str(obs.video.path) in w
+                                                                                  for w in warnings):
         warnings.append(f"{frames.facts.error}: boxes and hands are drawn on a blank frame")
-    return Opened(session, obs, knowledge, frames, warnings)
+    return Opened(review.session, obs, review.knowledge, frames, warnings)
 
 
-def analyze_workspace(opened: Opened, corrections: Any) -> Any:
-    """``pipeline.analyze`` with the corrections; GGS runs once per session (corrections never change it)."""
-    from wecook_core.perception.pipeline import analyze
-    from wecook_core.perception.segmentation import segment_hands
+def analyze_workspace(opened: Opened, corrections: Sequence[Correction]) -> Analysis:
+    """The analysis with the typed corrections (:func:`wecook_core.workflows.analyse`, the path `wecook analyze`
+    and `wecook export` take); GGS runs once per session (corrections never change it)."""
+    from wecook_core.workflows import analyse, segment
 
     if opened.segmentation is None:
-        opened.segmentation = segment_hands(opened.observations, opened.session.params)
-    return analyze(opened.observations, opened.knowledge, opened.session.params, corrections,
+        opened.segmentation = segment(opened.observations, opened.session.params)
+    return analyse(opened.observations, opened.knowledge, opened.session.params, corrections,
                    segmentation=opened.segmentation)

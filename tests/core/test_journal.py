@@ -192,3 +192,29 @@ def test_a_second_writer_is_refused(tmp_path: Path) -> None:
 def test_malformed_corrections_are_refused(correction: dict[str, object], message: str) -> None:
     with pytest.raises(ValueError, match=message):
         check_correction(correction)
+
+
+def test_typed_corrections_round_trip_and_span_corrections_cover_their_action(tmp_path: Path) -> None:
+    from wecook_core.model import Segment
+    from wecook_core.session.corrections import SetStatus, SetVerb, Split, fold, parse, to_record
+
+    path = tmp_path / "journal.jsonl"
+    old = [{"seq": 1, "time": "t", "op": "set_verb", "segment": 0, "hand": "RH_P1", "verb": "peel"},
+           {"seq": 2, "time": "t", "op": "set_status", "segment": 30, "status": "rejected"}]
+    path.write_text("".join(json.dumps(line) + "\n" for line in old))  # a journal from before typed corrections
+    journal = Journal(path)
+    assert journal.applied_corrections == (SetVerb(0, "RH_P1", "peel"), SetStatus(30, SegmentStatus.REJECTED))
+    whole = SetVerb(30, "LH_P1", "stir", end=90)
+    journal.record(whole)
+    journal.record(Split(45))
+    assert json.loads(path.read_text().splitlines()[2])["end"] == 90
+    again = Journal(path)
+    assert again.applied_corrections[-2:] == (whole, Split(45))
+    segments = (Segment(0, 30), Segment(30, 45), Segment(45, 60), Segment(60, 88), Segment(88, 100))
+    folded = fold(again.applied_corrections, segments)
+    assert {k: v for k, v in folded.verbs.items() if k[1] == "LH_P1"} == {
+        (30, "LH_P1"): "stir", (45, "LH_P1"): "stir", (60, "LH_P1"): "stir"}  # not [88, 100): 2 of its 12 frames
+    assert fold(again.applied_corrections).verbs[(30, "LH_P1")] == "stir"  # no segmentation: its first segment
+    assert all(parse(to_record(c)) == c for c in again.applied_corrections)
+    with pytest.raises(ValueError, match="end must be after segment"):
+        parse({"op": "set_verb", "segment": 30, "hand": "LH_P1", "verb": "stir", "end": 30})

@@ -245,7 +245,7 @@ def test_wecook_analyze_keeps_the_shot_cuts_of_a_session_video_until_the_video_c
     import cv2
     import numpy as np
 
-    from wecook_tui.commands.analyze import SHOTS_FILE, cached_shot_cuts
+    from wecook_core.workflows import SHOTS_FILE, cached_shot_cuts
 
     video = tmp_path / "v.mp4"
     writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"mp4v"), 10.0, (32, 32))

@@ -242,3 +242,39 @@ def test_a_cocovid_video_choice_is_recorded_and_used(tmp_path: Path, inputs: dic
     assert session.inputs["objects"].select == "second" and session.inputs["objects"].format == "cocovid"
     (track,) = session.load_observations().objects
     assert (track.name, track.frames.tolist()) == ("pan", [3])
+
+
+def test_opening_reads_the_cached_import_until_an_input_or_the_import_code_changes(
+        tmp_path: Path, inputs: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
+    import numpy as np
+
+    from wecook_core.session import store
+
+    path = create(tmp_path, inputs)
+    cache = path / "cache" / "observations.npz"
+    assert cache.is_file()  # made with the session
+    fresh = store.import_observations  # what a real import gives
+    calls = []
+    monkeypatch.setattr(store, "import_observations", lambda *a, **k: calls.append(1) or fresh(*a, **k))
+    cached = open_session(path).import_observations()
+    assert calls == []  # no import: the cache was read
+    again = open_session(path)
+    again._imported = None
+    cache.rename(cache.with_suffix(".off"))
+    imported = again.import_observations()
+    assert calls == [1]
+    for a, b in zip(cached.observations.objects, imported.observations.objects, strict=True):
+        assert (a.name, a.label, a.track_id) == (b.name, b.label, b.track_id)
+        assert np.array_equal(a.frames, b.frames) and np.array_equal(a.boxes, b.boxes)
+    for a, b in zip(cached.observations.hands, imported.observations.hands, strict=True):
+        assert a.hand == b.hand and np.array_equal(a.xy, b.xy) and np.array_equal(a.frames, b.frames)
+    assert cached.observations.video == imported.observations.video
+    assert cached.observations.categories == imported.observations.categories
+    assert cached.warnings == imported.warnings and cached.missing == imported.missing
+    assert cache.is_file()  # written again by that import
+    os.utime(inputs["objects"], ns=(1, 1))  # an input touched: the cache is stale
+    open_session(path).import_observations()
+    assert calls == [1, 1]
+    cache.write_bytes(b"not a cache")  # unreadable: imported again, never an error
+    open_session(path).import_observations()
+    assert calls == [1, 1, 1]

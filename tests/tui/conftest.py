@@ -17,7 +17,7 @@ def session_path(request: pytest.FixtureRequest, tmp_path: Path, scenario_inputs
     """A fresh session (real `create_session`): the small kitchen scenario, or the bundled demo
     (`wecook demo`'s own code path, two persons, 1459 frames, every tree case)."""
     from wecook_core.session.store import create_session
-    from wecook_tui.commands.workbench import demo_session
+    from wecook_core.workflows import demo_session
 
     if request.param == "demo":
         return demo_session(tmp_path / "sessions")

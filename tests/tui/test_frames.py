@@ -155,3 +155,29 @@ def test_overlapping_labels_move_to_a_free_row() -> None:
     assert rows["bowl"][1] != rows["board"][1] or abs(rows["bowl"][0] - rows["board"][0]) > 5
     cells = [(label.y, x) for label in labels for x in range(label.x, label.x + len(label.text))]
     assert len(cells) == len(set(cells))  # no two labels share a cell
+
+
+def test_box_labels_sit_outside_the_box_in_a_contrasting_colour() -> None:
+    from wecook_tui.frames import contrasting
+
+    image = np.zeros((40, 80, 3), np.uint8)
+    overlay = Overlay(boxes=(BoxMark("onion", (100, 100, 300, 300), (240, 240, 90)),
+                             BoxMark("jar", (400, 0, 600, 150), (40, 40, 160))))
+    labels = {label.text: label for label in draw(image, overlay, (800, 400)).labels}
+    onion, jar = labels["onion"], labels["jar"]
+    assert onion.y < 100 / 10 // 2 and onion.background == (240, 240, 90) and onion.colour == (0, 0, 0)
+    assert jar.y > 150 / 10 // 2 and jar.colour == (255, 255, 255)  # at the frame's top edge: below the box
+    assert contrasting((255, 255, 255)) == (0, 0, 0) and contrasting((0, 0, 80)) == (255, 255, 255)
+    strips = to_strips(draw(image, overlay, (800, 400)))
+    cell = next(seg for seg in strips[onion.y] if seg.text == "o")
+    assert cell.style.bgcolor.triplet == (240 & 0xF8, 240 & 0xF8, 90 & 0xF8)  # the tag, not the picture
+
+
+def test_action_colours_are_distinct() -> None:
+    import itertools
+
+    from wecook_tui.review import ACTION_COLOURS
+
+    rgb = {verb: tuple(int(code[i:i + 2], 16) for i in (1, 3, 5)) for verb, code in ACTION_COLOURS.items()}
+    for (a, ca), (b, cb) in itertools.combinations(rgb.items(), 2):
+        assert sum((x - y) ** 2 for x, y in zip(ca, cb, strict=True)) ** 0.5 > 60, (a, b)

@@ -11,28 +11,45 @@ from tui_driving import pilot_test, settle, wait_for
 
 from wecook_tui.app import WecookApp
 from wecook_tui.screens.plan_review import PlanReviewScreen, plan_file
-from wecook_tui.screens.run import RunScreen, action_state, past_runs
+from wecook_tui.screens.run import RunScreen, apply_event, past_runs
 
 SIZE = (150, 45)
 
 FAKE_EXECUTE = r"""
-import sys, yaml
-plan, mcap = sys.argv[1], sys.argv[2]
+import json, signal, sys, time, yaml
+plan, mcap, mode = sys.argv[1], sys.argv[2], sys.argv[3]
 actions = yaml.safe_load(open(plan))["actions"]
-print(f"run started: {len(actions)} actions, seed 0", flush=True)
+def say(**event):
+    print(json.dumps(event), flush=True)
+say(t=0.0, kind="run_start", actions=len(actions), seed=0)
+print("a message on stderr, not an event", file=sys.stderr, flush=True)
+if mode == "hang":
+    def stop(signum, frame):
+        say(t=1.0, kind="action_failed", action_id=actions[0]["id"], agent="P1", detail="interrupted")
+        print("wecook: interrupted", file=sys.stderr, flush=True)
+        sys.exit(130)
+    signal.signal(signal.SIGTERM, stop)
+    say(t=0.5, kind="action_start", action_id=actions[0]["id"], agent="P1")
+    time.sleep(60)
 for i, a in enumerate(actions):
-    print(f"[{i:7.2f}s] {a['id']} P1 {a['verb']}: started", flush=True)
-    mark = "done" if i == 0 else "FAILED: no grasp found"
-    print(f"[{i + 0.5:7.2f}s] {a['id']} P1 {a['verb']}: {mark}", flush=True)
+    say(t=float(i), kind="action_start", action_id=a["id"], agent="P1", primitive=None, detail="")
+    if i == 0:
+        say(t=i + 0.5, kind="action_end", action_id=a["id"], agent="P1", primitive=None, detail="")
+    else:
+        say(t=i + 0.5, kind="action_failed", action_id=a["id"], agent="P1", primitive=None,
+            detail="failed: no grasp found")
 open(mcap, "wb").write(b"\x89MCAP0\r\n")
-print(f"recording: {mcap}")
-print(f"1/{len(actions)} actions done in 2.0 s simulated, 0.1 s wall")
+print(f"recording: {mcap}", file=sys.stderr)
 sys.exit(1)
 """
 
 
 def fake_execute(plan: Path, mcap: Path) -> list[str]:
-    return [sys.executable, "-c", FAKE_EXECUTE, str(plan), str(mcap)]
+    return [sys.executable, "-c", FAKE_EXECUTE, str(plan), str(mcap), "run"]
+
+
+def hanging_execute(plan: Path, mcap: Path) -> list[str]:
+    return [sys.executable, "-c", FAKE_EXECUTE, str(plan), str(mcap), "hang"]
 
 
 @pilot_test
@@ -48,6 +65,12 @@ async def test_plan_review_and_export(session_path: Path) -> None:
         ids = [a.id for a in screen.plan.actions]
         assert ids and set(ids) <= set(nodes)  # grasp-only nodes are not robot actions
         assert all(a.frames == (nodes[a.id].span.start, nodes[a.id].span.end) for a in screen.plan.actions)
+        segs = app.analysis.segmentation.segments
+        assert screen.review.unreviewed == screen.review.segments == len(segs)
+        assert f"{len(segs)} of {len(segs)} segments unreviewed" in str(screen.query_one("#plan-review").render())
+        await pilot.press("w")  # asks first: nothing is reviewed
+        await pilot.pause(0.2)
+        assert screen.exported is None and "still unreviewed" in str(screen.query_one("#plan-status").render())
         await pilot.press("w")
         assert await wait_for(pilot, lambda: screen.exported is not None)
         assert screen.exported == plan_file(session_path)
@@ -73,6 +96,8 @@ async def test_export_follows_corrections(session_path: Path) -> None:
         await pilot.press("e")
         screen = app.screen
         assert isinstance(screen, PlanReviewScreen)
+        assert screen.review.rejected == len(inside)
+        assert screen.review.unreviewed == len(segs) - len(inside)
         assert await wait_for(pilot, lambda: screen.plan is not None)
         assert not [a for a in screen.plan.actions if a.frames and a.frames[0] < end and start < a.frames[1]]
 
@@ -104,14 +129,61 @@ async def test_run_screen_shows_progress_summary_and_past_runs(session_path: Pat
         assert runs[0]["returncode"] == 1
 
 
-def test_action_state_parses_the_execute_line_format() -> None:
-    ids = {"a1", "a12"}
-    assert action_state("[   1.20s] a12 P1 cut: started", ids) == ("a12", "running")
-    assert action_state("[   2.00s] a1 P1,P2 handover: done", ids) == ("a1", "done")
-    assert action_state("[   2.00s] a1 P1 cut: FAILED: no IK solution", ids) == ("a1", "failed")
-    assert action_state("a1\tP1\tcut\tdone\t", ids) == ("a1", "done")
-    skipped = "[  10.33s] a12 P2,P1 holding: skipped: needs a1 (cut), which failed"
-    assert action_state(skipped, ids) == ("a12", "skipped")
-    assert action_state("a1\tP1\ttransfer\tskipped\tneeds a12 (transfer), which failed", ids) == ("a1", "skipped")
-    assert action_state("recording: runs/a1.mcap", set()) is None
-    assert action_state("[   2.00s] a3 P1 cut: done", ids) is None  # not an action of this plan
+def test_run_events_fold_into_action_states() -> None:
+    states = {"a1": "waiting", "a2": "waiting", "a3": "waiting"}
+    assert apply_event(states, {"kind": "action_start", "action_id": "a1"}) == "a1"
+    assert states["a1"] == "running"
+    apply_event(states, {"kind": "action_failed", "action_id": "a1", "detail": "no IK"})
+    apply_event(states, {"kind": "action_failed", "action_id": "a2", "detail": "skipped: needs a1"})
+    apply_event(states, {"kind": "action_start", "action_id": "a3"})
+    apply_event(states, {"kind": "action_failed", "action_id": "a3", "detail": "interrupted"})
+    assert states == {"a1": "failed", "a2": "skipped", "a3": "stopped"}
+    assert apply_event(states, {"kind": "action_start", "action_id": "a9"}) is None  # not of this plan
+    apply_event(states, {"kind": "summary", "actions": [{"id": "a1", "status": "done"}]})
+    assert states["a1"] == "done"
+
+
+@pilot_test
+async def test_stopping_a_run_is_clean_and_says_stopped(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    app.run_command = hanging_execute
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        await pilot.press("r")
+        screen = app.screen
+        assert isinstance(screen, RunScreen)
+        assert await wait_for(pilot, lambda: "running" in screen.states.values())
+        await pilot.press("ctrl+k")
+        assert await wait_for(pilot, lambda: screen.result is not None)
+        assert screen.result.returncode == 130
+        assert "stopped" in screen.states.values() and "failed" not in screen.states.values()
+        summary = str(screen.query_one("#run-summary").render())
+        assert summary.startswith("Run stopped")
+        log = "\n".join(str(line.text) for line in screen.query_one("#run-log").lines)
+        assert "Traceback" not in log and "Run stopped." in log
+
+
+@pilot_test
+async def test_past_runs_show_their_table_and_log_and_enter_opens_one(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    app.run_command = fake_execute
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        for _ in range(2):
+            await pilot.press("r")
+            screen = app.screen
+            assert await wait_for(pilot, lambda screen=screen: screen.result is not None)
+            await pilot.press("escape")
+            await pilot.pause(1.05)  # run names are stamped to the second
+        await pilot.press("R")
+        listing = app.screen
+        assert isinstance(listing, RunScreen) and listing.analysis is None
+        runs = past_runs(session_path)
+        assert len(runs) == 2 and listing.shown_run == runs[0]["name"]  # the newest, at once
+        table = listing.query_one("#run-actions")
+        assert table.row_count == len(runs[0]["actions"]) > 0
+        assert not listing.query_one("#run-progress").display  # no bar animating without a run
+        await pilot.press("down", "enter")
+        assert listing.shown_run == runs[1]["name"]
+        log = "\n".join(str(line.text) for line in listing.query_one("#run-log").lines)
+        assert "run started" in log and "stderr" in log

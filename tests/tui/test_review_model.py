@@ -8,7 +8,8 @@ import numpy as np
 from tui_fake import fake_analyze, make_obs
 
 from wecook_core.model import Corrections, Segment, SegmentStatus
-from wecook_tui import review
+from wecook_core.session.corrections import SetVerb
+from wecook_tui import edits, review
 from wecook_tui.keymap import load_keymap
 
 SEGS = (Segment(0, 20), Segment(20, 40), Segment(40, 60))
@@ -52,7 +53,7 @@ def test_link_candidates_never_tools_nor_the_held_object(tmp_path: Path) -> None
 
 def test_lanes_and_overlay_follow_the_analysis(tmp_path: Path) -> None:
     obs = make_obs(tmp_path / "v.mp4")
-    analysis = fake_analyze(obs, Corrections(verbs={(20, "RH_P1"): "peel"}))
+    analysis = fake_analyze(obs, [SetVerb(20, "RH_P1", "peel")])
     lanes = review.lanes(analysis, ("LH_P1", "RH_P1"), 60)
     assert lanes[0].spans == ((0, 20, None), (20, 40, None), (40, 60, None))
     assert [label for _, _, label in lanes[1].spans] == ["cut", "peel", "cut"]
@@ -65,13 +66,21 @@ def test_lanes_and_overlay_follow_the_analysis(tmp_path: Path) -> None:
 
 
 def test_corrections_are_what_the_session_journals() -> None:
+    from wecook_core.session.corrections import parse, to_record
     from wecook_core.session.journal import check_correction
 
-    records = [review.set_status(SEGS[1], SegmentStatus.ACCEPTED), review.set_verb(SEGS[0], "RH_P1", "peel"),
-               review.set_hand_object(SEGS[0], "LH_P1", None), review.set_hand_object(SEGS[0], "LH_P1", "bowl"),
-               review.set_object_object(SEGS[2], "knife", ("tomato",)), review.split(33), review.merge(40)]
+    action = (SEGS[0].start, SEGS[2].end)
+    records = [edits.set_status(SEGS[1], SegmentStatus.ACCEPTED), edits.set_verb(SEGS[0], "RH_P1", "peel"),
+               edits.set_hand_object(SEGS[0], "LH_P1", None), edits.set_hand_object(SEGS[0], "LH_P1", "bowl"),
+               edits.set_object_object(SEGS[2], "knife", ("tomato",)), edits.split(33), edits.merge(40),
+               edits.set_verb(SEGS[1], "RH_P1", "peel", action)]
     assert [check_correction(r)[0] for r in records] == [
-        "set_status", "set_verb", "set_hand_object", "set_hand_object", "set_object_object", "split", "merge"]
+        "set_status", "set_verb", "set_hand_object", "set_hand_object", "set_object_object", "split", "merge",
+        "set_verb"]
+    assert all(parse(to_record(r)) == r for r in records)  # what the journal stores reads back the same
+    whole = records[-1]
+    assert (whole.segment, whole.end) == (SEGS[0].start, SEGS[2].end)  # the whole action's span
+    assert records[1].end is None  # this segment only
 
 
 def test_key_file(tmp_path: Path) -> None:

@@ -14,6 +14,8 @@ from tui_fake import fake_workspace
 from wecook_tui.app import WecookApp
 
 SIZE = (140, 42)
+SIZES = [pytest.param((80, 24), id="80x24"), pytest.param((200, 55), id="200x55")]
+"""The smallest terminal the workbench supports and a large one: nothing needed is cut at either."""
 
 
 @pytest.fixture
@@ -33,12 +35,15 @@ def ready(app: WecookApp):  # type: ignore[no-untyped-def]
     return run_before
 
 
-def test_main_screen(snap_compare, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+@pytest.mark.parametrize("size", SIZES)
+def test_main_screen(snap_compare, tmp_path: Path, size: tuple[int, int]) -> None:  # type: ignore[no-untyped-def]
     app = fake_app(tmp_path)
-    assert snap_compare(app, terminal_size=SIZE, run_before=ready(app))
+    assert snap_compare(app, terminal_size=size, run_before=ready(app))
 
 
-def test_main_screen_after_review(snap_compare, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+@pytest.mark.parametrize("size", SIZES)
+def test_main_screen_after_review(snap_compare, tmp_path: Path,  # type: ignore[no-untyped-def]
+                                  size: tuple[int, int]) -> None:
     app = fake_app(tmp_path)
 
     async def run_before(pilot) -> None:  # type: ignore[no-untyped-def]
@@ -46,17 +51,19 @@ def test_main_screen_after_review(snap_compare, tmp_path: Path) -> None:  # type
         await pilot.press("a", "down", "x", "down", "L", "L")
         await settle(pilot, app)
 
-    assert snap_compare(app, terminal_size=SIZE, run_before=run_before)
+    assert snap_compare(app, terminal_size=size, run_before=run_before)
 
 
-def test_help_screen(snap_compare, tmp_path: Path, fixed_key_path: None) -> None:  # type: ignore[no-untyped-def]
+@pytest.mark.parametrize("size", SIZES)
+def test_help_screen(snap_compare, tmp_path: Path, fixed_key_path: None,  # type: ignore[no-untyped-def]
+                     size: tuple[int, int]) -> None:
     app = fake_app(tmp_path)
 
     async def run_before(pilot) -> None:  # type: ignore[no-untyped-def]
         await settle(pilot, app)
         await pilot.press("question_mark")
 
-    assert snap_compare(app, terminal_size=SIZE, run_before=run_before)
+    assert snap_compare(app, terminal_size=size, run_before=run_before)
 
 
 def test_action_picker(snap_compare, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]

@@ -65,8 +65,32 @@ class Terminal:
         self.wait(lambda: "segment 1/" in (screen := self.screen()) and "opening" not in screen
                   and "recomputing" not in screen, "the workbench never became ready")
 
+    def wait_settled(self) -> None:
+        """Until the analysis matches the journal (the status bar no longer says recomputing)."""
+        self.wait(lambda: "segment " in (screen := self.screen()) and "opening" not in screen
+                  and "recomputing" not in screen, "the workbench never settled")
+
     def wait_text(self, text: str, timeout: float = 30.0) -> None:
         self.wait(lambda: text in self.screen(), f"never showed {text!r}", timeout)
+
+
+def acting_segment(session: Path, after: int = 0) -> int:
+    """The number (from 1) of the first segment after segment ``after`` where some hand acts: where `c` offers
+    verbs (for a hand holding nothing it refuses)."""
+    from wecook_core.workflows import analyse_session
+    from wecook_tui import review
+
+    analysis = analyse_session(session, write=False).analysis
+    segs = analysis.segmentation.segments
+    return next(i + 1 for i, s in enumerate(segs) if i >= after and review.actions_of(analysis, s, i))
+
+
+def go_to_segment(terminal: Terminal, number: int) -> None:
+    terminal.keys("g")
+    terminal.wait_text("Go to:")
+    terminal.keys("#", *str(number), "Enter")
+    terminal.wait(lambda: f"segment {number}/" in (screen := terminal.screen()) and "Go to:" not in screen,
+                  f"never went to segment {number}")
 
 
 @pytest.fixture
@@ -89,6 +113,7 @@ def test_open_step_correct_export_in_a_real_terminal(session_path: Path, tmp_pat
     terminal.wait_ready()
     terminal.keys("l", "l", "l")
     terminal.wait_text("frame 3/")
+    go_to_segment(terminal, acting_segment(session_path))
     terminal.keys("c")
     terminal.wait_text("Action of")
     terminal.keys("Down", "Enter")
@@ -100,6 +125,8 @@ def test_open_step_correct_export_in_a_real_terminal(session_path: Path, tmp_pat
     terminal.wait_text("✓ accepted")
     terminal.keys("e")
     terminal.wait_text("Press w to write")
+    terminal.keys("w")
+    terminal.wait_text("still unreviewed")  # asks first
     terminal.keys("w")
     terminal.wait_text("Plan written to")
     assert (session_path / "plans" / "plan.yaml").is_file()
@@ -120,8 +147,7 @@ async def test_sigkill_mid_session_loses_nothing(session_path: Path, tmp_path: P
     terminal.wait_text("segment 2/")
     terminal.keys("x")
     terminal.wait(lambda: len(journal(session_path)) == 2, "reject was not journaled")
-    terminal.keys("Down")
-    terminal.wait_text("segment 3/")
+    go_to_segment(terminal, acting_segment(session_path, after=2))
     terminal.keys("c")
     terminal.wait_text("Action of")
     terminal.keys("Enter")
@@ -139,4 +165,57 @@ async def test_sigkill_mid_session_loses_nothing(session_path: Path, tmp_path: P
         assert app.corrections.status == {0: SegmentStatus.ACCEPTED, segs[1].start: SegmentStatus.REJECTED}
         assert app.corrections.verbs == {}
         await pilot.press("y")  # the undone verb change can still be redone after the crash
-        assert len(app.corrections.verbs) == 1
+        assert app.corrections.verbs and len(set(app.corrections.verbs.values())) == 1  # one change (its action)
+
+
+@pytest.mark.tmux
+def test_correct_a_multi_segment_action_with_one_key_sequence_quit_reopen(session_path: Path, tmp_path: Path,
+                                                                        terminal: Terminal) -> None:
+    """Open, split an action so it spans two segments, change its verb once (c, a verb, enter), quit, reopen:
+    the change covers both segments, and the workbench resumes where it was."""
+    from wecook_core.workflows import analyse_session
+    from wecook_tui import review
+
+    analysis = analyse_session(session_path, write=False).analysis
+    segs = analysis.segmentation.segments
+    index, seg, hand = next((i, s, h) for i, s in enumerate(segs) for h, a in
+                            review.actions_of(analysis, s, i).items() if a.verb and a.kind == "tool" and len(s) > 4)
+    terminal.start(open_command(session_path, tmp_path))
+    terminal.wait_ready()
+    middle = seg.start + len(seg) // 2
+    terminal.keys("g")
+    terminal.wait_text("Go to:")
+    terminal.keys(*str(middle), "Enter")
+    terminal.wait_text(f"frame {middle}/")
+    terminal.keys("s")  # split the action's segment in two
+    terminal.wait(lambda: len(journal(session_path)) == 1, "the split was not journaled")
+    terminal.wait_settled()
+    terminal.wait_text(f"segment {index + 2}/{len(segs) + 1}")
+    for _ in range(4):  # the first acting hand is selected: t until it is this action's
+        if f"hand {hand} " in terminal.screen():
+            break
+        terminal.keys("t")
+        time.sleep(0.2)
+    terminal.wait_text(f"hand {hand} ")
+    terminal.keys("c")
+    terminal.wait_text("its whole action")
+    terminal.keys("Down", "Enter")
+    terminal.wait(lambda: len(journal(session_path)) == 2, "the verb change was not journaled")
+    entry = journal(session_path)[-1]
+    assert entry["op"] == "set_verb" and entry["segment"] <= seg.start and entry["end"] >= seg.end
+    terminal.wait_text(f"✎ verb of {hand} -> {entry['verb']}")  # the answer on the status line
+    assert " segments" in terminal.screen()  # over the segments of the whole action
+    terminal.wait_settled()
+    terminal.keys("q")
+    terminal.wait(lambda: not terminal.alive(), "wecook did not quit on q")
+    terminal.start(open_command(session_path, tmp_path))
+    terminal.wait_text(f"frame {middle}/")
+    terminal.wait_settled()  # resumed where it was
+    after = analyse_session(session_path, write=False).analysis
+    halves = [s for s in after.segmentation.segments if seg.start <= s.start < seg.end]
+    assert len(halves) == 2
+    verbs = {review.actions_of(after, s, after.segmentation.segments.index(s))[hand].verb for s in halves}
+    assert verbs == {entry["verb"]}
+    terminal.wait_text("✎ corrected")
+    terminal.keys("q")
+    terminal.wait(lambda: not terminal.alive(), "wecook did not quit on q")

@@ -272,13 +272,42 @@ async def test_next_hand_changes_what_pickers_act_on(session_path: Path) -> None
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
         await settle(pilot, app)
+        segs = app.analysis.segmentation.segments
+        index, seg = max(enumerate(segs), key=lambda item: len(review.actions_of(app.analysis, item[1], item[0])))
+        acting = list(review.actions_of(app.analysis, seg, index))
+        app.main.frame = seg.start
+        await pilot.pause()
         first = app.main.selected_hand
+        assert first in acting  # the acting hand is selected on arriving in a segment
         hands = list(review.hands_of(app.obs))
         await pilot.press("t")
         assert app.main.selected_hand == hands[(hands.index(first) + 1) % len(hands)]
+        while app.main.selected_hand not in acting or app.main.selected_hand == first:
+            if len(acting) == 1 and app.main.selected_hand == first:
+                break
+            await pilot.press("t")
         await pilot.press("c")
         await pick(pilot, app, "stir")
-        assert journal(session_path)[-1]["hand"] == app.main.selected_hand != first
+        assert journal(session_path)[-1]["hand"] == app.main.selected_hand
+
+
+@pilot_test
+async def test_a_verb_for_a_hand_holding_nothing_is_refused_with_a_reason(session_path: Path) -> None:
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        segs = app.analysis.segmentation.segments
+        hands = review.hands_of(app.obs)
+        _, seg, idle = next((i, s, h) for i, s in enumerate(segs) for h in hands
+                                if h not in review.actions_of(app.analysis, s, i)
+                                and not review.associations_of(app.analysis, i, s).hand_object.get(h))
+        app.main.frame = seg.start
+        await pilot.pause()
+        while app.main.selected_hand != idle:
+            await pilot.press("t")
+        await pilot.press("c")
+        assert app.screen is app.main and journal(session_path) == []  # no picker, nothing journaled
+        assert any("holds nothing" in n.message for n in app._notifications)
 
 
 @pilot_test

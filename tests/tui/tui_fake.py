@@ -4,7 +4,7 @@ corrections. Used for widget-level tests that must not depend on the pipeline's 
 from __future__ import annotations
 
 import itertools
-import json
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -23,11 +23,12 @@ from wecook_core.model import (
     Observations,
     Segment,
     Segmentation,
-    SegmentStatus,
     TreeSpan,
     VideoInfo,
 )
 from wecook_core.perception.pipeline import Analysis
+from wecook_core.session.corrections import Correction, fold
+from wecook_core.session.journal import Journal
 from wecook_core.trees.notation import tree_of
 from wecook_tui.frames import FrameSource
 from wecook_tui.workspace import Opened
@@ -65,83 +66,42 @@ def make_obs(video: Path, frames: int = FRAMES, size: tuple[int, int] = SIZE) ->
     return Observations(VideoInfo(str(video), 30.0, frames, size[0], size[1]), objects, hands, categories)
 
 
-@dataclass
 class FakeSession:
-    """Journal semantics of DESIGN.md Sessions in miniature: a JSON line per entry, undo/redo are entries."""
+    """A session without inputs: only a real journal (the same fold, undo and redo as a real session)."""
 
-    path: Path
-    params: object = None
-    warnings: list[str] = field(default_factory=list)
-
-    @property
-    def journal(self) -> Path:
-        return self.path / "journal.jsonl"
-
-    @property
-    def trees_path(self) -> Path:
-        return self.path / "trees.yaml"
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.params = None
+        self.warnings: list[str] = []
+        self.journal = Journal(path / "journal.jsonl")
+        self.trees_path = path / "trees.yaml"
+        self.graph_path = path / "graph.yaml"
 
     @property
-    def graph_path(self) -> Path:
-        return self.path / "graph.yaml"
-
-    def entries(self) -> list[dict]:
-        if not self.journal.exists():
-            return []
-        return [json.loads(line) for line in self.journal.read_text().splitlines() if line.strip()]
-
-    def record(self, correction: dict) -> None:
-        with self.journal.open("a") as f:
-            f.write(json.dumps(correction) + "\n")
-
-    def _live(self) -> tuple[list[dict], list[dict]]:
-        live: list[dict] = []
-        undone: list[dict] = []
-        for entry in self.entries():
-            if entry["op"] == "undo":
-                undone.append(live.pop())
-            elif entry["op"] == "redo":
-                live.append(undone.pop())
-            else:
-                live.append(entry)
-                undone.clear()
-        return live, undone
-
-    def undo(self) -> bool:
-        if not self._live()[0]:
-            return False
-        self.record({"op": "undo"})
-        return True
-
-    def redo(self) -> bool:
-        if not self._live()[1]:
-            return False
-        self.record({"op": "redo"})
-        return True
+    def applied_corrections(self) -> tuple[Correction, ...]:
+        return self.journal.applied_corrections
 
     @property
     def corrections(self) -> Corrections:
-        splits, merges, verbs, status, ho, oo = set(), set(), {}, {}, {}, {}
-        for e in self._live()[0]:
-            if e["op"] == "split":
-                splits.add(e["frame"])
-            elif e["op"] == "merge":
-                merges.add(e["frame"])
-            elif e["op"] == "set_verb":
-                verbs[(e["segment"], e["hand"])] = e["verb"]
-            elif e["op"] == "set_status":
-                status[e["segment"]] = SegmentStatus(e["status"])
-            elif e["op"] == "set_hand_object":
-                ho[(e["segment"], e["hand"])] = e["object"]
-            elif e["op"] == "set_object_object":
-                oo[(e["segment"], e["object"])] = tuple(e["targets"])
-        return Corrections(frozenset(splits), frozenset(merges), ho, oo, verbs, status)
+        return self.journal.corrections
+
+    def record(self, correction: Correction) -> None:
+        self.journal.record(correction)
+
+    def undo(self) -> Correction | None:
+        taken = self.journal.applied[-1].correction if self.journal.can_undo else None
+        self.journal.undo()
+        return taken
+
+    def redo(self) -> Correction | None:
+        return self.journal.applied[-1].correction if self.journal.redo() is not None else None
 
 
-def fake_analyze(obs: Observations, corrections: Corrections) -> Analysis:
-    cuts = ({20, 40} | set(corrections.splits)) - set(corrections.merges)
+def fake_analyze(obs: Observations, applied: Sequence[Correction]) -> Analysis:
+    cuts = ({20, 40} | set(fold(applied).splits)) - set(fold(applied).merges)
     bounds = [0, *sorted(c for c in cuts if 0 < c < obs.video.frame_count), obs.video.frame_count]
     segs = tuple(Segment(a, b) for a, b in itertools.pairwise(bounds))
+    corrections = fold(applied, segs)
     assocs, actions, trees = [], [], []
     for seg in segs:
         held = corrections.hand_object.get((seg.start, "RH_P1"), "knife")
@@ -178,7 +138,7 @@ def fake_workspace(folder: Path) -> tuple[callable, callable]:  # type: ignore[v
         path.mkdir(parents=True, exist_ok=True)
         return Opened(FakeSession(path), obs, None, FrameSource(obs.video.path), [])
 
-    def analyzer(opened: Opened, corrections: Corrections) -> Analysis:
+    def analyzer(opened: Opened, corrections: Sequence[Correction]) -> Analysis:
         return fake_analyze(opened.observations, corrections)
 
     return opener, analyzer

@@ -28,8 +28,6 @@ from wecook_core.errors import InputError
 STAGES: tuple[str, ...] = ("hands", "import", "analyze", "export", "execute")
 """Every stage, in the order they run for one video."""
 STAMP_DIR = "batch"
-HANDS_DIR = ".hands"
-"""Under the sessions root: hands detected for videos the manifest gives none for (a session's input)."""
 
 
 @dataclass(frozen=True)
@@ -120,7 +118,9 @@ def _file_hash(path: Path, digest: Any) -> None:
 
 
 def _hands_path(item: BatchItem, root: Path) -> Path:
-    return item.hands if item.hands is not None else root / HANDS_DIR / f"{item.name}.csv"
+    """The hands of ``item``: the manifest's, else ``ROOT/NAME.hands.csv``, where ``wecook new`` without
+    ``--hands`` writes the hands it detects."""
+    return item.hands if item.hands is not None else root / f"{item.name}.hands.csv"
 
 
 def _key(item: BatchItem, stage: str, root: Path, options: StageOptions) -> str:
@@ -176,14 +176,22 @@ def _write_stamp(session: Path, stage: str, data: Mapping[str, Any]) -> None:
 
 
 def _hands(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
+    from wecook_core.formats.native import write_hands_csv
+
     try:
-        from wecook_core.observations import hands_detect  # type: ignore[attr-defined,unused-ignore]
+        from wecook_core.observations.hands_detect import detect_hands
     except ImportError as error:
         raise InputError(item.video, f"no hands given and hand detection is not available ({error})") from None
+    found = detect_hands(item.video)
+    if not found.tracks:
+        raise InputError(item.video, f"no hand found in any of the {found.frames_read} frames")
     out = _hands_path(item, root)
     out.parent.mkdir(parents=True, exist_ok=True)
-    written = hands_detect.detect_hands_to_csv(item.video, out)
-    return {"path": str(out), "hands": written}
+    partial = out.with_name(f".{out.name}.partial")
+    write_hands_csv(partial, found.tracks)
+    partial.replace(out)
+    return {"path": str(out), "hands": [t.hand for t in found.tracks], "frames": found.frames_read,
+            "frames_with_hands": found.frames_with_hands}
 
 
 def _import(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
@@ -201,9 +209,9 @@ def _import(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any
 
 
 def _analyze(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
-    from wecook_core.workflows import analyze_session
+    from wecook_core.workflows import analyse_session
 
-    analysis = analyze_session(root / item.name).analysis
+    analysis = analyse_session(root / item.name).analysis
     return {"trees": len(analysis.trees), "nodes": len(analysis.graph.nodes),
             "segments": len(analysis.segmentation.segments)}
 

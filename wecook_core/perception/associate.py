@@ -230,8 +230,8 @@ def associate_segments(
         for hold in unseen:
             lo, hi = max(hold.start, start), min(hold.end, end)
             if lo < hi and hold.obj in names:
-                rows = links.held[lo - start : hi - start, HANDS.index(hold.hand)]
-                rows[rows == NONE] = names.index(hold.obj)
+                unseen_rows = links.held[lo - start : hi - start, HANDS.index(hold.hand)]
+                unseen_rows[unseen_rows == NONE] = names.index(hold.obj)
         rows = slice(start, end)
         container[rows] = links.container
         held[rows] = links.held

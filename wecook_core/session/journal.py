@@ -1,24 +1,29 @@
 """The journal of corrections: an append-only file of JSON lines, folded into :class:`Corrections`.
 
 Each line is ``{"seq": n, "time": "...Z", "op": OP, ...fields}``; ``seq`` counts up from 1 and is the entry's
-stable id. The operations and their fields:
+stable id. The corrections are the typed operations of :mod:`wecook_core.session.corrections`, stored with
+:func:`~wecook_core.session.corrections.to_record`; their fields:
 
 ===================== ====================================================================
-``set_hand_object``   ``segment`` (start frame), ``hand``, ``object`` (a name, or null: holds nothing)
-``set_object_object`` ``segment``, ``object``, ``targets`` (list of names)
-``set_verb``          ``segment``, ``hand``, ``verb`` (from VERBS)
-``set_status``        ``segment``, ``status`` (unreviewed, accepted, corrected, rejected)
+``set_hand_object``   ``segment`` (start frame), ``hand``, ``object`` (a name, or null: holds nothing), ``end``
+``set_object_object`` ``segment``, ``object``, ``targets`` (list of names), ``end``
+``set_verb``          ``segment``, ``hand``, ``verb`` (from VERBS), ``end``
+``set_status``        ``segment``, ``status`` (unreviewed, accepted, corrected, rejected), ``end``
 ``split``             ``frame`` (a new breakpoint)
 ``merge``             ``frame`` (a breakpoint removed; a merge of a split frame cancels the split)
 ``undo``              ``target``: the seq of the correction undone
 ``redo``              ``target``: the seq of the correction redone
 ===================== ====================================================================
 
-A line is written, flushed and fsynced before :meth:`Journal.append` returns. Replaying applies corrections
+``end`` is optional (absent in journals written before it existed): the end of the action's span
+``[segment, end)`` the correction was made on, so it applies to each segment of that span.
+
+A line is written, flushed and fsynced before :meth:`Journal.record` (and :meth:`Journal.undo`,
+:meth:`Journal.redo`) returns. Replaying applies corrections
 in order; ``undo`` takes back the latest applied one, ``redo`` re-applies the latest undone one, and a new
 correction forgets what could be redone. So undo and redo are unlimited and survive closing the file. A torn
 last line (a crash mid-write) is reported as a warning and skipped, as is any other unreadable line; the next
-append sets the torn bytes aside in ``journal.torn`` first. Two writers are not supported: an append that finds
+append sets the torn bytes aside in ``journal.jsonl.torn`` first. Two writers are not supported: an append that finds
 the file grown since it was read raises :class:`JournalChangedError` (the file is locked while appending).
 """
 
@@ -35,28 +40,18 @@ from pathlib import Path
 from typing import Any
 
 from wecook_core.files import read_bytes
-from wecook_core.formats.fields import MAX_FRAME
-from wecook_core.model import HANDS, VERBS, Corrections, SegmentStatus
+from wecook_core.model import Corrections, Segment
+from wecook_core.session.corrections import KINDS, TYPES, Correction, parse, to_record
+from wecook_core.session.corrections import fold as fold_corrections
 
 TORN_SUFFIX = ".torn"
 """Torn bytes cut off the journal go to a file named like it with this suffix added."""
 
-OPS: dict[str, dict[str, str]] = {
-    "set_hand_object": {"segment": "frame", "hand": "hand", "object": "name?"},
-    "set_object_object": {"segment": "frame", "object": "name", "targets": "names"},
-    "set_verb": {"segment": "frame", "hand": "hand", "verb": "verb"},
-    "set_status": {"segment": "frame", "status": "status"},
-    "split": {"frame": "frame"},
-    "merge": {"frame": "frame"},
-}
-"""Correction operations and their fields (field -> kind of value)."""
+OPS = KINDS
+"""Correction operations and their fields (field -> kind of value), from :mod:`wecook_core.session.corrections`."""
 
 MAX_JOURNAL_BYTES = 256 << 20
 """The largest journal read (256 MiB, some million corrections); a larger one is an InputError."""
-MAX_NAME_CHARS = 200
-"""The longest object name a correction may carry."""
-
-
 
 
 @dataclass(frozen=True)
@@ -72,60 +67,22 @@ class JournalEntry:
     fields: Mapping[str, Any] = field(default_factory=dict)
     """The operation's fields (``target`` for undo and redo)."""
 
+    @property
+    def correction(self) -> Correction:
+        """The typed correction of a correction entry (ValueError for ``undo`` and ``redo``)."""
+        return parse({"op": self.op, **self.fields})
+
     def to_json(self) -> str:
         return json.dumps({"seq": self.seq, "time": self.time, "op": self.op, **self.fields},
                           ensure_ascii=False, separators=(",", ":"))
 
 
-def check_correction(correction: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
-    """(op, fields) of a correction, or ValueError saying what is wrong."""
-    op = correction.get("op")
-    if op not in OPS:
-        raise ValueError(f"unknown correction op {op!r:.40}; expected one of {', '.join(OPS)}")
-    spec = OPS[op]
-    extra = set(correction) - set(spec) - {"op"}
-    if extra:
-        raise ValueError(f"{op}: unexpected fields {', '.join(sorted(extra))}")
-    fields: dict[str, Any] = {}
-    for name, kind in spec.items():
-        if name not in correction:
-            raise ValueError(f"{op}: missing field {name!r}")
-        fields[name] = _check_value(op, name, kind, correction[name])
-    return op, fields
-
-
-def _check_value(op: str, name: str, kind: str, value: Any) -> Any:
-    def bad(expected: str) -> ValueError:
-        return ValueError(f"{op}: {name} must be {expected}, got {value!r:.60}")
-
-    if kind == "frame":
-        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_FRAME:
-            raise bad(f"a frame index (int from 0 to {MAX_FRAME})")
-        return value
-    if kind == "hand":
-        if value not in HANDS:
-            raise bad("one of " + " ".join(HANDS))
-        return value
-    if kind == "verb":
-        if value not in VERBS:
-            raise bad("one of " + " ".join(VERBS))
-        return value
-    if kind == "status":
-        if value not in {s.value for s in SegmentStatus}:
-            raise bad("one of " + " ".join(s.value for s in SegmentStatus))
-        return str(value)
-    if kind in ("name", "name?"):
-        if value is None and kind == "name?":
-            return None
-        if not isinstance(value, str) or not value or len(value) > MAX_NAME_CHARS:
-            raise bad("an object name")
-        return value
-    if kind == "names":
-        if not isinstance(value, list | tuple) \
-                or not all(isinstance(v, str) and v and len(v) <= MAX_NAME_CHARS for v in value):
-            raise bad("a list of object names")
-        return list(value)
-    raise AssertionError(kind)
+def check_correction(correction: Mapping[str, Any] | Correction) -> tuple[str, dict[str, Any]]:
+    """(op, fields as stored) of a correction, or ValueError saying what is wrong."""
+    typed = correction if isinstance(correction, tuple(TYPES.values())) else parse(correction)  # type: ignore[arg-type]
+    record = to_record(typed)  # type: ignore[arg-type]
+    op = record.pop("op")
+    return op, record
 
 
 @dataclass(frozen=True)
@@ -161,35 +118,9 @@ def replay(entries: Sequence[JournalEntry]) -> Replay:
     return Replay(tuple(applied), tuple(undone), fold([by_seq[s] for s in applied]), tuple(warnings))
 
 
-def fold(entries: Sequence[JournalEntry]) -> Corrections:
-    """Corrections of the given (applied) entries, later ones winning."""
-    splits: set[int] = set()
-    merges: set[int] = set()
-    hand_object: dict[tuple[int, str], str | None] = {}
-    object_object: dict[tuple[int, str], tuple[str, ...]] = {}
-    verbs: dict[tuple[int, str], str] = {}
-    status: dict[int, SegmentStatus] = {}
-    for entry in entries:
-        f = entry.fields
-        if entry.op == "set_hand_object":
-            hand_object[(f["segment"], f["hand"])] = f["object"]
-        elif entry.op == "set_object_object":
-            object_object[(f["segment"], f["object"])] = tuple(f["targets"])
-        elif entry.op == "set_verb":
-            verbs[(f["segment"], f["hand"])] = f["verb"]
-        elif entry.op == "set_status":
-            status[f["segment"]] = SegmentStatus(f["status"])
-        elif entry.op == "split":
-            if f["frame"] in merges:
-                merges.discard(f["frame"])
-            else:
-                splits.add(f["frame"])
-        elif entry.op == "merge":
-            if f["frame"] in splits:
-                splits.discard(f["frame"])
-            else:
-                merges.add(f["frame"])
-    return Corrections(frozenset(splits), frozenset(merges), hand_object, object_object, verbs, status)
+def fold(entries: Sequence[JournalEntry], segments: Sequence[Segment] | None = None) -> Corrections:
+    """Corrections of the given (applied) entries, later ones winning (:func:`corrections.fold`)."""
+    return fold_corrections((e.correction for e in entries), segments)
 
 
 def read_journal(path: Path) -> tuple[list[JournalEntry], list[str], bool]:
@@ -287,8 +218,13 @@ class Journal:
     def can_redo(self) -> bool:
         return bool(self._replay.undone)
 
-    def record(self, correction: Mapping[str, Any]) -> JournalEntry:
-        """Append a correction (``{"op": ..., fields}``); durable on return.
+    @property
+    def applied_corrections(self) -> tuple[Correction, ...]:
+        """The typed corrections in effect, oldest first (what :func:`corrections.fold` takes)."""
+        return tuple(e.correction for e in self.applied)
+
+    def record(self, correction: Correction | Mapping[str, Any]) -> JournalEntry:
+        """Append a correction (typed, or a record ``{"op": ..., fields}``); durable (fsynced) on return.
 
         ValueError for a malformed correction; OSError when the disk refuses (nothing changes then).
         """

@@ -4,7 +4,9 @@ Layout of ``sessions/NAME/``::
 
     session.yaml     inputs (path, sha256, size, mtime, format), video facts, Params, created time, version
     journal.jsonl    corrections, one JSON line each, append-only (see :mod:`wecook_core.session.journal`)
-    trees.yaml       graph.yaml     plans/     runs/          (written by later stages)
+    trees.yaml       graph.yaml     plans/plan.yaml     runs/          (written by later stages)
+
+The names are spelled once, in :class:`SessionPaths`.
 
 Opening a session never fails on what a crash or a later change can do: a torn journal line, an input file
 that changed (its sha256 differs) or went missing are :attr:`Session.warnings`, for the workbench to show.
@@ -18,7 +20,6 @@ import contextlib
 import dataclasses
 import datetime as dt
 import os
-import re
 import shutil
 import tempfile
 from collections.abc import Mapping
@@ -36,47 +37,26 @@ from wecook_core.formats.video import probe_video, usable_frames
 from wecook_core.model import Corrections, Observations, VideoInfo
 from wecook_core.observations.importer import Imported, import_observations
 from wecook_core.perception.params import Params, params_from_dict
+from wecook_core.session.corrections import Correction
 from wecook_core.session.inputs import InputFile, content_hash, input_problem, record_input
 from wecook_core.session.journal import Journal, JournalEntry, read_journal, replay
+from wecook_core.session.paths import (
+    ENV_ROOT,
+    JOURNAL_FILE,
+    SESSION_FILE,
+    SessionPaths,
+    check_name,
+    find_session,
+    session_paths,
+    sessions_root,
+)
 
 if TYPE_CHECKING:
     from wecook_core.knowledge.categories import CategoryTable
 
-SESSION_FILE = "session.yaml"
-JOURNAL_FILE = "journal.jsonl"
 SESSION_FORMAT = 1
 MAX_SESSION_BYTES = 1 << 20
 """The largest session.yaml read (1 MiB; wecook writes about 2 KB)."""
-ENV_ROOT = "WECOOK_SESSIONS"
-
-_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$")
-
-# ---------------------------------------------------------------------------------------- names, root
-
-
-def sessions_root(root: str | Path | None = None) -> Path:
-    """Where sessions live: ``root`` when given, else ``$WECOOK_SESSIONS``, else ``./sessions``."""
-    if root is not None:
-        path = Path(root)
-    else:
-        env = os.environ.get(ENV_ROOT)
-        path = Path(env) if env else Path.cwd() / "sessions"
-    for folder in (path, *path.parents):
-        if folder.exists():
-            if not folder.is_dir():
-                raise InputError(folder, "is not a folder: sessions live in a folder (--root DIR or "
-                                 "$WECOOK_SESSIONS)")
-            break
-    return path
-
-
-def check_name(name: str) -> str:
-    """``name`` if it can name a session folder: letters, digits, ``. _ -``, not starting with a dot."""
-    if not _NAME.match(name) or ".." in name:
-        raise InputError(None, f"bad session name {name!r}: use 1-64 letters, digits, '.', '_' or '-', starting "
-                         "with a letter or digit")
-    return name
-
 
 def _fsync_dir(path: Path) -> None:
     fd = os.open(path, os.O_RDONLY)
@@ -94,6 +74,7 @@ class Session:
 
     def __init__(self, path: Path, meta: Mapping[str, Any], warnings: list[str]) -> None:
         self.path = path
+        self.paths = SessionPaths(path)
         self.name = path.name
         self.meta = dict(meta)
         self.warnings: list[str] = warnings
@@ -104,7 +85,7 @@ class Session:
         self.params: Params = _params(meta.get("params"), warnings, path / SESSION_FILE)
         self.video: VideoInfo | None = _video(meta.get("video"))
         """The video's facts when the session was made (without opening the video)."""
-        self.journal = Journal(self.path / JOURNAL_FILE)
+        self.journal = Journal(self.paths.journal)
         self.warnings.extend(self.journal.warnings)
         self._imported: Imported | None = None
 
@@ -115,19 +96,19 @@ class Session:
 
     @property
     def trees_path(self) -> Path:
-        return self.path / "trees.yaml"
+        return self.paths.trees
 
     @property
     def graph_path(self) -> Path:
-        return self.path / "graph.yaml"
+        return self.paths.graph
 
     @property
     def plans_dir(self) -> Path:
-        return self.path / "plans"
+        return self.paths.plans
 
     @property
     def runs_dir(self) -> Path:
-        return self.path / "runs"
+        return self.paths.runs
 
     # journal
     @property
@@ -140,6 +121,11 @@ class Session:
         return self.journal.corrections
 
     @property
+    def applied_corrections(self) -> tuple[Correction, ...]:
+        """The typed corrections in effect, oldest first (fold them against a segmentation for span ones)."""
+        return self.journal.applied_corrections
+
+    @property
     def can_undo(self) -> bool:
         return self.journal.can_undo
 
@@ -147,31 +133,42 @@ class Session:
     def can_redo(self) -> bool:
         return self.journal.can_redo
 
-    def record(self, correction: Mapping[str, Any]) -> JournalEntry:
-        """Append a correction ``{"op": ..., fields}`` (ops: :data:`wecook_core.journal.OPS`); durable on return.
+    def record(self, correction: Correction | Mapping[str, Any]) -> JournalEntry:
+        """Append a correction (typed, or ``{"op": ..., fields}``: :mod:`wecook_core.session.corrections`);
+        durable (fsynced) on return.
 
         ValueError for a malformed correction, OSError when the disk refuses (nothing changes then),
         :class:`JournalChangedError` when another process wrote the journal meanwhile.
         """
         return self.journal.record(correction)
 
-    def undo(self) -> bool:
-        """Take back the latest correction in effect; False when there is none."""
-        return self.journal.undo() is not None
+    def undo(self) -> Correction | None:
+        """Take back the latest correction in effect (durable on return): the correction taken back, None when
+        there is none."""
+        taken = self.journal.applied[-1] if self.journal.can_undo else None
+        return taken.correction if taken is not None and self.journal.undo() is not None else None
 
-    def redo(self) -> bool:
-        """Re-apply the latest undone correction; False when there is none."""
-        return self.journal.redo() is not None
+    def redo(self) -> Correction | None:
+        """Re-apply the latest undone correction (durable on return): that correction, None when there is none."""
+        entry = self.journal.redo()
+        return self.journal.applied[-1].correction if entry is not None else None
 
     # inputs
     def import_observations(self, *, video_optional: bool = False) -> Imported:
-        """Import the inputs again (cached): InputError when one is missing or no longer reads.
+        """Import the inputs (kept in memory, and on disk in ``cache/`` while the inputs and the import code stay
+        the same): InputError when one is missing or no longer reads.
 
         ``video_optional``: a video that is missing, does not open, or no longer holds the frames of the boxes
         and hands (cut short since) is no error when the session recorded its facts: those stand in, and
         :attr:`Imported.video_problem` says what is wrong with the video (the boxes and hands are checked
         against the recorded facts as usual). That import is not cached.
         """
+        if self._imported is not None:
+            return self._imported
+        from wecook_core.session.cache import cache_key, load_cached, save_cached
+
+        key = cache_key(self.inputs)
+        self._imported = load_cached(self.paths.cache, key)
         if self._imported is not None:
             return self._imported
         video = self._input("video")
@@ -188,6 +185,7 @@ class Session:
             if not video_optional or self.video is None or _same_video(facts, self.video):
                 raise
             return self._with_recorded_video(video.path, self.video, str(error))
+        save_cached(self.paths.cache, key, self._imported)
         return self._imported
 
     def _with_recorded_video(self, video: str, recorded: VideoInfo, problem: str) -> Imported:
@@ -353,10 +351,11 @@ def create_session(
     root.mkdir(parents=True, exist_ok=True)
     building = Path(tempfile.mkdtemp(prefix=f".{name}.creating-", dir=root))
     try:
-        _write_yaml(building / SESSION_FILE, meta)
-        (building / JOURNAL_FILE).touch()
-        (building / "plans").mkdir()
-        (building / "runs").mkdir()
+        paths = SessionPaths(building)
+        _write_yaml(paths.session_file, meta)
+        paths.journal.touch()
+        paths.plans.mkdir()
+        paths.runs.mkdir()
         _fsync_dir(building)
         if target.exists():
             raise InputError(target, "a session of that name already exists")
@@ -365,6 +364,9 @@ def create_session(
     except BaseException:
         shutil.rmtree(building, ignore_errors=True)
         raise
+    from wecook_core.session.cache import cache_key, save_cached
+
+    save_cached(SessionPaths(target).cache, cache_key(inputs), imported)  # the first open need not import again
     return target
 
 
@@ -437,11 +439,14 @@ __all__ = [
     "SESSION_FORMAT",
     "InputFile",
     "Session",
+    "SessionPaths",
     "SessionSummary",
     "check_name",
     "content_hash",
     "create_session",
+    "find_session",
     "list_sessions",
     "open_session",
+    "session_paths",
     "sessions_root",
 ]

@@ -7,12 +7,8 @@ import os
 import sys
 from pathlib import Path
 
-from wecook_core.errors import InputError
 
-DEMO_NAME = "demo"
-
-
-def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(subparsers: argparse._SubParsersAction) -> None:
     opener = subparsers.add_parser("open", help="review and correct a session in the workbench")
     opener.add_argument("name", help="session name (in the sessions folder) or a session folder's path")
     opener.add_argument("--root", type=Path, default=None,
@@ -24,33 +20,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
                       help="no workbench: analyse the demo and print its trees, graph and scores against the truth "
                            "(the default when there is no terminal)")
     demo.set_defaults(func=run_demo)
-
-
-def session_path(name: str, root: Path | None) -> Path:
-    """The folder of session ``name``: a path to a session folder, or a name under the sessions root."""
-    from wecook_core.session.store import sessions_root
-
-    given = Path(name)
-    if (given / "session.yaml").is_file():
-        return given
-    path = sessions_root(root) / name
-    if not (path / "session.yaml").is_file():
-        raise InputError(path, "no such session (create one with `wecook new NAME --video V --objects F "
-                         "--hands H`, or try `wecook demo`)")
-    return path
-
-
-def demo_session(root: Path | None) -> Path:
-    """The demo session, created from ``wecook_core/assets/demo`` the first time."""
-    from wecook_core.session.store import create_session, sessions_root
-    from wecook_core.synth import demo_dir
-
-    path = sessions_root(root) / DEMO_NAME
-    if (path / "session.yaml").is_file():
-        return path
-    assets = Path(demo_dir())
-    return Path(create_session(sessions_root(root), DEMO_NAME, assets / "video.mp4", assets / "objects.csv",
-                               assets / "hands.csv"))
 
 
 def quiet_decoders() -> None:
@@ -69,11 +38,15 @@ def launch(path: Path) -> int:
 
 def run(args: argparse.Namespace) -> int:
     quiet_decoders()
-    return launch(session_path(args.name, args.root))
+    from wecook_core.session.store import find_session
+
+    return launch(find_session(args.name, args.root))
 
 
 def run_demo(args: argparse.Namespace) -> int:
     quiet_decoders()
+    from wecook_core.workflows import demo_session
+
     path = demo_session(args.root)
     if args.headless or not (sys.stdin.isatty() and sys.stdout.isatty()):
         return report_demo(path)
@@ -85,23 +58,15 @@ def report_demo(path: Path) -> int:
     from rich.console import Console
     from rich.table import Table
 
-    from wecook_core.knowledge.recognize import load_knowledge
-    from wecook_core.perception.evaluation import evaluate
-    from wecook_core.perception.pipeline import analyze
-    from wecook_core.session.store import open_session
-    from wecook_core.synth import demo_dir
-    from wecook_core.trees.graph import dump_graph, write_graph_file
+    from wecook_core.trees.graph import dump_graph
     from wecook_core.trees.notation import format_tree
-    from wecook_core.trees.treefile import read_tree_file, write_tree_file
+    from wecook_core.workflows import run_demo
 
     console = Console(highlight=False)
-    session = open_session(path)
+    report = run_demo(path.parent)
+    session, obs, analysis = report.analysed.session, report.analysed.observations, report.analysed.analysis
     for warning in session.warnings:
         console.print(f"[yellow]warning:[/] {warning}")
-    obs = session.load_observations()
-    analysis = analyze(obs, load_knowledge(), session.params, session.corrections)
-    write_tree_file(session.trees_path, analysis.trees)
-    write_graph_file(session.graph_path, analysis.graph)
     fps = obs.video.fps or 30.0
     console.print(f"[bold]demo session[/] {path}: {len(analysis.segmentation.segments)} segments, "
                   f"{len(analysis.trees)} trees")
@@ -112,7 +77,7 @@ def report_demo(path: Path) -> int:
     console.print(trees)
     console.print("[bold]action graph[/]")
     console.print(dump_graph(analysis.graph), markup=False, soft_wrap=True)
-    scores = evaluate(analysis.trees, read_tree_file(Path(demo_dir()) / "truth.yaml"))
+    scores = report.scores
     console.print(f"[bold]against the truth:[/] precision {scores.precision:.3f}, recall {scores.recall:.3f} "
                   f"({scores.correct} correct of {scores.predicted} predicted, {scores.truth} true)")
     console.print(f"wrote {session.trees_path} and {session.graph_path}; review them with `wecook open {path}`")

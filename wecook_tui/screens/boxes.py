@@ -15,7 +15,7 @@ from typing import Any, ClassVar
 
 from textual import events, work
 from textual.app import ComposeResult
-from textual.binding import Binding
+from textual.binding import Binding, BindingType
 from textual.containers import Vertical
 from textual.reactive import var
 from textual.screen import ModalScreen, Screen
@@ -121,7 +121,7 @@ def known_labels() -> list[str]:
 
 
 class BoxScreen(Screen[None]):
-    BINDINGS = BOX_BINDINGS
+    BINDINGS: ClassVar[list[BindingType]] = list(BOX_BINDINGS)
 
     frame: var[int] = var(0, init=False)
 

@@ -40,12 +40,16 @@ class HelpScreen(ModalScreen[None]):
 
     def compose(self) -> ComposeResult:
         with VerticalScroll(id="help"):
+            yield Static("up/down, page up/down scroll; escape closes", id="help-hint")
             yield Static(binding_table(self.bindings_, self.keymap, "Review screen"), id="help-table")
             for title, bindings in self.more.items():
                 yield Static(binding_table(bindings, self.keymap, title), classes="help-more")
             yield Static(f"Remap any key in {keymap_path()} (or $WECOOK_KEYS), e.g.\n"
                          "  [keys]\n  accept = \"enter,a\"\n"
                          "All commands are also in the command palette (ctrl+p).", id="help-footer")
+
+    def on_mount(self) -> None:
+        self.query_one("#help", VerticalScroll).focus()  # the arrows and page keys scroll it
 
     def action_close(self) -> None:
         self.dismiss(None)

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, cast
+from typing import ClassVar
 
 from rich.text import Text
 from textual.app import ComposeResult
-from textual.binding import Binding
+from textual.binding import Binding, BindingType
 from textual.containers import Horizontal
 from textual.reactive import var
 from textual.screen import Screen
@@ -14,18 +14,18 @@ from textual.timer import Timer
 from textual.widgets import Footer
 
 from wecook_core.model import VERBS, Segment, SegmentStatus
-from wecook_tui import review
+from wecook_tui import edits, review
 from wecook_tui.screens.links import LinkPickerScreen
 from wecook_tui.screens.picker import PickerScreen
 from wecook_tui.widgets.frame_view import FrameView
 from wecook_tui.widgets.inspector import Inspector
 from wecook_tui.widgets.status_line import StatusLine
 from wecook_tui.widgets.timeline import Timeline
+from wecook_tui.workbench_state import Workbench, workbench
 
-if TYPE_CHECKING:
-    from wecook_tui.app import WecookApp
-
-MAIN_BINDINGS: list[Binding] = [
+MAIN_BINDINGS: list[Binding] = [  # help and quit first: the footer is cut on the right in a narrow terminal
+    Binding("question_mark,f1", "help", "Help", id="help"),
+    Binding("q", "quit", "Quit", id="quit"),
     Binding("right,l", "step(1)", "Next frame", id="next-frame"),
     Binding("left,h", "step(-1)", "Prev frame", id="prev-frame"),
     Binding("shift+right,L", "step(10)", "+10 frames", show=False, id="forward-10"),
@@ -33,13 +33,18 @@ MAIN_BINDINGS: list[Binding] = [
     Binding("down,n", "segment(1)", "Next segment", id="next-segment"),
     Binding("up,p", "segment(-1)", "Prev segment", show=False, id="prev-segment"),
     Binding("u", "next_unreviewed", "Next unreviewed", id="next-unreviewed"),
+    Binding("U", "next_unreviewed(-1)", "Prev unreviewed", show=False, id="prev-unreviewed"),
+    Binding("g", "go_to", "Go to frame/time/segment", show=False, id="go-to"),
     Binding("space", "play_pause", "Play/pause", id="play-pause"),
     Binding("t", "next_hand", "Select hand", show=False, id="next-hand"),
     Binding("a", "accept", "Accept", id="accept"),
     Binding("x", "reject", "Reject", id="reject"),
     Binding("c", "change_action", "Change action", id="change-action"),
+    Binding("C", "change_action(False)", "Change action (segment only)", show=False, id="change-action-here"),
     Binding("o", "change_object", "Change object", show=False, id="change-object"),
+    Binding("O", "change_object(False)", "Change object (segment only)", show=False, id="change-object-here"),
     Binding("k", "change_link", "Change link", show=False, id="change-link"),
+    Binding("K", "change_link(False)", "Change link (segment only)", show=False, id="change-link-here"),
     Binding("s", "split", "Split here", show=False, id="split"),
     Binding("m", "merge", "Merge with next", show=False, id="merge"),
     Binding("z,ctrl+z", "undo", "Undo", id="undo"),
@@ -47,13 +52,11 @@ MAIN_BINDINGS: list[Binding] = [
     Binding("e", "plan", "Plan / export", id="export-plan"),
     Binding("r", "run", "Run", id="run"),
     Binding("R", "runs", "Past runs", show=False, id="open-runs"),
-    Binding("question_mark,f1", "help", "Help", id="help"),
-    Binding("q", "quit", "Quit", id="quit"),
 ]
 
 
 class MainScreen(Screen[None]):
-    BINDINGS = MAIN_BINDINGS
+    BINDINGS: ClassVar[list[BindingType]] = [*MAIN_BINDINGS]
 
     # `var`: a change calls the watcher but does not repaint the whole screen (widgets refresh themselves)
     frame: var[int] = var(0, init=False)
@@ -67,11 +70,14 @@ class MainScreen(Screen[None]):
         self._inspected: tuple | None = None
         self._timer: Timer | None = None
         self._hand_chosen = False
-        """The user picked a hand (t); until then the first hand acting in the segment is selected."""
+        """The user picked a hand (t) in this segment; until then the first hand acting there is selected."""
+        self._segment: Segment | None = None
+        self._clock = (0.0, 0)
+        """(perf_counter, frame) when playback started."""
 
     @property
-    def wb(self) -> WecookApp:
-        return cast("WecookApp", self.app)
+    def wb(self) -> Workbench:
+        return workbench(self.app)
 
     def compose(self) -> ComposeResult:
         with Horizontal(id="top"):
@@ -98,11 +104,8 @@ class MainScreen(Screen[None]):
     def data_changed(self) -> None:
         """Session, analysis or corrections changed: redraw everything."""
         wb = self.wb
+        self._select_acting_hand()
         hands = review.hands_of(wb.obs)
-        if self.selected_hand not in hands or not self._hand_chosen:
-            index, seg = self.current()
-            acting = [h for h in hands if h in review.actions_of(wb.analysis, seg, index)]
-            self.selected_hand = (acting or list(hands) or [None])[0]
         if wb.obs is not None:
             timeline = self.query_one(Timeline)
             segs = self.segments()
@@ -112,9 +115,31 @@ class MainScreen(Screen[None]):
         self._inspected = None
         self.refresh_view()
 
+    def _select_acting_hand(self) -> None:
+        """Select the first hand acting in the segment, unless the user chose one (t) here."""
+        hands = review.hands_of(self.wb.obs)
+        if self.selected_hand in hands and self._hand_chosen:
+            return
+        index, seg = self.current()
+        acting = [h for h in hands if h in review.actions_of(self.wb.analysis, seg, index)]
+        choices: list[str | None] = [*acting, *hands, None]
+        self.selected_hand = choices[0]
+
+    def jump_to(self, span: tuple[int, int | None]) -> None:
+        """Show what an edit changed: move the cursor to ``span``'s start unless it is already inside."""
+        start, end = span
+        if not (start <= self.frame < (end if end is not None else start + 1)):
+            self.frame = max(0, min(self.frame_count - 1, start))
+
     def refresh_view(self) -> None:
         wb = self.wb
         index, seg = self.current()
+        if seg != self._segment:
+            self._segment = seg
+            self._hand_chosen = False
+            self._select_acting_hand()
+            if wb.opened is not None:
+                self._remember()
         assoc = review.associations_of(wb.analysis, index, seg)
         self.query_one(FrameView).show(self.frame, review.overlay(wb.obs, assoc, self.frame, self.selected_hand))
         timeline = self.query_one(Timeline)
@@ -130,14 +155,18 @@ class MainScreen(Screen[None]):
                 index, len(self.segments()), seg, status, review.trees_of(wb.analysis, seg), assoc,
                 actions, self.selected_hand, wb.pending, rankings)
         fps = wb.fps
+        state = ("  ▶ playing" if self.playing else "",
+                 ("  recomputing…" if wb.pending else ("  opening…" if wb.opened is None else ""), "bold yellow"),
+                 (f"  {wb.last_message}" if wb.last_message else "", "bold #ffb300"))
         line = Text.assemble(
             (f" {wb.session_name} ", "bold reverse"),
             f"  frame {self.frame}/{max(0, self.frame_count - 1)} ({self.frame / fps:.2f} s)",
             f"  segment {index + 1}/{len(self.segments())}",
-            f"  hand {self.selected_hand or '-'}",
-            ("  ▶ playing" if self.playing else ""),
-            ("  recomputing…" if wb.pending else ("  opening…" if wb.opened is None else ""), "yellow"),
-        )
+            f"  hand {self.selected_hand or '-'}", *state)
+        if line.cell_len > self.size.width:  # a narrow terminal: the short form, so the answer still shows
+            line = Text.assemble(f" {self.frame}/{max(0, self.frame_count - 1)}",
+                                 f" seg {index + 1}/{len(self.segments())}", f" {self.selected_hand or '-'}",
+                                 *state)
         self.query_one(StatusLine).show(line)
 
     def watch_frame(self) -> None:
@@ -156,13 +185,31 @@ class MainScreen(Screen[None]):
         index = review.segment_index(segs, self.frame)
         self.frame = segs[max(0, min(len(segs) - 1, index + delta))].start
 
-    def action_next_unreviewed(self) -> None:
+    def action_next_unreviewed(self, direction: int = 1) -> None:
         segs = self.segments()
-        index = review.next_unreviewed(segs, self.wb.corrections, review.segment_index(segs, self.frame))
+        index = review.next_unreviewed(segs, self.wb.corrections, review.segment_index(segs, self.frame), direction)
         if index is None:
             self.notify("Every segment is reviewed.")
         else:
             self.frame = segs[index].start
+
+    def on_timeline_seek(self, message: Timeline.Seek) -> None:
+        self.frame = max(0, min(self.frame_count - 1, message.frame))
+
+    def action_go_to(self) -> None:
+        from wecook_tui.screens.goto import GoToScreen, parse_target
+
+        def chosen(text: str | None) -> None:
+            if text is None:
+                return
+            frame = parse_target(text, self.wb.fps, tuple(s.start for s in self.segments()))
+            if frame is None:
+                self.notify(f"Cannot go to {text!r}: type a frame (120), a time (4.5s, 1:05) or a segment (#12).",
+                            severity="warning")
+                return
+            self.frame = max(0, min(self.frame_count - 1, frame))
+
+        self.app.push_screen(GoToScreen(), chosen)
 
     def action_next_hand(self) -> None:
         hands = review.hands_of(self.wb.obs)
@@ -176,39 +223,67 @@ class MainScreen(Screen[None]):
 
     def watch_playing(self, playing: bool) -> None:
         if playing:
-            rate = min(self.wb.fps, 20.0)
-            self._timer = self.set_interval(1 / rate, self._tick)
+            import time
+
+            self._clock = (time.perf_counter(), self.frame)
+            self._timer = self.set_interval(1 / max(1.0, self.wb.fps), self._tick)
         elif self._timer is not None:
             self._timer.stop()
             self._timer = None
         self.refresh_view()
 
     def _tick(self) -> None:
-        if self.frame >= self.frame_count - 1:
+        """Show the frame the video's clock has reached (frames are dropped, never slowed, when painting lags)."""
+        import time
+
+        started, first = self._clock
+        target = first + int((time.perf_counter() - started) * self.wb.fps)
+        if target >= self.frame_count - 1:
+            self.frame = self.frame_count - 1
             self.playing = False
-        else:
-            self.frame += 1
+        elif target != self.frame:
+            self.frame = target
 
     # ------------------------------------------------------------------------------ corrections
 
     def action_accept(self) -> None:
-        self.wb.correct(review.set_status(self.current()[1], SegmentStatus.ACCEPTED))
+        self.wb.correct(edits.set_status(self.current()[1], SegmentStatus.ACCEPTED))
 
     def action_reject(self) -> None:
-        self.wb.correct(review.set_status(self.current()[1], SegmentStatus.REJECTED))
+        self.wb.correct(edits.set_status(self.current()[1], SegmentStatus.REJECTED))
 
     def _hand_or_warn(self) -> str | None:
         if self.selected_hand is None:
             self.notify("No hand tracks in this session.", severity="warning")
         return self.selected_hand
 
-    def action_change_action(self) -> None:
+    def _target(self, hand: str, whole: bool, verb: bool = False) -> tuple[Segment, tuple[int, int] | None, str]:
+        """(segment, the span of the whole action corrected, or None for this segment only; where, for titles).
+        A verb covers the segments of the action that carry it; an object or link the whole action."""
+        _, seg = self.current()
+        if whole:
+            if verb:
+                span = review.verb_span(self.wb.analysis, seg, hand)
+            else:
+                action = review.whole_action(self.wb.analysis, seg, hand)
+                span = (action.start, action.end) if action is not None else None
+            if span is not None and span != (seg.start, seg.end):
+                return seg, span, f"its whole action [{span[0]}, {span[1]})"
+        return seg, None, f"segment [{seg.start}, {seg.end}) only"
+
+    def action_change_action(self, whole: bool = True) -> None:
         hand = self._hand_or_warn()
         if hand is None:
             return
         index, seg = self.current()
         assoc = review.associations_of(self.wb.analysis, index, seg)
         action = review.actions_of(self.wb.analysis, seg, index).get(hand)
+        held = assoc.hand_object.get(hand) if assoc else None
+        if action is None and not held:
+            self.notify(f"Not recorded: {hand} holds nothing in [{seg.start}, {seg.end}), so it has no verb; "
+                        "set its object first (o) or select another hand (t).", severity="warning")
+            return
+        seg, whole_action, where = self._target(hand, whole, verb=True)
         ranking = list(review.ranking_of(self.wb.analysis, seg, index, hand))
         if not ranking:
             ranking = self.wb.rank(review.segment_objects(assoc, action, hand))
@@ -219,12 +294,11 @@ class MainScreen(Screen[None]):
 
         def chosen(verb: str | None) -> None:
             if verb:
-                self.wb.correct(review.set_verb(seg, hand, verb))
+                self.wb.correct(edits.set_verb(seg, hand, verb, whole_action))
 
-        self.app.push_screen(PickerScreen(f"Action of {hand} in [{seg.start}, {seg.end})", options, current),
-                             chosen)
+        self.app.push_screen(PickerScreen(f"Action of {hand}, {where}", options, current), chosen)
 
-    def action_change_object(self) -> None:
+    def action_change_object(self, whole: bool = True) -> None:
         hand = self._hand_or_warn()
         obs = self.wb.obs
         if hand is None or obs is None:
@@ -234,15 +308,16 @@ class MainScreen(Screen[None]):
         options = [(name, f"{name:<16} {d:6.0f} px") for name, d in near] + [(review.NOTHING, "(nothing)")]
         assoc = review.associations_of(self.wb.analysis, index, seg)
         current = assoc.hand_object.get(hand) if assoc else None
+        seg, whole_action, where = self._target(hand, whole)
 
         def chosen(name: str | None) -> None:
             if name:
-                self.wb.correct(review.set_hand_object(seg, hand, None if name == review.NOTHING else name))
+                held = None if name == review.NOTHING else name
+                self.wb.correct(edits.set_hand_object(seg, hand, held, whole_action))
 
-        self.app.push_screen(PickerScreen(f"Object held by {hand} in [{seg.start}, {seg.end})", options, current),
-                             chosen)
+        self.app.push_screen(PickerScreen(f"Object held by {hand}, {where}", options, current), chosen)
 
-    def action_change_link(self) -> None:
+    def action_change_link(self, whole: bool = True) -> None:
         hand = self._hand_or_warn()
         obs = self.wb.obs
         if hand is None or obs is None:
@@ -257,20 +332,20 @@ class MainScreen(Screen[None]):
         near = review.link_candidates(obs, held, self.frame, seg)
         options = [(name, f"{name:<16} {d:6.0f} px") for name, d in near]
         targets = assoc.object_object.get(held, ()) if assoc else ()
+        seg, whole_action, where = self._target(hand, whole)
 
         def chosen(new: tuple[str, ...] | None) -> None:
             if new is not None and new != tuple(targets):
-                self.wb.correct(review.set_object_object(seg, held, new))
+                self.wb.correct(edits.set_object_object(seg, held, new, whole_action))
 
-        self.app.push_screen(LinkPickerScreen(f"What {held} acts on in [{seg.start}, {seg.end})", options,
-                                              targets), chosen)
+        self.app.push_screen(LinkPickerScreen(f"What {held} acts on, {where}", options, targets), chosen)
 
     def action_split(self) -> None:
         _, seg = self.current()
         if self.frame <= seg.start:
             self.notify("Move the cursor inside the segment to split it.", severity="warning")
             return
-        self.wb.correct(review.split(self.frame))
+        self.wb.correct(edits.split(self.frame))
 
     def action_merge(self) -> None:
         segs = self.segments()
@@ -278,7 +353,7 @@ class MainScreen(Screen[None]):
         if index + 1 >= len(segs):
             self.notify("The last segment has no next segment to merge with.", severity="warning")
             return
-        self.wb.correct(review.merge(segs[index + 1].start))
+        self.wb.correct(edits.merge(segs[index + 1].start))
 
     def action_undo(self) -> None:
         self.wb.undo()
@@ -300,5 +375,12 @@ class MainScreen(Screen[None]):
     def action_help(self) -> None:
         self.wb.open_help()
 
+    def _remember(self) -> None:
+        from wecook_tui.resume import save_position
+
+        save_position(self.wb.session_path, self.frame)
+
     async def action_quit(self) -> None:
+        if self.wb.opened is not None:
+            self._remember()
         self.app.exit()

@@ -3,15 +3,16 @@ export writes the plan YAML into the session and says where."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 from rich.console import Group
 from rich.table import Table
 from rich.text import Text
 from textual import work
 from textual.app import ComposeResult
-from textual.binding import Binding
+from textual.binding import Binding, BindingType
 from textual.containers import VerticalScroll
 from textual.screen import Screen
 from textual.widgets import Footer, Static
@@ -27,7 +28,9 @@ PLAN_BINDINGS: list[Binding] = [
 
 def plan_file(session_path: Path) -> Path:
     """Where export writes: ``plans/plan.yaml`` in the session (as `wecook export` does)."""
-    return session_path / "plans" / "plan.yaml"
+    from wecook_core.session.paths import session_paths
+
+    return session_paths(session_path).plan
 
 
 def plan_renderable(plan: Any) -> Group:
@@ -67,18 +70,40 @@ def plan_renderable(plan: Any) -> Group:
     return Group(*parts)
 
 
-class PlanReviewScreen(Screen[None]):
-    BINDINGS = PLAN_BINDINGS
+@dataclass(frozen=True)
+class ReviewCounts:
+    """How far the review got: segments, unreviewed ones, rejected ones (left out of the plan)."""
 
-    def __init__(self, analysis: Any, obs: Any, session_path: Path) -> None:
+    segments: int
+    unreviewed: int
+    rejected: int
+
+    def line(self) -> Text:
+        if not self.segments:
+            return Text("")
+        style = "bold yellow" if self.unreviewed else "bold green"
+        return Text.assemble(
+            (f"{self.unreviewed} of {self.segments} segments unreviewed" if self.unreviewed
+             else f"all {self.segments} segments reviewed", style),
+            (f", {self.rejected} rejected (left out of the plan)" if self.rejected else "", "red"))
+
+
+class PlanReviewScreen(Screen[None]):
+    BINDINGS: ClassVar[list[BindingType]] = [*PLAN_BINDINGS]
+
+    def __init__(self, analysis: Any, obs: Any, session_path: Path, review: ReviewCounts | None = None) -> None:
         super().__init__()
         self.analysis = analysis
         self.obs = obs
         self.session_path = session_path
+        self.review = review or ReviewCounts(0, 0, 0)
         self.plan: Any = None
         self.exported: Path | None = None
+        self.asked = False
+        """The user was told the plan is not fully reviewed; the next export goes ahead."""
 
     def compose(self) -> ComposeResult:
+        yield Static(self.review.line(), id="plan-review")
         with VerticalScroll(id="plan"):
             yield Static("Building the plan…", id="plan-body")
         yield Static(id="plan-status")
@@ -89,10 +114,10 @@ class PlanReviewScreen(Screen[None]):
 
     @work(thread=True, exclusive=True, group="plan", exit_on_error=False)
     def _build(self) -> None:
-        from wecook_core.plan import plan_from_graph
+        from wecook_core.workflows import plan_of
 
         try:
-            plan = plan_from_graph(self.analysis.graph, self.obs)
+            plan = plan_of(self.analysis, self.obs)
         except Exception as error:  # shown, never a traceback
             self.post_message(PlanBuilt(None, f"{type(error).__name__}: {error}"))
             return
@@ -112,16 +137,20 @@ class PlanReviewScreen(Screen[None]):
         if self.plan is None:
             self.notify("The plan is not built yet.", severity="warning")
             return
+        if self.review.unreviewed and not self.asked:
+            self.asked = True
+            self.query_one("#plan-status", Static).update(Text(
+                f"{self.review.unreviewed} of {self.review.segments} segments are still unreviewed: press w again "
+                "to export anyway, escape to go back and review", style="bold yellow"))
+            return
         self._export(self.plan, plan_file(self.session_path))
 
     @work(thread=True, exclusive=True, group="plan-export", exit_on_error=False)
     def _export(self, plan: Any, path: Path) -> None:
-        from wecook_core.plan import validate, write_plan
+        from wecook_core.workflows import write_checked_plan
 
         try:
-            validate(plan, path)
-            path.parent.mkdir(parents=True, exist_ok=True)
-            written = write_plan(plan, path)
+            written = write_checked_plan(plan, path)
         except Exception as error:
             self.post_message(PlanExported(path, f"{type(error).__name__}: {error}"))
             return

@@ -1,28 +1,34 @@
-"""Run screen: `wecook execute` in a subprocess (a worker reads its output), live per-action progress and log,
-the summary and the MCAP path; past runs of the session listed with their results."""
+"""Run screen: `wecook execute --jsonl` in a subprocess (a worker reads its events), live per-action progress
+and log, the summary and the MCAP path; past runs of the session listed with their table and log.
+
+`wecook execute --jsonl` prints one JSON object per line (``run_start``, every plan event, ``summary``) on
+stdout, its messages on stderr; the screen folds the events into each action's state (:func:`apply_event`) and
+never reads the human text. Stopping sends SIGTERM: the run closes its recording and reports the action under
+way as interrupted, which shows as stopped.
+"""
 
 from __future__ import annotations
 
 import json
 import os
-import re
 import subprocess
 import sys
+import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 from rich.text import Text
 from textual import work
 from textual.app import ComposeResult
-from textual.binding import Binding
+from textual.binding import Binding, BindingType
 from textual.containers import Horizontal, Vertical
 from textual.screen import Screen
 from textual.widgets import DataTable, Footer, OptionList, ProgressBar, RichLog, Static
 from textual.widgets.option_list import Option
 
-from wecook_tui.messages import RunFinished, RunOutput
+from wecook_tui.messages import RunEvent, RunFinished, RunOutput
 from wecook_tui.screens.plan_review import plan_file
 
 RUN_BINDINGS: list[Binding] = [
@@ -31,21 +37,46 @@ RUN_BINDINGS: list[Binding] = [
 ]
 
 Command = Callable[[Path, Path], list[str]]
-"""(plan path, mcap path) -> the argv that executes the plan."""
+"""(plan path, mcap path) -> the argv that executes the plan, printing JSON lines (``--jsonl``)."""
 
-WORD = re.compile(r"[A-Za-z0-9_]+")
-STATES = (("skipped", re.compile(r"\bskipped\b", re.I)), ("failed", re.compile(r"fail|error", re.I)),
-          ("done", re.compile(r"\bdone\b|succe|\bok\b|✓", re.I)),
-          ("running", re.compile(r"start|running|begin", re.I)))
-"""First match wins: a skipped action's line names the failure it waits on."""
+FINAL = ("done", "failed", "skipped", "stopped")
+COLOURS = {"done": "green", "failed": "red", "skipped": "magenta", "running": "yellow", "stopped": "cyan"}
+STOPPED_CODES = (130, -15, 143)
+"""Exit codes of a run stopped by SIGTERM (handled: 130) or killed by it."""
+
+
+def apply_event(states: dict[str, str], event: Mapping[str, Any]) -> str | None:
+    """Fold one event of `wecook execute --jsonl` into ``states`` (action id -> state); the action changed."""
+    kind, action = event.get("kind"), event.get("action_id")
+    if kind == "summary":
+        for row in event.get("actions", ()):
+            if row.get("id") in states and row.get("status") in (*FINAL, "running"):
+                states[row["id"]] = row["status"]
+        return None
+    if action not in states:
+        return None
+    if kind == "action_start":
+        states[action] = "running"
+    elif kind == "action_end":
+        states[action] = "done"
+    elif kind == "action_failed":
+        if event.get("detail") == "interrupted":
+            states[action] = "stopped"
+        else:
+            states[action] = "failed" if states[action] == "running" else "skipped"
+    else:
+        return None
+    return str(action)
 
 
 def execute_command(plan: Path, mcap: Path) -> list[str]:
-    return [sys.executable, "-m", "wecook_tui.cli", "execute", str(plan), "--record", str(mcap)]
+    return [sys.executable, "-m", "wecook_tui.cli", "execute", str(plan), "--record", str(mcap), "--jsonl"]
 
 
 def runs_dir(session_path: Path) -> Path:
-    return session_path / "runs"
+    from wecook_core.session.paths import session_paths
+
+    return session_paths(session_path).runs
 
 
 def past_runs(session_path: Path) -> list[dict[str, Any]]:
@@ -65,20 +96,8 @@ def past_runs(session_path: Path) -> list[dict[str, Any]]:
     return sorted(records.values(), key=lambda r: r["name"], reverse=True)
 
 
-def action_state(line: str, ids: set[str] | dict[str, str]) -> tuple[str, str] | None:
-    """(action id, state) when an output line of `wecook execute` reports an action's progress
-    (``[  1.20s] a3 P1 cut: started`` / ``: done`` / ``: FAILED: why``, or a summary row ``a3<TAB>P1<TAB>...``)."""
-    found = next((word for word in WORD.findall(line) if word in ids), None)
-    if found is None:
-        return None
-    for state, pattern in STATES:
-        if pattern.search(line):
-            return found, state
-    return None
-
-
 class RunScreen(Screen[None]):
-    BINDINGS = RUN_BINDINGS
+    BINDINGS: ClassVar[list[BindingType]] = [*RUN_BINDINGS]
 
     def __init__(self, session_path: Path, analysis: Any, obs: Any, command: Command = execute_command) -> None:
         super().__init__()
@@ -90,11 +109,14 @@ class RunScreen(Screen[None]):
         self.process: subprocess.Popen[str] | None = None
         self.states: dict[str, str] = {}
         self.result: RunFinished | None = None
+        self.stopping = False
+        self.shown_run: str | None = None
+        """The past run whose table and log are shown."""
 
     def compose(self) -> ComposeResult:
         with Horizontal(id="run-body"):
             with Vertical(id="run-past"):
-                yield Static("Past runs", classes="title")
+                yield Static("Past runs (enter opens)", classes="title")
                 yield OptionList(id="run-list")
             with Vertical(id="run-main"):
                 yield Static(id="run-summary")
@@ -109,7 +131,16 @@ class RunScreen(Screen[None]):
             table.add_column(column, key=column)
         self._list_runs()
         if self.analysis is None:
-            self.query_one("#run-summary", Static).update("Past runs of this session (r on the main screen runs).")
+            self.query_one("#run-progress", ProgressBar).display = False
+            runs = past_runs(self.session_path)
+            self.query_one("#run-summary", Static).update(
+                f"{len(runs)} past run(s) of this session: enter shows one (r on the main screen runs the plan)."
+                if runs else "No runs of this session yet (r on the main screen runs the plan).")
+            if runs:
+                self.show_run(runs[0]["name"])
+                options = self.query_one("#run-list", OptionList)
+                options.highlighted = 0
+                options.focus()
             return
         stamp = time.strftime("%Y%m%d-%H%M%S")
         self.mcap = runs_dir(self.session_path) / f"run-{stamp}.mcap"
@@ -121,58 +152,107 @@ class RunScreen(Screen[None]):
         options.clear_options()
         for record in past_runs(self.session_path):
             code = record.get("returncode")
-            mark = "✓" if code == 0 else ("?" if code is None else "✗")
+            mark = "✓" if code == 0 else ("?" if code is None else "■" if code in STOPPED_CODES else "✗")
             options.add_option(Option(f"{mark} {record['name']}", id=record["name"]))
 
-    def on_option_list_option_highlighted(self, event: OptionList.OptionHighlighted) -> None:
-        record = next((r for r in past_runs(self.session_path) if r["name"] == event.option.id), None)
-        if record is None or (self.analysis is not None and self.result is None):
-            return  # a run in progress owns the log
+    def _run_in_progress(self) -> bool:
+        return self.analysis is not None and self.result is None
+
+    def on_option_list_option_selected(self, event: OptionList.OptionSelected) -> None:
+        if event.option.id is not None and not self._run_in_progress():
+            self.show_run(event.option.id)
+
+    def show_run(self, name: str) -> None:
+        """Show a past run: its per-action table, its verdict and its log."""
+        record = next((r for r in past_runs(self.session_path) if r["name"] == name), None)
+        if record is None:
+            return
+        self.shown_run = name
+        table = self.query_one("#run-actions", DataTable)
+        table.clear()
+        actions = record.get("actions") or {}
+        verbs = record.get("verbs") or {}
+        for action_id, state in actions.items():
+            persons, verb = verbs.get(action_id, ["", ""])
+            table.add_row(action_id, persons, verb, Text(state, style=COLOURS.get(state, "")), key=action_id)
+        code = record.get("returncode")
+        verdict = ("every action done" if code == 0 else "unknown (no record)" if code is None
+                   else "stopped" if code in STOPPED_CODES else f"exit {code}")
+        done = sum(1 for s in actions.values() if s == "done")
+        self.query_one("#run-summary", Static).update(Text.assemble(
+            (f"{name}: {verdict}", "bold"), f", {done}/{len(actions)} actions done" if actions else "",
+            f"\nMCAP: {record.get('mcap')}"))
         log = self.query_one("#run-log", RichLog)
         log.clear()
-        code = record.get("returncode")
-        verdict = "every action done" if code == 0 else ("unknown (no record)" if code is None else f"exit {code}")
-        log.write(Text(f"{record['name']}: {verdict}; MCAP {record.get('mcap')}", style="bold"))
-        for line in record.get("tail", []):
+        path = Path(record.get("log") or Path(record.get("mcap", "")).with_suffix(".log"))
+        try:
+            lines = path.read_text().splitlines()[-2000:]
+        except OSError:
+            lines = list(record.get("tail", []))
+        for line in lines:
             log.write(Text.from_ansi(line))
 
     # ----------------------------------------------------------------------------------- worker
 
     @work(thread=True, exclusive=True, group="run", exit_on_error=False)
     def _execute(self, mcap: Path) -> None:
-        from wecook_core.plan import plan_from_graph, write_plan
+        from wecook_core.workflows import plan_of, write_checked_plan
 
         started = time.perf_counter()
-        folder = runs_dir(self.session_path)
-        folder.mkdir(parents=True, exist_ok=True)
+        runs_dir(self.session_path).mkdir(parents=True, exist_ok=True)
         log_path = mcap.with_suffix(".log")
         try:
-            plan = plan_from_graph(self.analysis.graph, self.obs)
-            plan_path = write_plan(plan, plan_file(self.session_path))
+            plan = plan_of(self.analysis, self.obs)
+            plan_path = write_checked_plan(plan, plan_file(self.session_path))
             self.app.call_from_thread(self._show_plan, plan)
             env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "120", "NO_COLOR": "1"}
             self.process = subprocess.Popen(self.command(Path(plan_path), mcap), stdout=subprocess.PIPE,
-                                            stderr=subprocess.STDOUT, text=True, bufsize=1, env=env)
+                                            stderr=subprocess.PIPE, text=True, bufsize=1, env=env)
         except Exception as error:
             self.post_message(RunOutput(f"cannot start the run: {type(error).__name__}: {error}"))
             self.post_message(RunFinished(-1, mcap, log_path, time.perf_counter() - started))
             return
-        tail: list[str] = []
         states = {action.id: "waiting" for action in plan.actions}
-        assert self.process.stdout is not None
+        verbs = {action.id: [",".join(action.pids), action.verb] for action in plan.actions}
+        tail: list[str] = []
+        process = self.process
+        assert process.stdout is not None and process.stderr is not None
         with log_path.open("w") as log:
-            for line in self.process.stdout:
-                line = line.rstrip("\n")
-                log.write(line + "\n")
-                tail = [*tail[-199:], line]
-                found = action_state(line, states)
-                if found is not None:
-                    states[found[0]] = found[1]
-                self.post_message(RunOutput(line))
-        code = self.process.wait()
+            lock = threading.Lock()
+
+            def messages() -> None:  # stderr: the run's own messages, for the log
+                assert process.stderr is not None
+                for line in process.stderr:
+                    with lock:
+                        log.write(line)
+                    if not self.stopping:
+                        self.post_message(RunOutput(line.rstrip("\n")))
+
+            reader = threading.Thread(target=messages, daemon=True)
+            reader.start()
+            for line in process.stdout:
+                try:
+                    event = json.loads(line)
+                except ValueError:
+                    event = None
+                if not isinstance(event, dict) or "kind" not in event:
+                    with lock:
+                        log.write(line)
+                    continue
+                with lock:
+                    log.write(_describe(event, verbs) + "\n")
+                tail = [*tail[-199:], _describe(event, verbs)]
+                apply_event(states, event)
+                self.post_message(RunEvent(event))
+            code = process.wait()
+            reader.join(timeout=5)
+        if code in STOPPED_CODES:
+            for action_id, state in states.items():
+                if state == "running":
+                    states[action_id] = "stopped"
         seconds = time.perf_counter() - started
         record = {"returncode": code, "mcap": str(mcap), "log": str(log_path), "seconds": round(seconds, 2),
-                  "actions": states, "tail": tail[-40:]}
+                  "actions": states, "verbs": verbs, "tail": tail[-40:]}
         mcap.with_suffix(".json").write_text(json.dumps(record, indent=1))
         self.post_message(RunFinished(code, mcap, log_path, seconds))
 
@@ -185,42 +265,73 @@ class RunScreen(Screen[None]):
 
     def on_run_output(self, message: RunOutput) -> None:
         self.query_one("#run-log", RichLog).write(Text.from_ansi(message.line))
-        found = action_state(message.line, self.states)
-        if found is None:
-            return
-        action_id, state = found
-        self.states[action_id] = state
+
+    def on_run_event(self, message: RunEvent) -> None:
+        event = message.event
+        if event.get("kind") in ("action_start", "action_end", "action_failed", "run_start", "retry"):
+            self.query_one("#run-log", RichLog).write(Text(_describe(event, {})))
+        changed = apply_event(self.states, event)
+        for action_id in ([changed] if changed else list(self.states) if event.get("kind") == "summary" else []):
+            self._show_state(action_id)
+
+    def _show_state(self, action_id: str) -> None:
+        state = self.states[action_id]
         table = self.query_one("#run-actions", DataTable)
-        colour = {"done": "green", "failed": "red", "skipped": "magenta", "running": "yellow"}.get(state, "")
-        table.update_cell(action_id, "state", Text(state, style=colour))
-        finished = sum(1 for s in self.states.values() if s in ("done", "failed", "skipped"))
+        table.update_cell(action_id, "state", Text(state, style=COLOURS.get(state, "")))
+        finished = sum(1 for s in self.states.values() if s in FINAL)
         self.query_one("#run-progress", ProgressBar).update(progress=finished)
 
     def on_run_finished(self, message: RunFinished) -> None:
         self.result = message
         self.process = None
+        stopped = message.returncode in STOPPED_CODES
+        if stopped:
+            for action_id, state in self.states.items():
+                if state == "running":
+                    self.states[action_id] = "stopped"
+                    self._show_state(action_id)
         done = sum(1 for s in self.states.values() if s == "done")
         failed = [a for a, s in self.states.items() if s == "failed"]
         skipped = [a for a, s in self.states.items() if s == "skipped"]
-        style = "bold green" if message.returncode == 0 else "bold red"
+        style = "bold green" if message.returncode == 0 else "bold cyan" if stopped else "bold red"
+        head = ("Run finished: " if message.returncode == 0 else "Run stopped: " if stopped
+                else f"Run ended with exit code {message.returncode}: ")
         summary = Text.assemble(
-            ("Run finished: " if message.returncode == 0 else f"Run ended with exit code {message.returncode}: ",
-             style),
+            (head, style),
             f"{done}/{len(self.states)} actions done",
             f", failed: {', '.join(failed)}" if failed else "",
             f", skipped: {', '.join(skipped)}" if skipped else "",
             f" in {message.seconds:.1f} s\nMCAP: {message.mcap}\nlog: {message.log}",
         )
         self.query_one("#run-summary", Static).update(summary)
+        if stopped:
+            self.query_one("#run-log", RichLog).write(Text("Run stopped.", style="bold cyan"))
         self._list_runs()
 
     def action_stop(self) -> None:
         if self.process is not None and self.process.poll() is None:
+            self.stopping = True
             self.process.terminate()
-            self.notify("Run stopped.")
+            self.notify("Stopping the run…")
 
     def on_unmount(self) -> None:
         self.action_stop()
 
     def action_back(self) -> None:
         self.dismiss(None)
+
+
+def _describe(event: Mapping[str, Any], verbs: Mapping[str, list[str]]) -> str:
+    """One log line for an event: ``[  1.20s] a3 action_end``."""
+    t = event.get("t")
+    stamp = f"[{t:7.2f}s] " if isinstance(t, int | float) else ""
+    kind = event.get("kind")
+    if kind == "run_start":
+        return f"{stamp}run started: {event.get('actions')} actions, seed {event.get('seed')}"
+    if kind == "summary":
+        return f"summary: {event.get('done')}/{event.get('total')} actions done, exit {event.get('exit_code')}"
+    action = event.get("action_id") or ""
+    persons, verb = verbs.get(action, ["", ""])
+    what = {"action_start": "started", "action_end": "done", "action_failed": "failed"}.get(str(kind), str(kind))
+    detail = f": {event['detail']}" if event.get("detail") else ""
+    return f"{stamp}{action} {persons} {verb} {what}{detail}".replace("  ", " ")

@@ -20,7 +20,7 @@ from textual.widget import Widget
 from textual.worker import get_current_worker
 
 from wecook_tui.frames import Canvas, FrameSource, Label, Overlay, blank, draw, fit, to_strips
-from wecook_tui.messages import FrameDecoded
+from wecook_tui.messages import FirstFramePainted, FrameDecoded
 
 PREFETCH = 120
 """Frames decoded ahead of the cursor."""
@@ -187,4 +187,5 @@ class FrameView(Widget):
             if self._image is not None and not self._first_reported:
                 self._first_reported = True
                 _report_first_frame()
+                self.post_message(FirstFramePainted())
         return line.crop_extend(0, width, None)

@@ -11,7 +11,6 @@ from textual.widgets import Static, Tree
 from textual.widgets.tree import TreeNode
 
 from wecook_core.model import Action, Associations, Node, Segment, SegmentStatus, TreeSpan
-from wecook_core.trees.notation import format_tree
 from wecook_tui.review import STATUS_GLYPHS, action_label
 
 
@@ -37,9 +36,9 @@ class Inspector(VerticalScroll):
 
     def compose(self) -> ComposeResult:
         yield Static(id="segment-header")
-        yield SegmentTree("trees", id="segment-trees")
         yield Static(id="segment-actions")
         yield Static(id="segment-associations")
+        yield SegmentTree("trees", id="segment-trees")
 
     def show(self, index: int, count: int, seg: Segment, status: SegmentStatus, trees: tuple[TreeSpan, ...],
              assoc: Associations | None, actions: Mapping[str, Action], selected: str | None,
@@ -53,6 +52,8 @@ class Inspector(VerticalScroll):
         self.query_one("#segment-header", Static).update(header)
         tree = self.query_one("#segment-trees", SegmentTree)
         tree.clear()
+        if trees:
+            from wecook_core.trees.notation import format_tree  # lark: loaded with the first trees, not at start
         tree.root.set_label(Text(f"{len(trees)} tree(s)", style="dim"))
         for span in trees:
             node = tree.root.add(Text(f"[{span.start}, {span.end})  {format_tree(span.tree)}", style="dim"),

@@ -8,10 +8,13 @@ from __future__ import annotations
 
 import bisect
 from collections.abc import Mapping
+from dataclasses import dataclass
 from functools import cache
 
 from rich.segment import Segment as RichSegment
 from rich.style import Style
+from textual.events import Click
+from textual.message import Message
 from textual.reactive import reactive
 from textual.strip import Strip
 from textual.widget import Widget
@@ -79,6 +82,20 @@ class Timeline(Widget):
         self.styles.height = len(lanes) + 4  # ruler, lanes, status, legend, border
         self._row_width = -1
         self.refresh()
+
+    @dataclass
+    class Seek(Message):
+        """The user clicked the timeline at ``frame``."""
+
+        frame: int
+
+    def on_click(self, event: Click) -> None:
+        """A click on the track moves the cursor to the first frame of that column."""
+        column = event.x - LABEL_WIDTH
+        if self._row_width != self.track_width:
+            self._build_rows()
+        if 0 <= column < len(self._frames):
+            self.post_message(self.Seek(int(self._frames[column])))
 
     @property
     def track_width(self) -> int:

@@ -1,0 +1,243 @@
+"""Corrections as typed operations, and the one fold that turns them into :class:`Corrections`.
+
+A person's corrections are values of six frozen dataclasses (:data:`Correction`). The journal stores each as
+a JSON object (:func:`to_record`; :func:`parse` reads one back and says what is wrong with a bad one), the
+workbench builds them from keys, and :func:`fold` applies a sequence of them, later ones winning.
+
+Segment operations name a segment by its start frame (``segment``). They may also carry ``end``: the span
+``[segment, end)`` of the whole action the correction was made on. Folded against a segmentation, a span
+correction applies to every segment of the span, so it acts on the whole action and survives a change of
+segmentation (a split, a merge, other parameters); without a segmentation, or without ``end``, it applies to
+the segment starting at ``segment`` (what journals written before spans existed mean).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, fields
+from typing import Any, ClassVar
+
+from wecook_core.formats.fields import MAX_FRAME
+from wecook_core.model import HANDS, VERBS, Corrections, Segment, SegmentStatus
+
+MAX_NAME_CHARS = 200
+"""The longest object name a correction may carry."""
+
+
+@dataclass(frozen=True)
+class SetHandObject:
+    """What ``hand`` holds in the segment (None: nothing)."""
+
+    op: ClassVar[str] = "set_hand_object"
+    segment: int
+    hand: str
+    object: str | None
+    end: int | None = None
+
+
+@dataclass(frozen=True)
+class SetObjectObject:
+    """What the held ``object`` acts on in the segment."""
+
+    op: ClassVar[str] = "set_object_object"
+    segment: int
+    object: str
+    targets: tuple[str, ...]
+    end: int | None = None
+
+
+@dataclass(frozen=True)
+class SetVerb:
+    """The verb of ``hand``'s action in the segment."""
+
+    op: ClassVar[str] = "set_verb"
+    segment: int
+    hand: str
+    verb: str
+    end: int | None = None
+
+
+@dataclass(frozen=True)
+class SetStatus:
+    """The review status of the segment."""
+
+    op: ClassVar[str] = "set_status"
+    segment: int
+    status: SegmentStatus
+    end: int | None = None
+
+
+@dataclass(frozen=True)
+class Split:
+    """A new breakpoint at ``frame``."""
+
+    op: ClassVar[str] = "split"
+    frame: int
+
+
+@dataclass(frozen=True)
+class Merge:
+    """The breakpoint at ``frame`` removed (a merge of a split frame cancels the split)."""
+
+    op: ClassVar[str] = "merge"
+    frame: int
+
+
+Correction = SetHandObject | SetObjectObject | SetVerb | SetStatus | Split | Merge
+SegmentCorrection = SetHandObject | SetObjectObject | SetVerb | SetStatus
+
+TYPES: dict[str, type[Correction]] = {t.op: t for t in (SetHandObject, SetObjectObject, SetVerb, SetStatus,
+                                                         Split, Merge)}
+"""Operation name -> its type."""
+
+KINDS: dict[str, dict[str, str]] = {
+    "set_hand_object": {"segment": "frame", "hand": "hand", "object": "name?", "end": "frame?"},
+    "set_object_object": {"segment": "frame", "object": "name", "targets": "names", "end": "frame?"},
+    "set_verb": {"segment": "frame", "hand": "hand", "verb": "verb", "end": "frame?"},
+    "set_status": {"segment": "frame", "status": "status", "end": "frame?"},
+    "split": {"frame": "frame"},
+    "merge": {"frame": "frame"},
+}
+"""Each operation's fields and the kind of value each takes (``?``: optional, may be null or absent)."""
+
+
+def parse(record: Mapping[str, Any]) -> Correction:
+    """The correction a record ``{"op": ..., fields}`` describes, or ValueError saying what is wrong."""
+    op = record.get("op")
+    if op not in KINDS:
+        raise ValueError(f"unknown correction op {op!r}; expected one of {', '.join(KINDS)}")
+    spec = KINDS[op]
+    extra = set(record) - set(spec) - {"op"}
+    if extra:
+        raise ValueError(f"{op}: unexpected fields {', '.join(sorted(extra))}")
+    values: dict[str, Any] = {}
+    for name, kind in spec.items():
+        if name not in record:
+            if kind.endswith("?") and kind != "name?":
+                continue
+            raise ValueError(f"{op}: missing field {name!r}")
+        values[name] = _check_value(op, name, kind, record[name])
+    end = values.get("end")
+    if end is not None and end <= values["segment"]:
+        raise ValueError(f"{op}: end must be after segment, got [{values['segment']}, {end})")
+    return TYPES[op](**values)
+
+
+def to_record(correction: Correction) -> dict[str, Any]:
+    """The JSON object the journal stores for ``correction`` (``end`` only when it has one)."""
+    record: dict[str, Any] = {"op": correction.op}
+    for f in fields(correction):
+        value = getattr(correction, f.name)
+        if f.name == "end" and value is None:
+            continue
+        if isinstance(value, SegmentStatus):
+            value = value.value
+        elif isinstance(value, tuple):
+            value = list(value)
+        record[f.name] = value
+    return record
+
+
+def _check_value(op: str, name: str, kind: str, value: Any) -> Any:
+    def bad(expected: str) -> ValueError:
+        return ValueError(f"{op}: {name} must be {expected}, got {value!r}")
+
+    if kind == "frame?" and value is None:
+        return None
+    if kind in ("frame", "frame?"):
+        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_FRAME:
+            raise bad(f"a frame index (int from 0 to {MAX_FRAME})")
+        return value
+    if kind == "hand":
+        if value not in HANDS:
+            raise bad("one of " + " ".join(HANDS))
+        return value
+    if kind == "verb":
+        if value not in VERBS:
+            raise bad("one of " + " ".join(VERBS))
+        return value
+    if kind == "status":
+        if value not in {s.value for s in SegmentStatus}:
+            raise bad("one of " + " ".join(s.value for s in SegmentStatus))
+        return SegmentStatus(value)
+    if kind in ("name", "name?"):
+        if value is None and kind == "name?":
+            return None
+        if not isinstance(value, str) or not value or len(value) > MAX_NAME_CHARS:
+            raise bad("an object name")
+        return value
+    if kind == "names":
+        if not isinstance(value, list | tuple) \
+                or not all(isinstance(v, str) and v and len(v) <= MAX_NAME_CHARS for v in value):
+            raise bad("a list of object names")
+        return tuple(value)
+    raise AssertionError(kind)
+
+
+def covered(correction: SegmentCorrection, segments: Sequence[Segment] | None) -> tuple[int, ...]:
+    """Start frames of the segments ``correction`` applies to: with a span and a segmentation, the segment
+    holding its start and every segment lying mostly inside ``[segment, end)``; else its own segment."""
+    start, end = correction.segment, correction.end
+    if end is None or not segments:
+        return (start,)
+    starts = []
+    for seg in segments:
+        inside = min(seg.end, end) - max(seg.start, start)
+        if seg.start <= start < seg.end or 2 * inside > seg.end - seg.start:
+            starts.append(seg.start)
+    return tuple(starts) or (start,)
+
+
+def fold(corrections: Iterable[Correction], segments: Sequence[Segment] | None = None) -> Corrections:
+    """The :class:`Corrections` of ``corrections`` applied in order, later ones winning; span corrections are
+    spread over ``segments`` (the segmentation after the splits and merges) when given."""
+    splits: set[int] = set()
+    merges: set[int] = set()
+    hand_object: dict[tuple[int, str], str | None] = {}
+    object_object: dict[tuple[int, str], tuple[str, ...]] = {}
+    verbs: dict[tuple[int, str], str] = {}
+    status: dict[int, SegmentStatus] = {}
+    for c in corrections:
+        if isinstance(c, Split):
+            if c.frame in merges:
+                merges.discard(c.frame)
+            else:
+                splits.add(c.frame)
+        elif isinstance(c, Merge):
+            if c.frame in splits:
+                splits.discard(c.frame)
+            else:
+                merges.add(c.frame)
+        else:
+            for start in covered(c, segments):
+                if isinstance(c, SetHandObject):
+                    hand_object[(start, c.hand)] = c.object
+                elif isinstance(c, SetObjectObject):
+                    object_object[(start, c.object)] = c.targets
+                elif isinstance(c, SetVerb):
+                    verbs[(start, c.hand)] = c.verb
+                else:
+                    status[start] = c.status
+    return Corrections(frozenset(splits), frozenset(merges), hand_object, object_object, verbs, status)
+
+
+def describe(correction: Correction) -> str:
+    """A short phrase for messages: ``verb of RH_P1 -> cut``."""
+    if isinstance(correction, SetVerb):
+        return f"verb of {correction.hand} -> {correction.verb}"
+    if isinstance(correction, SetHandObject):
+        return f"{correction.hand} holds {correction.object or 'nothing'}"
+    if isinstance(correction, SetObjectObject):
+        return f"{correction.object} acts on {', '.join(correction.targets) or 'nothing'}"
+    if isinstance(correction, SetStatus):
+        return f"segment {correction.status.value}"
+    if isinstance(correction, Split):
+        return f"split at frame {correction.frame}"
+    return f"merge at frame {correction.frame}"
+
+
+def span_of(correction: Correction) -> tuple[int, int | None]:
+    """(first frame, end or None) the correction is about: where the workbench jumps to show it."""
+    if isinstance(correction, Split | Merge):
+        return correction.frame, None
+    return correction.segment, correction.end
