@@ -225,12 +225,12 @@ def test_in_a_close_up_the_hand_holds_the_spoon_not_the_pan_whose_box_covers_eve
     assert (timeline.held[:, 1] == timeline.column("spoon")).all()
 
 
-def test_an_old_session_file_with_frame_counts_still_loads_with_the_defaults_in_seconds():
+def test_an_old_session_file_with_frame_counts_still_loads_with_the_defaults_in_seconds(tmp_path):
     from wecook_core.session.store import _params
 
     warnings: list[str] = []
     params = _params({"min_frames": 8, "fill_gap": 10, "dwell_frames": 15, "handover_gap": 30, "lamb": 0.002},
-                     warnings)
+                     warnings, tmp_path / "session.yaml")
     assert params == Params(lamb=0.002)
     assert len(warnings) == 1 and "min_frames" in warnings[0] and "ignored" in warnings[0]
     rate = Params().at(30.0)

@@ -141,9 +141,10 @@ def test_keyframes_only_are_interpolated_as_cvat_does(tmp_path: Path) -> None:
 
 
 def test_a_keyframe_far_past_the_video_is_refused_before_interpolating(tmp_path: Path) -> None:
-    # Issue 13: boxes at frame 0 and 1,000,000,000 grew memory until the process was killed.
-    path = write(tmp_path, KEYFRAMES.format(far=1_000_000_000, end=1_000_000_001))
-    with pytest.raises(InputError, match=r"boxes.xml:line 7: track 3 \(spoon\) has a box at frame 1000000001, but "
+    # Issue 13: boxes at frame 0 and 1,000,000,000 grew memory until the process was killed (that frame is past
+    # MAX_FRAME now; one within it but far past the video must be refused before interpolating too).
+    path = write(tmp_path, KEYFRAMES.format(far=9_000_000, end=9_000_001))
+    with pytest.raises(InputError, match=r"boxes.xml:line 7: track 3 \(spoon\) has a box at frame 9000001, but "
                                          r"the video has frames 0-19") as error:
         read_cvat(path, frame_count=20)
     assert "\n" not in str(error.value)
