@@ -6,6 +6,7 @@ import math
 from collections.abc import Mapping, Sequence
 
 from wecook_core.model import PERSONS, Action, ActionGraph, ActionKind, Category, Observations, person_of
+from wecook_core.plan.layout import layout_scene
 from wecook_core.plan.model import DEFAULT_ROBOT, DEFAULT_TABLE, Act, Agent, Plan, PlanAction, Table
 from wecook_core.trees.notation import action_of, format_tree
 
@@ -85,7 +86,5 @@ def plan_from_graph(graph: ActionGraph, obs: Observations, *, table: Table = DEF
     actions = plan_actions(graph, obs.categories)
     persons = {pid for a in actions for pid in a.pids} | set(graph.sequences) | {n.person for n in graph.nodes}
     persons = {p for p in persons if p in PERSONS} or {"P1"}
-    from wecook_core.plan.layout import layout_scene
-
     return Plan(agents=agents_for(sorted(persons), table, robot), scene=layout_scene(graph, obs, table),
                 actions=actions)

@@ -15,7 +15,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from wecook_core.model import ActionGraph, ActionKind, Category, Observations
-from wecook_core.plan import DEFAULT_TABLE, Scene, SceneObject, Table, Vec3
+from wecook_core.plan.model import DEFAULT_TABLE, Scene, SceneObject, Table, Vec3
 from wecook_core.trees.notation import action_of
 
 _FLAT_CONTAINERS = ("board", "tray", "mat", "sheet")
