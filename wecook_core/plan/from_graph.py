@@ -102,5 +102,5 @@ def plan_from_graph(graph: ActionGraph, obs: Observations, *, table: Table = DEF
     actions = plan_actions(graph, obs.categories)
     persons = {pid for a in actions for pid in a.pids} | set(graph.sequences) | {n.person for n in graph.nodes}
     persons = {p for p in persons if p in PERSONS} or {"P1"}
-    return Plan(agents=agents_for(sorted(persons), table, robot), scene=layout_scene(graph, obs, table),
+    return Plan(agents=agents_for(sorted(persons), table, robot), scene=layout_scene(graph, obs, table, robot),
                 actions=actions)

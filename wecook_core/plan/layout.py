@@ -10,12 +10,13 @@ region, else each object to the nearest free spot.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
 from wecook_core.model import ActionGraph, ActionKind, Category, Observations
-from wecook_core.plan.model import DEFAULT_TABLE, Scene, SceneObject, Table, Vec3
+from wecook_core.plan.model import DEFAULT_ROBOT, DEFAULT_TABLE, Scene, SceneObject, Table, Vec3
+from wecook_core.plan.reach import MIN_REACH, WORK_REACH
 from wecook_core.trees.notation import action_of
 
 _FLAT_CONTAINERS = ("board", "tray", "mat", "sheet")
@@ -32,6 +33,9 @@ HAND_ROOM = 0.1
 lies across it, its palm reaching about 11 cm either side of the tool's axis at the height of a pot's rim."""
 LOW = 0.04
 """Metres: objects at most this tall (boards, tools, small ingredients) pass under a gripper's palm."""
+REACH_SLACK = 0.05
+"""Metres kept inside an arm's reach band when placing what it must reach (the object's own size, poses
+around it)."""
 ARM_CLEARANCE = 0.28
 """Metres kept free at each end of the table: the arm's base stands there, and a Panda reaches down to the
 table badly closer than about 0.3 m from its base."""
@@ -121,19 +125,24 @@ def _push_apart(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, flo
 
 
 def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[float, float]], gaps: np.ndarray,
-            sides: np.ndarray, step: float = 0.01) -> np.ndarray:
+            sides: np.ndarray, step: float = 0.01, reach: Reach | None = None) -> np.ndarray:
     """Place objects one by one, biggest first: each stays at its centre if it keeps its gaps (:func:`_gaps`)
     from those already placed inside ``bounds[0]`` and on its arm's half (``sides``), else goes to the nearest
     point of a ``step`` grid that does. On a crowded table the rules loosen in this order: half the gaps in
     ``bounds[0]``, the gaps then half of them in ``bounds[1]`` (say, the whole table), then either half of the
-    table, then 5 mm in each bound. Always terminates; positions stay near the input."""
-    order = np.argsort(-(halves[:, 0] * halves[:, 1]), kind="stable")
+    table, then 5 mm in each bound. With ``reach`` (object index, points -> which points every arm using the
+    object reaches), every rule first asks for reach too, and objects that some arm must reach are placed before
+    the others. Always terminates; positions stay near the input."""
+    far = np.full((1, 2), 1e3)  # no arm reaches there: only objects that some arm must reach are ruled out
+    constrained = np.array([reach is not None and not reach(i, far)[0] for i in range(len(centres))], bool)
+    order = np.lexsort((-(halves[:, 0] * halves[:, 1]), ~constrained))
     out = centres.copy()
     settled: list[int] = []
-    # (bound, share of the gaps, fixed gap, keep the arm's half)
-    rules = [*((k, share, 0.0, True) for k in range(len(bounds)) for share in (1.0, 0.5)),
-             *((k, 0.5, 0.0, False) for k in range(len(bounds))),
-             *((k, 0.0, 0.005, False) for k in range(len(bounds)))]
+    # (bound, share of the gaps, fixed gap, keep the arm's half, within reach)
+    base_rules = [*((k, share, 0.0, True) for k in range(len(bounds)) for share in (1.0, 0.5)),
+                  *((k, 0.5, 0.0, False) for k in range(len(bounds))),
+                  *((k, 0.0, 0.005, False) for k in range(len(bounds)))]
+    rules = [*((*r, True) for r in base_rules if reach is not None), *((*r, False) for r in base_rules)]
     for i in order:
         def free(points: np.ndarray, share: float, fixed: float, i: int = i) -> np.ndarray:
             if not settled:
@@ -146,18 +155,22 @@ def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[floa
         def on_side(points: np.ndarray, i: int = i) -> np.ndarray:
             return points[:, 0] * sides[i] >= -1e-9
 
+        def reached(points: np.ndarray, i: int = i) -> np.ndarray:
+            return reach(int(i), points) if reach is not None else np.ones(len(points), bool)
+
         first = np.maximum(np.array(bounds[0]) - halves[i], 0.0)
         here = out[i][None, :]
-        if free(here, 1.0, 0.0)[0] and on_side(here)[0] and np.all(np.abs(out[i]) <= first + 1e-9):
+        if free(here, 1.0, 0.0)[0] and on_side(here)[0] and np.all(np.abs(out[i]) <= first + 1e-9) \
+                and reached(here)[0]:
             settled.append(int(i))
             continue
-        for k, share, fixed, keep_side in rules:
+        for k, share, fixed, keep_side, within in rules:
             limit = np.maximum(np.array(bounds[k]) - halves[i], 0.0)
             xs = np.arange(-limit[0], limit[0] + 1e-9, step)
             ys = np.arange(-limit[1], limit[1] + 1e-9, step)
             grid = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)
             grid = grid[np.argsort(np.hypot(*(grid - out[i]).T), kind="stable")]
-            ok = free(grid, share, fixed) & (on_side(grid) if keep_side else True)
+            ok = free(grid, share, fixed) & (on_side(grid) if keep_side else True) & (reached(grid) if within else True)
             if ok.any():
                 out[i] = grid[int(np.argmax(ok))]
                 break
@@ -216,7 +229,39 @@ def _containing(graph: ActionGraph, obs: Observations, first: Mapping[str, np.nd
     return {k: v for k, v in out.items() if k in first and v in first and cat.get(v) is Category.CONTAINER}
 
 
-def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_TABLE) -> Scene:
+Reach = Callable[[int, np.ndarray], np.ndarray]
+"""Object index, ``(n, 2)`` table points -> which of them every arm that uses the object reaches."""
+
+
+def _reach_rule(free: Sequence[str], users: Mapping[str, set[str]], containing: Mapping[str, str], table: Table,
+                robot: str) -> Reach:
+    """Which points each object may lie at so that every arm using it (or what starts in it) reaches it:
+    between :data:`~wecook_core.plan.reach.MIN_REACH` and the robot's work reach less :data:`REACH_SLACK` from
+    each such arm's base (P1 at the ``-x`` end, P2 at the ``+x`` end)."""
+    high = WORK_REACH.get(robot)
+    bases = {"P1": np.array([-table.size[0] / 2, 0.0]), "P2": np.array([table.size[0] / 2, 0.0])}
+    arms: list[list[np.ndarray]] = []
+    for name in free:
+        persons = set(users.get(name, ()))
+        for content, container in containing.items():
+            if container == name:
+                persons |= users.get(content, set())
+        arms.append([bases[p] for p in sorted(persons) if p in bases])
+
+    def reach(i: int, points: np.ndarray) -> np.ndarray:
+        ok = np.ones(len(points), bool)
+        if high is None:
+            return ok
+        for base in arms[i]:
+            d = np.hypot(*(points - base).T)
+            ok &= (d >= MIN_REACH + REACH_SLACK) & (d <= high - REACH_SLACK)
+        return ok
+
+    return reach
+
+
+def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_TABLE,
+                 robot: str = DEFAULT_ROBOT) -> Scene:
     """Objects of the video laid out on the table.
 
     Mapping image -> table: each object's position is the centre of its median box over its first
@@ -274,8 +319,11 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     inner = (table.size[0] / 2 - ARM_CLEARANCE, table.size[1] / 2 - GAP)
     whole = (table.size[0] / 2 - 0.12, table.size[1] / 2 - 0.01)  # all but the arms' bases
     placed, ok = _push_apart(centres, halves, table.reach, gaps, sides)
-    if not ok:  # too crowded for the reach region: each object, biggest first, to the free spot nearest its place
-        placed = _settle(centres, halves, (inner, whole), gaps, sides)
+    reach = _reach_rule(free, users, containing, table, robot)
+    if not ok or not all(reach(k, placed[[k]])[0] for k in range(len(free))):
+        # too crowded for the reach region, or out of an arm's reach: each object (those arms must reach
+        # first, then the biggest first) to the free spot nearest its place that its arms reach
+        placed = _settle(centres if not ok else placed, halves, (inner, whole), gaps, sides, reach=reach)
     for n, (x, y) in zip(free, placed, strict=True):
         o = objects[n]
         objects[n] = SceneObject(o.name, o.category, o.shape, o.size, round(float(x), 4), round(float(y), 4), o.yaw)

@@ -55,9 +55,11 @@ class Grasping(ArmMotion):
         regions = tsrs or self._grasp_tsrs(name, pid)
         grip = min(max(evaluate(self.skills.grip[kind], {"f": self.half(name)}), 0.0), 0.04)
         self._set_grip(pid, min(grip + APPROACH_OPENING, 0.04))  # open just enough: neighbours stay clear
-        support = [n for n, c in self.plan.scene.containing if n == name] + \
-            [c for n, c in self.plan.scene.containing if n == name]
-        ignore = [name, *support, *ignore_extra]
+        # never its own obstacle: the object, what it lies in and what lies in it (that rides along) are touched
+        support = [c for n, c in self.plan.scene.containing if n == name]
+        own = [name, *self._contents(name)]
+        ignore = [*own, *support, *ignore_extra]
+        near = [*own, *ignore_extra]  # the pre-grasp may touch what it is about to take, never its neighbours
         approach = self.skills.approach_distance
 
         def attempt(_k: int) -> Generator[Tick, None, str | None]:
@@ -70,7 +72,7 @@ class Grasping(ArmMotion):
                     continue
                 pre = G.copy()
                 pre[:3, 3] -= G[:3, 2] * approach
-                found_pre = self._ik_goal(pid, [pre], ignore_extra)
+                found_pre = self._ik_goal(pid, [pre], near)
                 if found_pre is None:
                     continue
                 try:  # the straight approach (and the lift) must be feasible from there
@@ -84,7 +86,7 @@ class Grasping(ArmMotion):
             if pre_goal is None:
                 return blocked or self._no_goal(f"grasp of {name}", len(candidates), accept)
             try:
-                yield from self.transit(pid, pre_goal[0], ignore_extra, what=f"{primitive} {name}")
+                yield from self.transit(pid, pre_goal[0], near, what=f"{primitive} {name}")
                 # the fingers close into the object without pushing it about: the constraint will hold it
                 self._collide_with_arm(pid, name, enabled=False)
                 yield from self.linear(pid, [pre_goal[2]], ignore=ignore, what=f"approach {name}")
