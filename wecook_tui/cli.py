@@ -14,6 +14,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "session",  # new, sessions
     "workbench",  # open, demo
     "analyze",
+    "plan",  # plan check
     "execute",  # export, execute, runs
     "evaluate",
     "synth",
