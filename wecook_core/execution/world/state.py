@@ -89,6 +89,8 @@ class WorldState:
         self.moved_at = {pid: 0.0 for pid in self.arms}
         """Simulated time each arm last moved."""
         self._touching = False
+        self._riding: set[str] = set()
+        """Objects riding on a hand at the last step."""
         for pid, arm in self.arms.items():
             arm.set_q(REST, 0.04)
             self.commands[pid] = REST.copy()
@@ -128,6 +130,11 @@ class WorldState:
                     pos, orn = p.multiplyTransforms(state[4], state[5], local[0], local[1])
                     p.resetBasePositionAndOrientation(body, pos, orn, physicsClientId=c)
                     p.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0], physicsClientId=c)
+        riding = {r.name for hand in self.hands.values() for r in hand.riding}
+        for name in self._riding - riding:  # let go: resting objects sleep (scene.py), this one must fall
+            p.changeDynamics(self.bodies.objects[name].body, -1, activationState=p.ACTIVATION_STATE_WAKE_UP,
+                             physicsClientId=c)
+        self._riding = riding
         p.stepSimulation(physicsClientId=c)
         self.steps += 1
         if self.steps % CONTACT_EVERY == 0:
