@@ -10,7 +10,8 @@ region, else each object to the nearest free spot.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -33,6 +34,8 @@ HAND_ROOM = 0.1
 lies across it, its palm reaching about 11 cm either side of the tool's axis at the height of a pot's rim."""
 LOW = 0.04
 """Metres: objects at most this tall (boards, tools, small ingredients) pass under a gripper's palm."""
+WALL_ROOM = 0.01
+"""Metres between the ingredients spread in a container and its walls (or a board's ends)."""
 REACH_SLACK = 0.05
 """Metres kept inside an arm's reach band when placing what it must reach (the object's own size, poses
 around it)."""
@@ -133,9 +136,9 @@ def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[floa
     table, then 5 mm in each bound. With ``reach`` (object index, points -> which points every arm using the
     object reaches), every rule first asks for reach too, and objects that some arm must reach are placed before
     the others. Always terminates; positions stay near the input."""
-    far = np.full((1, 2), 1e3)  # no arm reaches there: only objects that some arm must reach are ruled out
-    constrained = np.array([reach is not None and not reach(i, far)[0] for i in range(len(centres))], bool)
-    order = np.lexsort((-(halves[:, 0] * halves[:, 1]), ~constrained))
+    # objects both arms must reach first (the region both reach is small), then those of one arm, then the rest
+    arms = np.zeros(len(centres), int) if reach is None else np.array([len(reach.arms[i]) for i in range(len(centres))])
+    order = np.lexsort((-(halves[:, 0] * halves[:, 1]), -arms))
     out = centres.copy()
     settled: list[int] = []
     # (bound, share of the gaps, fixed gap, keep the arm's half, within reach)
@@ -229,35 +232,42 @@ def _containing(graph: ActionGraph, obs: Observations, first: Mapping[str, np.nd
     return {k: v for k, v in out.items() if k in first and v in first and cat.get(v) is Category.CONTAINER}
 
 
-Reach = Callable[[int, np.ndarray], np.ndarray]
-"""Object index, ``(n, 2)`` table points -> which of them every arm that uses the object reaches."""
+@dataclass(frozen=True)
+class Reach:
+    """Where each object may lie so that every arm using it (or what starts in it) reaches it: between
+    :data:`~wecook_core.plan.reach.MIN_REACH` and the robot's work reach, less :data:`REACH_SLACK`, from each
+    such arm's base."""
+
+    arms: tuple[tuple[np.ndarray, ...], ...]
+    """Per object (by index): the bases (x, y) of the arms that must reach it."""
+    low: float
+    high: float | None
+    """Metres; None: the robot is not checked."""
+
+    def __call__(self, i: int, points: np.ndarray) -> np.ndarray:
+        """Which of the ``(n, 2)`` table points every arm of object ``i`` reaches."""
+        ok = np.ones(len(points), bool)
+        if self.high is None:
+            return ok
+        for base in self.arms[i]:
+            d = np.hypot(*(points - base).T)
+            ok &= (d >= self.low) & (d <= self.high)
+        return ok
 
 
 def _reach_rule(free: Sequence[str], users: Mapping[str, set[str]], containing: Mapping[str, str], table: Table,
                 robot: str) -> Reach:
-    """Which points each object may lie at so that every arm using it (or what starts in it) reaches it:
-    between :data:`~wecook_core.plan.reach.MIN_REACH` and the robot's work reach less :data:`REACH_SLACK` from
-    each such arm's base (P1 at the ``-x`` end, P2 at the ``+x`` end)."""
+    """The :class:`Reach` of the objects ``free`` (P1 at the ``-x`` end of the table, P2 at the ``+x`` end)."""
     high = WORK_REACH.get(robot)
     bases = {"P1": np.array([-table.size[0] / 2, 0.0]), "P2": np.array([table.size[0] / 2, 0.0])}
-    arms: list[list[np.ndarray]] = []
+    arms = []
     for name in free:
         persons = set(users.get(name, ()))
         for content, container in containing.items():
             if container == name:
                 persons |= users.get(content, set())
-        arms.append([bases[p] for p in sorted(persons) if p in bases])
-
-    def reach(i: int, points: np.ndarray) -> np.ndarray:
-        ok = np.ones(len(points), bool)
-        if high is None:
-            return ok
-        for base in arms[i]:
-            d = np.hypot(*(points - base).T)
-            ok &= (d >= MIN_REACH + REACH_SLACK) & (d <= high - REACH_SLACK)
-        return ok
-
-    return reach
+        arms.append(tuple(bases[p] for p in sorted(persons) if p in bases))
+    return Reach(tuple(arms), MIN_REACH + REACH_SLACK, None if high is None else high - REACH_SLACK)
 
 
 def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_TABLE,
@@ -333,10 +343,12 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     for container, ingredients in by_container.items():
         c = objects[container]
         hx, hy = c.half_extents()
-        for k, name in enumerate(ingredients):  # spread along the container's longer axis
+        longest = max(max(objects[n].half_extents()) for n in ingredients)
+        span = max(max(hx, hy) - longest - WALL_ROOM, 0.0)  # centres stay this far from the middle
+        for k, name in enumerate(ingredients):  # spread evenly along the container's longer axis, wall to wall
             o = objects[name]
-            s = (k + 1) / (len(ingredients) + 1) - 0.5
-            dx, dy = (s * hx, 0.0) if hx >= hy else (0.0, s * hy)
+            s = span * (2 * k / (len(ingredients) - 1) - 1) if len(ingredients) > 1 else 0.0
+            dx, dy = (s, 0.0) if hx >= hy else (0.0, s)
             limit = 0.8 * min(hx, hy) * 2
             size = (round(min(o.size[0], limit), 3), round(min(o.size[1], limit), 3), o.size[2])
             objects[name] = SceneObject(o.name, o.category, o.shape, size,

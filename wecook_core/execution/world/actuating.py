@@ -103,10 +103,13 @@ class Actuating(Grasping):
         return None, f"the {then.motion} from there: {text} ({count} of {why.total()} tries)"
 
     def _touched(self, step: Step, roles: dict[str, str | None]) -> list[str]:
-        """The objects an actuation may touch: those of its contact pairs and what lies in them (the rice in the
-        pot being stirred); every other object is an obstacle."""
+        """The objects an actuation may touch: those of its contact pairs, what lies in them (the rice in the
+        pot being stirred), and what lies beside them in the same container (the onion next to the meat cut on
+        a board: a knife brushes it as a person's does); every other object is an obstacle."""
         names = [name for pair in step.contacts for name in (roles.get(r) for r in pair) if name is not None]
-        return [*names, *(c for name in names for c in self._contents(name))]
+        holders = {c for c in (self._container_of(n) for n in names) if c is not None}
+        near = [*holders, *(c for h in sorted(holders) for c in self._contents(h))]
+        return list(dict.fromkeys([*names, *(c for name in names for c in self._contents(name)), *near]))
 
     def _tipped(self, pid: str, step: Step, roles: dict[str, str | None]) -> dict[str, Riding]:
         """What ``step`` lets go of that rides on the carried object (not the carried object itself)."""

@@ -245,7 +245,15 @@ class WorldState:
         if name is None:
             raise ActionFailed(f"the skill needs a {role} and the action names none")
         sizes["f"] = self.half(name)
-        return (self.pose(name) if kind == "object" else self._facing(name, pid)), sizes
+        return (self._upright(name) if kind == "object" else self._facing(name, pid)), sizes
+
+    def _upright(self, name: str) -> np.ndarray:
+        """The object's pose as a frame for TSRs; a sphere's only by its position (it turns as it rolls, so its
+        own axes say nothing: its frame is the world's, and a hand takes it from above)."""
+        T = self.pose(name)
+        if self.plan.scene.object(name).shape == "sphere":
+            T[:3, :3] = np.eye(3)
+        return T
 
     def _kind(self, name: str) -> str:
         b = self.bodies.objects[name]
