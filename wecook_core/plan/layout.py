@@ -34,6 +34,15 @@ HAND_ROOM = 0.1
 lies across it, its palm reaching about 11 cm either side of the tool's axis at the height of a pot's rim."""
 LOW = 0.04
 """Metres: objects at most this tall (boards, tools, small ingredients) pass under a gripper's palm."""
+HAND_DEPTH = 0.07
+"""Metres: the deepest a container may be for a hand to take something out of it (a gripper's fingers reach
+about 5 cm below its palm)."""
+END_ROOM = 0.06
+"""Metres kept free at each end of a board, for a hand holding it still."""
+ITEM_GAP = 0.04
+"""Metres between neighbouring ingredients on a board (room for a knife)."""
+MAX_BOARD = 0.36
+"""Metres: the longest a board grows to fit what starts on it."""
 WALL_ROOM = 0.01
 """Metres between the ingredients spread in a container and its walls (or a board's ends)."""
 REACH_SLACK = 0.05
@@ -196,6 +205,17 @@ def _users(graph: ActionGraph) -> dict[str, set[str]]:
     return users
 
 
+def _taken_from_by_hand(graph: ActionGraph) -> set[str]:
+    """Containers an ingredient is taken out of by hand (the source of a transfer without a tool)."""
+    out = set()
+    for node in graph.nodes:
+        action = action_of(node.span.tree, node.span.start, node.span.end)
+        for act in (action, action.partner):
+            if act is not None and act.kind is ActionKind.TRANSFER and act.held is None and len(act.targets) == 3:
+                out.add(act.targets[1])
+    return out
+
+
 def _containing(graph: ActionGraph, obs: Observations, first: Mapping[str, np.ndarray]) -> dict[str, str]:
     """Ingredient -> the container it starts in: from the first action that names it with a container (a
     transfer's source, or the container it is acted on in), else from its first box lying mostly inside a
@@ -320,6 +340,18 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
         d = float(boxes[k, 3] - boxes[k, 1]) * m_per_px
         shape, size, yaw = _shape_for(name, category, w, d)
         objects[name] = SceneObject(name, category, shape, size, float(xy[k, 0]), float(xy[k, 1]), yaw)
+    for container in _taken_from_by_hand(graph):  # a hand reaches into it: no deeper than the fingers reach
+        o = objects.get(container)
+        if o is not None and o.category is Category.CONTAINER and o.size[2] > HAND_DEPTH:
+            objects[container] = SceneObject(o.name, o.category, o.shape, (o.size[0], o.size[1], HAND_DEPTH),
+                                             o.x, o.y, o.yaw)
+    for container in set(containing.values()):  # a board long enough for what starts on it and a holding hand
+        o = objects[container]
+        if o.shape == "box":
+            items = [objects[n] for n, c in containing.items() if c == container]
+            need = sum(max(i.size[0], i.size[1]) + ITEM_GAP for i in items) + 2 * END_ROOM
+            size = (round(min(max(o.size[0], need), MAX_BOARD), 3), o.size[1], o.size[2])
+            objects[container] = SceneObject(o.name, o.category, o.shape, size, o.x, o.y, o.yaw)
     free = [n for n in names if n not in containing]
     centres = np.array([[objects[n].x, objects[n].y] for n in free])
     halves = np.array([objects[n].half_extents() for n in free])
@@ -344,7 +376,8 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
         c = objects[container]
         hx, hy = c.half_extents()
         longest = max(max(objects[n].half_extents()) for n in ingredients)
-        span = max(max(hx, hy) - longest - WALL_ROOM, 0.0)  # centres stay this far from the middle
+        ends = END_ROOM if c.shape == "box" else WALL_ROOM  # a board's ends are where a holding hand presses
+        span = max(max(hx, hy) - longest - ends, 0.0)  # centres stay this far from the middle
         for k, name in enumerate(ingredients):  # spread evenly along the container's longer axis, wall to wall
             o = objects[name]
             s = span * (2 * k / (len(ingredients) - 1) - 1) if len(ingredients) > 1 else 0.0

@@ -57,7 +57,7 @@ class Grasping(ArmMotion):
         self._set_grip(pid, min(grip + APPROACH_OPENING, 0.04))  # open just enough: neighbours stay clear
         # never its own obstacle: the object, what it lies in and what lies in it (that rides along) are touched
         support = [c for n, c in self.plan.scene.containing if n == name]
-        own = [name, *self._contents(name)]
+        own = [name, *(self._contents(name) if primitive != "hold" else ())]  # a holding hand keeps off the food
         ignore = [*own, *support, *ignore_extra]
         near = [*own, *ignore_extra]  # the pre-grasp may touch what it is about to take, never its neighbours
         approach = self.skills.approach_distance
