@@ -34,6 +34,9 @@ HAND_ROOM = 0.1
 lies across it, its palm reaching about 11 cm either side of the tool's axis at the height of a pot's rim."""
 LOW = 0.04
 """Metres: objects at most this tall (boards, tools, small ingredients) pass under a gripper's palm."""
+WORK_ROOM = 0.08
+"""Metres from an object a tool works on to anything taller than :data:`LOW` (a knife's or rolling pin's half
+length beside it, and the hand above)."""
 HAND_DEPTH = 0.07
 """Metres: the deepest a container may be for a hand to take something out of it (a gripper's fingers reach
 about 5 cm below its palm)."""
@@ -81,11 +84,17 @@ def _shape_for(name: str, category: Category, width_m: float, depth_m: float) ->
     return "box", (round(_clip(long_side, 0.04, 0.08), 3), d, 0.03), yaw
 
 
-def _gaps(objects: Sequence[SceneObject]) -> np.ndarray:
-    """``(n, n, 2)`` metres to keep free between footprints i and j along x and y: :data:`GAP`, and
-    :data:`HAND_ROOM` across a tool (perpendicular to its long axis) from an object taller than :data:`LOW`."""
+def _gaps(objects: Sequence[SceneObject], worked: frozenset[str] = frozenset()) -> np.ndarray:
+    """``(n, n, 2)`` metres to keep free between footprints i and j along x and y: :data:`GAP`,
+    :data:`HAND_ROOM` across a tool (perpendicular to its long axis) from an object taller than :data:`LOW`, and
+    :data:`WORK_ROOM` around an object a tool works on (``worked``) from an object taller than :data:`LOW`."""
     n = len(objects)
     gaps = np.full((n, n, 2), GAP)
+    for i, target in enumerate(objects):
+        if target.name in worked:
+            for j, other in enumerate(objects):
+                if j != i and other.size[2] > LOW:
+                    gaps[i, j] = gaps[j, i] = np.maximum(gaps[i, j], WORK_ROOM)
     for i, tool in enumerate(objects):
         if tool.category is not Category.TOOL:
             continue
@@ -203,6 +212,18 @@ def _users(graph: ActionGraph) -> dict[str, set[str]]:
                 if name is not None:
                     users.setdefault(name, set()).add(person)
     return users
+
+
+def _worked(graph: ActionGraph, containing: Mapping[str, str]) -> frozenset[str]:
+    """Objects on the table a held tool works on (what it cuts, rolls, stirs...; for an ingredient in a container,
+    the container)."""
+    out = set()
+    for node in graph.nodes:
+        action = action_of(node.span.tree, node.span.start, node.span.end)
+        for act in (action, action.partner):
+            if act is not None and act.held is not None and act.kind is not ActionKind.TRANSFER:
+                out |= {containing.get(t, t) for t in act.targets if t != act.held}
+    return frozenset(out)
 
 
 def _taken_from_by_hand(graph: ActionGraph) -> set[str]:
@@ -355,7 +376,7 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     free = [n for n in names if n not in containing]
     centres = np.array([[objects[n].x, objects[n].y] for n in free])
     halves = np.array([objects[n].half_extents() for n in free])
-    gaps = _gaps([objects[n] for n in free])
+    gaps = _gaps([objects[n] for n in free], _worked(graph, containing))
     sides = np.array([{frozenset({"P1"}): -1, frozenset({"P2"}): 1}.get(frozenset(users.get(n, ())), 0)
                       for n in free])
     inner = (table.size[0] / 2 - ARM_CLEARANCE, table.size[1] / 2 - GAP)
