@@ -34,9 +34,6 @@ HAND_ROOM = 0.1
 lies across it, its palm reaching about 11 cm either side of the tool's axis at the height of a pot's rim."""
 LOW = 0.04
 """Metres: objects at most this tall (boards, tools, small ingredients) pass under a gripper's palm."""
-WORK_ROOM = 0.08
-"""Metres from an object a tool works on to anything taller than :data:`LOW` (a knife's or rolling pin's half
-length beside it, and the hand above)."""
 HAND_DEPTH = 0.07
 """Metres: the deepest a container may be for a hand to take something out of it (a gripper's fingers reach
 about 5 cm below its palm)."""
@@ -84,17 +81,11 @@ def _shape_for(name: str, category: Category, width_m: float, depth_m: float) ->
     return "box", (round(_clip(long_side, 0.04, 0.08), 3), d, 0.03), yaw
 
 
-def _gaps(objects: Sequence[SceneObject], worked: frozenset[str] = frozenset()) -> np.ndarray:
-    """``(n, n, 2)`` metres to keep free between footprints i and j along x and y: :data:`GAP`,
-    :data:`HAND_ROOM` across a tool (perpendicular to its long axis) from an object taller than :data:`LOW`, and
-    :data:`WORK_ROOM` around an object a tool works on (``worked``) from an object taller than :data:`LOW`."""
+def _gaps(objects: Sequence[SceneObject]) -> np.ndarray:
+    """``(n, n, 2)`` metres to keep free between footprints i and j along x and y: :data:`GAP`, and
+    :data:`HAND_ROOM` across a tool (perpendicular to its long axis) from an object taller than :data:`LOW`."""
     n = len(objects)
     gaps = np.full((n, n, 2), GAP)
-    for i, target in enumerate(objects):
-        if target.name in worked:
-            for j, other in enumerate(objects):
-                if j != i and other.size[2] > LOW:
-                    gaps[i, j] = gaps[j, i] = np.maximum(gaps[i, j], WORK_ROOM)
     for i, tool in enumerate(objects):
         if tool.category is not Category.TOOL:
             continue
@@ -146,7 +137,8 @@ def _push_apart(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, flo
 
 
 def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[float, float]], gaps: np.ndarray,
-            sides: np.ndarray, step: float = 0.01, reach: Reach | None = None) -> np.ndarray:
+            sides: np.ndarray, step: float = 0.01, reach: Reach | None = None,
+            keep: np.ndarray | None = None) -> np.ndarray:
     """Place objects one by one, biggest first: each stays at its centre if it keeps its gaps (:func:`_gaps`)
     from those already placed inside ``bounds[0]`` and on its arm's half (``sides``), else goes to the nearest
     point of a ``step`` grid that does. On a crowded table the rules loosen in this order: half the gaps in
@@ -156,7 +148,8 @@ def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[floa
     the others. Always terminates; positions stay near the input."""
     # objects both arms must reach first (the region both reach is small), then those of one arm, then the rest
     arms = np.zeros(len(centres), int) if reach is None else np.array([len(reach.arms[i]) for i in range(len(centres))])
-    order = np.lexsort((-(halves[:, 0] * halves[:, 1]), -arms))
+    kept = np.zeros(len(centres), bool) if keep is None else keep
+    order = np.lexsort((-(halves[:, 0] * halves[:, 1]), -arms, ~kept))
     out = centres.copy()
     settled: list[int] = []
     # (bound, share of the gaps, fixed gap, keep the arm's half, within reach)
@@ -179,6 +172,9 @@ def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[floa
         def reached(points: np.ndarray, i: int = i) -> np.ndarray:
             return reach(int(i), points) if reach is not None else np.ones(len(points), bool)
 
+        if kept[i]:  # stays where it is; the others make room around it
+            settled.append(int(i))
+            continue
         first = np.maximum(np.array(bounds[0]) - halves[i], 0.0)
         here = out[i][None, :]
         if free(here, 1.0, 0.0)[0] and on_side(here)[0] and np.all(np.abs(out[i]) <= first + 1e-9) \
@@ -212,18 +208,6 @@ def _users(graph: ActionGraph) -> dict[str, set[str]]:
                 if name is not None:
                     users.setdefault(name, set()).add(person)
     return users
-
-
-def _worked(graph: ActionGraph, containing: Mapping[str, str]) -> frozenset[str]:
-    """Objects on the table a held tool works on (what it cuts, rolls, stirs...; for an ingredient in a container,
-    the container)."""
-    out = set()
-    for node in graph.nodes:
-        action = action_of(node.span.tree, node.span.start, node.span.end)
-        for act in (action, action.partner):
-            if act is not None and act.held is not None and act.kind is not ActionKind.TRANSFER:
-                out |= {containing.get(t, t) for t in act.targets if t != act.held}
-    return frozenset(out)
 
 
 def _taken_from_by_hand(graph: ActionGraph) -> set[str]:
@@ -376,17 +360,19 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     free = [n for n in names if n not in containing]
     centres = np.array([[objects[n].x, objects[n].y] for n in free])
     halves = np.array([objects[n].half_extents() for n in free])
-    gaps = _gaps([objects[n] for n in free], _worked(graph, containing))
+    gaps = _gaps([objects[n] for n in free])
     sides = np.array([{frozenset({"P1"}): -1, frozenset({"P2"}): 1}.get(frozenset(users.get(n, ())), 0)
                       for n in free])
     inner = (table.size[0] / 2 - ARM_CLEARANCE, table.size[1] / 2 - GAP)
     whole = (table.size[0] / 2 - 0.12, table.size[1] / 2 - 0.01)  # all but the arms' bases
     placed, ok = _push_apart(centres, halves, table.reach, gaps, sides)
     reach = _reach_rule(free, users, containing, table, robot)
-    if not ok or not all(reach(k, placed[[k]])[0] for k in range(len(free))):
-        # too crowded for the reach region, or out of an arm's reach: each object (those arms must reach
-        # first, then the biggest first) to the free spot nearest its place that its arms reach
-        placed = _settle(centres if not ok else placed, halves, (inner, whole), gaps, sides, reach=reach)
+    if not ok:  # too crowded for the reach region: each object, biggest first, to the free spot nearest its place
+        placed = _settle(centres, halves, (inner, whole), gaps, sides)
+    reached = np.array([reach(k, placed[[k]])[0] for k in range(len(free))], bool)
+    if not reached.all():  # what is out of an arm's reach moves to the nearest free spot its arms reach (those
+        # both arms must reach first); the rest stays
+        placed = _settle(placed, halves, (inner, whole), gaps, sides, reach=reach, keep=reached)
     for n, (x, y) in zip(free, placed, strict=True):
         o = objects[n]
         objects[n] = SceneObject(o.name, o.category, o.shape, o.size, round(float(x), 4), round(float(y), 4), o.yaw)
