@@ -137,8 +137,7 @@ def _push_apart(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, flo
 
 
 def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[float, float]], gaps: np.ndarray,
-            sides: np.ndarray, step: float = 0.01, reach: Reach | None = None,
-            keep: np.ndarray | None = None) -> np.ndarray:
+            sides: np.ndarray, step: float = 0.01, reach: Reach | None = None) -> np.ndarray:
     """Place objects one by one, biggest first: each stays at its centre if it keeps its gaps (:func:`_gaps`)
     from those already placed inside ``bounds[0]`` and on its arm's half (``sides``), else goes to the nearest
     point of a ``step`` grid that does. On a crowded table the rules loosen in this order: half the gaps in
@@ -148,8 +147,7 @@ def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[floa
     the others. Always terminates; positions stay near the input."""
     # objects both arms must reach first (the region both reach is small), then those of one arm, then the rest
     arms = np.zeros(len(centres), int) if reach is None else np.array([len(reach.arms[i]) for i in range(len(centres))])
-    kept = np.zeros(len(centres), bool) if keep is None else keep
-    order = np.lexsort((-(halves[:, 0] * halves[:, 1]), -arms, ~kept))
+    order = np.lexsort((-(halves[:, 0] * halves[:, 1]), -arms))
     out = centres.copy()
     settled: list[int] = []
     # (bound, share of the gaps, fixed gap, keep the arm's half, within reach)
@@ -172,9 +170,6 @@ def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[floa
         def reached(points: np.ndarray, i: int = i) -> np.ndarray:
             return reach(int(i), points) if reach is not None else np.ones(len(points), bool)
 
-        if kept[i]:  # stays where it is; the others make room around it
-            settled.append(int(i))
-            continue
         first = np.maximum(np.array(bounds[0]) - halves[i], 0.0)
         here = out[i][None, :]
         if free(here, 1.0, 0.0)[0] and on_side(here)[0] and np.all(np.abs(out[i]) <= first + 1e-9) \
@@ -369,10 +364,10 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     reach = _reach_rule(free, users, containing, table, robot)
     if not ok:  # too crowded for the reach region: each object, biggest first, to the free spot nearest its place
         placed = _settle(centres, halves, (inner, whole), gaps, sides)
-    reached = np.array([reach(k, placed[[k]])[0] for k in range(len(free))], bool)
-    if not reached.all():  # what is out of an arm's reach moves to the nearest free spot its arms reach (those
-        # both arms must reach first); the rest stays
-        placed = _settle(placed, halves, (inner, whole), gaps, sides, reach=reach, keep=reached)
+    if not all(reach(k, placed[[k]])[0] for k in range(len(free))):  # something is out of an arm's reach: each
+        # object (those both arms must reach first, then the biggest first) to the free spot nearest its place
+        # that its arms reach
+        placed = _settle(centres, halves, (inner, whole), gaps, sides, reach=reach)
     for n, (x, y) in zip(free, placed, strict=True):
         o = objects[n]
         objects[n] = SceneObject(o.name, o.category, o.shape, o.size, round(float(x), 4), round(float(y), 4), o.yaw)
