@@ -228,18 +228,14 @@ class BulletWorld(Primitives):
         groups = [regions] if kind == "flat_container" else [[r] for r in regions]
         centre = self.pose(name)[:2, 3]
         actor = next(k for k in action.pids if k != pid)
-        act = action.partner
-        worked = next((n for n in (act.ingredients if act is not None else ()) if n in self.bodies.objects), None)
-        # the actor's arm reaches from its base to what it works on (its ingredient, else the container's middle)
-        start = self.bodies.arms[actor].base[:2, 3]
-        end = self.pose(worked)[:2, 3] if worked is not None else centre
+        toward = self.bodies.arms[actor].base[:2, 3] - centre
+        toward /= max(float(np.linalg.norm(toward)), 1e-9)
 
         def far_side(T: np.ndarray) -> float:
-            """Minus the distance of the grip from the line the actor's arm reaches along (its base to what it
-            works on): the grip farthest from the actor's way is tried first."""
-            seg = end - start
-            u = float(np.clip((T[:2, 3] - start) @ seg / max(float(seg @ seg), 1e-9), 0.0, 1.0))
-            return -float(np.linalg.norm(T[:2, 3] - (start + u * seg)))
+            """Cosine of the angle, about the container, between the grip and the actor's base: the actor works
+            on the side facing its base, so the grip farthest round from there is tried first."""
+            grip = T[:2, 3] - centre
+            return float(grip @ toward / max(float(np.linalg.norm(grip)), 1e-9))
 
         for k, group in enumerate(groups):
             try:
