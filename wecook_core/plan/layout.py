@@ -361,13 +361,13 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     inner = (table.size[0] / 2 - ARM_CLEARANCE, table.size[1] / 2 - GAP)
     whole = (table.size[0] / 2 - 0.12, table.size[1] / 2 - 0.01)  # all but the arms' bases
     placed, ok = _push_apart(centres, halves, table.reach, gaps, sides)
-    reach = _reach_rule(free, users, containing, table, robot)
+    reaches = _reach_rule(free, users, containing, table, robot)
     if not ok:  # too crowded for the reach region: each object, biggest first, to the free spot nearest its place
         placed = _settle(centres, halves, (inner, whole), gaps, sides)
-    if not all(reach(k, placed[[k]])[0] for k in range(len(free))):  # something is out of an arm's reach: each
+    if not all(reaches(k, placed[[k]])[0] for k in range(len(free))):  # something is out of an arm's reach: each
         # object (those both arms must reach first, then the biggest first) to the free spot nearest its place
         # that its arms reach
-        placed = _settle(centres, halves, (inner, whole), gaps, sides, reach=reach)
+        placed = _settle(centres, halves, (inner, whole), gaps, sides, reach=reaches)
     for n, (x, y) in zip(free, placed, strict=True):
         o = objects[n]
         objects[n] = SceneObject(o.name, o.category, o.shape, o.size, round(float(x), 4), round(float(y), 4), o.yaw)
