@@ -39,7 +39,7 @@ from wecook_core.execution.robot import HOME, LOWER, UPPER
 from wecook_core.plan import Plan
 from wecook_core.workflows import demo_plan
 
-DEMO_SEEDS = tuple(range(5))
+DEMO_SEEDS = tuple(range(20))
 """Run seeds of the demo's plan whose share of actions done is reported."""
 VIDEO_SEEDS = tuple(range(10))
 """Synthetic videos (``wecook synth --seed``) whose exported plans are run."""
