@@ -11,6 +11,10 @@
   (:func:`wecook_core.execution.plan_samples.synthetic_plan`, seeds 0-9; every verb, handovers and holdings).
 - ``video_plans_done``: share of the actions done over the plans of synthetic videos :data:`VIDEO_SEEDS`, each
   through the whole pipeline (segmentation, recognition, graph, layout), as a user's own video would be.
+- ``scenario_plans_done``: share of the actions done over the plans exported from every scenario of the
+  independent generator (``../shared/data/scenarios/``, :func:`scenario_plans`), run seed 0.
+- ``scenario_sim_speed_recording``: simulated seconds per wall second over those plans while recording MCAP
+  (target: at least 10); baseline: the same runs with an observer that drops everything.
   For the shares the note lists the failures.
 
 Run: ``.venv/bin/python -m bench.motion``.
@@ -35,7 +39,7 @@ from wecook_core.execution.robot import HOME, LOWER, UPPER
 from wecook_core.plan import Plan
 from wecook_core.workflows import demo_plan
 
-DEMO_SEEDS = tuple(range(5))
+DEMO_SEEDS = tuple(range(20))
 """Run seeds of the demo's plan whose share of actions done is reported."""
 VIDEO_SEEDS = tuple(range(10))
 """Synthetic videos (``wecook synth --seed``) whose exported plans are run."""
@@ -92,7 +96,65 @@ def run() -> list[dict[str, object]]:
     rows.append(_done_share("video_plans_done", [(_video_plan(k), 0) for k in VIDEO_SEEDS],
                             f"plans of synthetic videos {VIDEO_SEEDS[0]}-{VIDEO_SEEDS[-1]} (analysed, laid out, "
                             "exported as a user would), run seed 0"))
+    rows += _scenario_rows()
     return rows
+
+
+def scenario_plans() -> list[tuple[str, Plan]]:
+    """(name, plan) of every scenario in ``../shared/data/scenarios/``: its observations imported (CVAT boxes,
+    OpenPose hands), analysed with the default parameters and laid out, as ``wecook new``, ``analyze`` and
+    ``export`` would."""
+    from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.observations.importer import load_observations
+    from wecook_core.perception.pipeline import analyze
+    from wecook_core.plan import plan_from_graph
+    from wecook_core.resources import shared_dir
+
+    root = shared_dir() / "data" / "scenarios"
+    out = []
+    for folder in sorted(p for p in root.iterdir() if (p / "objects.xml").is_file()):
+        obs = load_observations(folder / "video.mp4", folder / "objects.xml", folder / "openpose")
+        out.append((folder.name, plan_from_graph(analyze(obs, load_knowledge()).graph, obs)))
+    return out
+
+
+def _scenario_rows() -> list[dict[str, object]]:
+    from wecook_core.execution.runs import check_recording
+
+    plans = scenario_plans()
+    done, total, failures, sim, wall, bare_sim, bare_wall, bad = 0, 0, [], 0.0, 0.0, 0.0, 0.0, []
+    contacts = 0
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, plan in plans:
+            bare = execute_plan(plan, Discard(), seed=0)
+            bare_sim += bare.sim_time
+            bare_wall += bare.wall_time
+            path = Path(tmp) / f"{name}.mcap"
+            recorder = McapRecorder(path)
+            began = time.perf_counter()
+            result = execute_plan(plan, recorder, seed=0)
+            wall += time.perf_counter() - began
+            sim += result.sim_time
+            contacts += result.arm_contacts
+            done += sum(a.status == "done" for a in result.actions)
+            total += len(result.actions)
+            failures += [f"{name} {a.action_id} {a.status}: {a.reason[:70]}" for a in result.actions
+                         if a.status == "failed"]
+            if not check_recording(path).ok:
+                bad.append(name)
+    names = ", ".join(n for n, _ in plans)
+    speed, bare_speed = sim / wall, bare_sim / bare_wall
+    return [
+        {"benchmark": "scenario_plans_done", "value": round(done / total, 3), "unit": "share of actions",
+         "ratio_vs_baseline": round(done / total, 3),
+         "note": f"plans of scenarios {names} (imported, analysed, laid out, exported), run seed 0, recorded: "
+                 f"{done}/{total} actions done, arm contacts {contacts}, recordings failing `runs check`: "
+                 f"{', '.join(bad) or 'none'}; " + ("; ".join(failures) if failures else "no failures")},
+        {"benchmark": "scenario_sim_speed_recording", "value": round(speed, 2), "unit": "sim s / wall s",
+         "ratio_vs_baseline": round(speed / bare_speed, 3),
+         "note": f"the same runs: {sim:.0f} sim s in {wall:.0f} wall s recording; baseline without recording "
+                 f"{bare_speed:.2f}x (target >= 10x with recording)"},
+    ]
 
 
 def _video_plan(seed: int) -> Plan:

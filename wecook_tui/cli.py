@@ -16,6 +16,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "boxes",
     "workbench",  # open, demo
     "analyze",
+    "plan",  # plan check
     "export",
     "execute",
     "runs",  # runs check, recover, show, export

@@ -29,8 +29,10 @@ from wecook_core.plan import (
     Scene,
     SceneObject,
     Table,
+    action_objects,
     dump_plan,
     load_plan,
+    object_dependencies,
     plan_from_graph,
     plan_problems,
     read_plan,
@@ -195,12 +197,12 @@ def test_plan_from_graph_actions_and_order() -> None:
     assert by_id["a2"] == replace(by_id["a2"], pids=("P1",), verb="cut", tool="knife", ingredients=("tomato",),
                                   location="chopping_board", source=None, frames=(10, 50))
     assert by_id["a3"].pids == ("P1", "P2") and by_id["a3"].verb == "handover" and by_id["a3"].tool == "knife"
-    assert set(by_id["a3"].after) == {"a2", "a4"}          # giver's previous action and the receiver's
-    assert by_id["a5"].after == ("a3",)                    # the receiver cuts after the handover
+    assert by_id["a3"].after == ("a2",)                    # the knife's last user; a4 (spoon, pot) is unrelated
+    assert set(by_id["a5"].after) == {"a2", "a3"}          # the knife handed over, the tomato and board cut before
     assert by_id["a6"].pids == ("P1", "P2") and by_id["a6"].partner == Act("stir", "spoon", (), "pot")
-    assert set(by_id["a6"].after) == {"a3", "a5"}          # holding waits for both arms
+    assert by_id["a6"].after == ("a4",)                    # the pot and the spoon were last used by a4
     assert by_id["a7"] == replace(by_id["a7"], verb="transfer", tool="spoon", ingredients=("tomato",),
-                                  source="chopping_board", location="pot", after=("a6",))
+                                  source="chopping_board", location="pot", after=("a5", "a6"))
     assert [a.pid for a in plan.agents] == ["P1", "P2"]
 
 
@@ -221,7 +223,7 @@ def test_layout_maps_the_video_onto_the_table_without_overlaps() -> None:
     assert set(objects) == {"knife", "chopping_board", "tomato", "pot", "spoon", "bowl"}
     # left of the image (P1) -> -x; the image top -> +y
     assert objects["chopping_board"].x < 0 < objects["pot"].x
-    assert objects["pot"].y > objects["bowl"].y
+    assert objects["pot"].y > objects["knife"].y  # (the unused bowl may give way to what the arms must reach)
     # the contained ingredient sits inside its container
     board, tomato = objects["chopping_board"], objects["tomato"]
     bx, by = board.half_extents()
@@ -284,11 +286,13 @@ def test_plans_of_synthetic_videos_are_valid_and_uncluttered(seed: int, persons:
         o, c = plan.scene.object(ingredient), plan.scene.object(container)
         cx, cy = c.half_extents()
         assert abs(o.x - c.x) < cx and abs(o.y - c.y) < cy
-    # every arm's actions form a chain: each one waits for the previous action of the same arm
-    for agent in plan.agents:
-        mine = [a for a in plan.actions if agent.pid in a.pids]
-        for before, after in itertools.pairwise(mine):
-            assert before.id in after.after
+    # an action waits for the latest earlier user of each of its objects, and for nothing unrelated
+    for k, action in enumerate(plan.actions):
+        mine = action_objects(action)
+        for name in mine:
+            users = [a.id for a in plan.actions[:k] if name in action_objects(a)]
+            assert not users or users[-1] in action.after
+
 
 
 def test_an_object_one_arm_uses_stays_on_its_half() -> None:
@@ -364,3 +368,28 @@ def test_bottles_are_matched_by_head_noun_not_substring(name: str, shape: str) -
     from wecook_core.plan.layout import _shape_for
 
     assert _shape_for(name, Category.INGREDIENT, 0.05, 0.05)[0] == shape
+
+
+def test_dependencies_come_from_objects_not_from_the_video_order() -> None:
+    actions = (PlanAction("a1", ("P1",), "cut", "knife", ("tomato",), "chopping_board"),
+               PlanAction("a2", ("P1",), "stir", "spoon", (), "pot"),
+               PlanAction("a3", ("P1", "P2"), "handover", "knife"),
+               PlanAction("a4", ("P2",), "peel", "peeler", ("potato",)),
+               PlanAction("a5", ("P2", "P1"), "holding", "pot", partner=Act("stir", "spoon", (), "pot")),
+               PlanAction("a6", ("P2",), "transfer", "knife", ("tomato",), "bowl", "chopping_board"))
+    deps = object_dependencies(actions)
+    assert deps == {"a1": (), "a2": (), "a3": ("a1",), "a4": (), "a5": ("a2",), "a6": ("a1", "a3")}
+    assert action_objects(actions[4]) == {"pot", "spoon"}
+
+
+def test_objects_lie_within_the_reach_of_the_arms_that_use_them() -> None:
+    from wecook_core.plan.reach import reach_problems
+
+    graph, obs = scenario()
+    plan = plan_from_graph(graph, obs)
+    assert reach_problems(plan) == []
+    # on a table so long that no spot is within both arms' reach, the check says which action cannot be reached
+    long = plan_from_graph(graph, obs, table=Table(size=(1.6, 0.8)))
+    problems = reach_problems(long)
+    assert problems and all(u.distance > u.high for u in problems)
+    assert {u.action_id for u in problems} <= {a.id for a in long.actions}

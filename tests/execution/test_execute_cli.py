@@ -205,3 +205,20 @@ def test_sigterm_stops_the_run_with_a_closed_recording(tmp_path: Path) -> None:
     report = check_recording(record)  # finished properly: summary, footer, a story that ends
     assert report.ok, report.problems
     assert report.actions["a1"] == "failed: interrupted"
+
+
+def test_plan_check_says_which_action_cannot_be_reached(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    plan = tmp_path / "plan.yaml"
+    good = PLAN.replace("tool: spoon", "tool: knife")
+    plan.write_text(good)
+    assert main(["plan", "check", str(plan)]) == 0
+    assert "ok: 2 actions, 1 arms" in capsys.readouterr().out
+    # the knife at the far end of the table, beyond P1's reach (P1 stands at x = -0.5)
+    plan.write_text(good.replace("pose: {x: 0.0, y: 0.15, yaw: 0.0}", "pose: {x: 0.15, y: 0.3, yaw: 0.0}"))
+    assert main(["plan", "check", str(plan)]) == 1
+    out = capsys.readouterr().out
+    assert "a1 (cut by P1): the knife at (0.15, 0.30) is 0.72 m from P1's base, beyond its reach" in out
+    assert "a2 (stir by P1): the knife" in out
+    plan.write_text(PLAN)  # an invalid plan: one line, exit 2
+    assert main(["plan", "check", str(plan)]) == 2
+    assert "(a2).tool: object 'spoon' is not in the scene" in capsys.readouterr().err

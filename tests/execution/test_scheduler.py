@@ -89,3 +89,36 @@ def test_deadlock_is_reported_not_hung():
 
     results = run_schedule(plan(PlanAction("a1", ("P1",), "cut", "knife")), Stuck())
     assert results[0].status == "failed" and "deadlock" in results[0].reason
+
+
+def test_a_skipped_action_names_the_failure_it_depends_on():
+    p = plan(PlanAction("a1", ("P1",), "cut", "knife"), PlanAction("a2", ("P1",), "roll", "pin", after=("a1",)),
+             PlanAction("a3", ("P1",), "pour", "oil"), PlanAction("a4", ("P2",), "dip", "bread", after=("a2",)))
+    results = {r.action_id: r for r in run_schedule(p, FakeWorld(fail={"a1"}))}
+    assert results["a4"].reason == "needs a2 (roll), which depends on a1 (cut), which failed"
+    assert results["a3"].status == "done"  # the same arm goes on with what does not depend on a1
+
+
+def test_stop_at_first_failure_skips_everything_after_it():
+    p = plan(PlanAction("a1", ("P1",), "cut", "knife"), PlanAction("a2", ("P1",), "pour", "oil"),
+             PlanAction("a3", ("P2",), "dip", "bread"))
+    world = FakeWorld(ticks=10, fail={"a1"})
+    results = {r.action_id: r for r in run_schedule(p, world, stop_at_first_failure=True)}
+    assert results["a1"].status == "failed"
+    assert results["a2"].status == "skipped" and "first failure, a1" in results["a2"].reason
+    assert results["a3"].status == "done"  # it had started with a1, on the other arm
+
+
+def test_a_wall_clock_limit_ends_the_run():
+    class Slow(FakeWorld):
+        def program(self, action, pid, meeting):
+            import time
+
+            while True:
+                time.sleep(0.01)
+                yield WORK
+
+    p = plan(PlanAction("a1", ("P1",), "cut", "knife"), PlanAction("a2", ("P1",), "pour", "oil"))
+    results = run_schedule(p, Slow(), timeout=0.2)
+    assert results[0].status == "failed" and "wall-clock limit" in results[0].reason
+    assert results[1].status == "skipped"

@@ -90,3 +90,19 @@ def test_wecook_export_schema_prints_it_and_the_readme_publishes_it(capsys: pyte
     block = re.search(r"<!-- plan schema -->\n```json\n(.*?)```", readme, re.S)
     assert block is not None, "the README's schema block is missing"
     assert block.group(1) == printed, "README's schema differs from `wecook export --schema`: paste it again"
+
+
+def test_wecook_plan_check_refuses_a_plan_off_the_schema(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(SMALL.read_text().replace("ingredients: [tomato], location: chopping_board, after: []",
+                                             "ingredients: [tomato], location: chopping_board, afer: []"))
+    assert main(["plan", "check", str(bad)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "bad.yaml:actions[0] (a1).afer: unknown key" in err
+    bomb = tmp_path / "bomb.yaml"  # the schema check reads through the bounded plan reader
+    bomb.write_text("a: &a [x, x, x, x, x, x, x, x, x, x]\n" + "".join(
+        f"{chr(98 + i)}: &{chr(98 + i)} [*{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, "
+        f"*{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}, *{chr(97 + i)}]\n"
+        for i in range(9)))
+    assert main(["plan", "check", str(bomb)]) == 2
+    assert "bomb.yaml" in capsys.readouterr().err

@@ -3,12 +3,16 @@
 Scheduling. Each agent runs a cooperative program (a generator) over its actions in plan order (a
 collaboration is in both agents' lists). Every simulation tick the scheduler advances each program once, then
 steps the world; a program yields :data:`WORK` when it commanded motion (or holds on purpose) and :data:`WAIT`
-when it is blocked. Before an action starts, every ``after`` action must be done; if one failed or was skipped,
-the action is skipped with that reason (and so, transitively, everything depending on it). A collaboration
+when it is blocked. Before an action starts, every ``after`` action must be done (a plan's ``after`` edges come
+from the objects actions share, :func:`wecook_core.plan.object_dependencies`); if one failed or was skipped, the
+action is skipped, naming the failure it depends on (and so, transitively, everything depending on it), while
+actions that share nothing with the failure go on. ``stop_at_first_failure`` skips everything not yet started
+once one action has failed. A collaboration
 starts when both agents have arrived at it; the roles then meet through a :class:`Meeting` (named signals, or
 a failure that aborts the partner). The world turns an action and a role into primitives (``world.program``).
 If every program waits for :data:`DEADLOCK_SECONDS` of simulated time, the waiting actions fail ("deadlock")
-instead of hanging; the whole run is bounded by ``max_sim_time``.
+instead of hanging; the whole run is bounded by ``max_sim_time`` simulated seconds and by ``timeout`` wall
+seconds (:func:`default_timeout` of the plan's size).
 
 How the arms avoid each other (the PyBullet world, :mod:`wecook_core.execution.world`), in three layers:
 
@@ -43,6 +47,16 @@ from wecook_core.plan import Plan, PlanAction
 
 DEADLOCK_SECONDS = 20.0
 """Simulated seconds of every program waiting before the waiting actions fail as deadlocked."""
+TIMEOUT_BASE = 60.0
+"""Wall seconds of a run's default time limit for starting up, before any action."""
+TIMEOUT_PER_ACTION = 30.0
+"""Wall seconds per action of a run's default time limit (a run goes at about 2 to 5 s per action)."""
+
+
+def default_timeout(plan: Plan) -> float:
+    """The default wall-clock limit of a run of ``plan``: :data:`TIMEOUT_BASE` + :data:`TIMEOUT_PER_ACTION` per
+    action."""
+    return TIMEOUT_BASE + TIMEOUT_PER_ACTION * len(plan.actions)
 
 
 @dataclass(frozen=True)
@@ -78,9 +92,15 @@ class RunResult:
 
 
 def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, *,
-                 max_sim_time: float = 1800.0) -> tuple[ActionResult, ...]:
-    """Run every agent's program to the end; one result per plan action, in plan order."""
+                 max_sim_time: float = 1800.0, timeout: float | None = None,
+                 stop_at_first_failure: bool = False) -> tuple[ActionResult, ...]:
+    """Run every agent's program to the end; one result per plan action, in plan order. ``timeout``: wall
+    seconds after which what is running fails and the rest is skipped (None: no limit)."""
+    began = time.perf_counter()
     results: dict[str, ActionResult] = {}
+    cause: dict[str, str] = {}
+    """Skipped action -> the failed action it depends on."""
+    first_failure: list[str] = []
     started: dict[str, float] = {}
     meetings: dict[str, Meeting] = {}
     pids = sorted({a.pid for a in plan.agents} | {pid for a in plan.actions for pid in a.pids})
@@ -95,6 +115,8 @@ def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, 
             return
         results[action.id] = ActionResult(action.id, status, reason, tuple(action.pids), started.get(action.id),
                                           world.time if action.id in started else None)
+        if status == "failed" and not first_failure:
+            first_failure.append(action.id)
         if status == "done":
             world.action_boundary(action, "end")
             emit("action_end", action)
@@ -112,7 +134,18 @@ def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, 
                 blocked = [d for d in action.after if d in results and results[d].status != "done"]
                 if blocked:
                     d = blocked[0]
-                    finish(action, "skipped", f"needs {d} ({by_id[d].verb}), which {results[d].status}")
+                    root = cause.get(d)
+                    if root is not None:
+                        cause[action.id] = root
+                        why = f"needs {d} ({by_id[d].verb}), which depends on {root} ({by_id[root].verb}), which failed"
+                    else:
+                        cause[action.id] = d
+                        why = f"needs {d} ({by_id[d].verb}), which {results[d].status}"
+                    finish(action, "skipped", why)
+                    break
+                if stop_at_first_failure and first_failure:
+                    f = first_failure[0]
+                    finish(action, "skipped", f"stopped at the first failure, {f} ({by_id[f].verb})")
                     break
                 if all(d in results for d in action.after):
                     break
@@ -156,8 +189,11 @@ def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, 
         if not programs:
             break
         idle = 0.0 if worked else idle + world.dt
-        if idle > DEADLOCK_SECONDS or world.time > max_sim_time:
-            why = "deadlock: every arm is waiting" if idle > DEADLOCK_SECONDS else "the run exceeded its time limit"
+        late = timeout is not None and time.perf_counter() - began > timeout
+        if idle > DEADLOCK_SECONDS or world.time > max_sim_time or late:
+            why = "deadlock: every arm is waiting" if idle > DEADLOCK_SECONDS else \
+                f"the run exceeded its wall-clock limit of {timeout:.0f} s" if late else \
+                f"the run exceeded its limit of {max_sim_time:.0f} s simulated"
             for meeting_id, meeting in meetings.items():
                 if meeting_id not in results:
                     meeting.fail(why)
@@ -177,12 +213,15 @@ def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, 
 
 def execute_plan(plan: Plan, observer: RunObserver, *, seed: int = 0, realtime: bool = False,
                  planner: str = "rrtconnect", planning_time: float = 1.0, images: bool = True,
-                 metadata: Mapping[str, str] | None = None) -> RunResult:
+                 metadata: Mapping[str, str] | None = None, timeout: float | None = None,
+                 stop_at_first_failure: bool = False) -> RunResult:
     """Execute ``plan`` in PyBullet (DIRECT, headless) with two Panda arms; report through ``observer``.
 
     The same plan and seed give the same run. ``realtime`` paces the simulation to the wall clock.
     ``planning_time`` bounds every motion-planning query (seconds). ``images``: camera images at action
-    boundaries (``observer.on_image``). The observer sees ``on_start`` first and ``on_end`` last.
+    boundaries (``observer.on_image``). The observer sees ``on_start`` first and ``on_end`` last. ``timeout``:
+    wall seconds for the whole run (default :func:`default_timeout`); ``stop_at_first_failure``: skip every
+    action not yet started once one has failed (else only those depending on it, see :func:`run_schedule`).
     """
     import yaml
 
@@ -196,7 +235,9 @@ def execute_plan(plan: Plan, observer: RunObserver, *, seed: int = 0, realtime: 
         meta = {"seed": str(seed), "planner": planner, **(metadata or {})}
         observer.on_start(world.frames(), yaml.safe_dump(plan_to_dict(plan), sort_keys=False), seed, meta)
         world.publish_state()
-        results = run_schedule(plan, world, observer)
+        limit = default_timeout(plan) if timeout is None else timeout
+        results = run_schedule(plan, world, observer, timeout=max(limit - (time.perf_counter() - began), 1.0),
+                               stop_at_first_failure=stop_at_first_failure)
         done = sum(r.status == "done" for r in results)
         observer.on_event(world.time, RunEvent("run_end", detail=f"{done}/{len(results)} actions done",
                                                data={"done": done, "total": len(results),

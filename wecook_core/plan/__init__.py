@@ -28,7 +28,7 @@ Import the names from here.
 from __future__ import annotations
 
 from wecook_core.plan.checks import plan_problems, validate
-from wecook_core.plan.from_graph import agents_for, plan_actions, plan_from_graph
+from wecook_core.plan.from_graph import action_objects, agents_for, object_dependencies, plan_actions, plan_from_graph
 from wecook_core.plan.model import (
     ARM_REACH,
     DEFAULT_ROBOT,
@@ -62,9 +62,11 @@ __all__ = [
     "SceneObject",
     "Table",
     "Vec3",
+    "action_objects",
     "agents_for",
     "dump_plan",
     "load_plan",
+    "object_dependencies",
     "plan_actions",
     "plan_from_dict",
     "plan_from_graph",

@@ -6,6 +6,7 @@ import math
 from collections.abc import Mapping, Sequence
 
 from wecook_core.model import PERSONS, Action, ActionGraph, ActionKind, Category, Observations, person_of
+from wecook_core.plan.layout import layout_scene
 from wecook_core.plan.model import DEFAULT_ROBOT, DEFAULT_TABLE, Act, Agent, Plan, PlanAction, Table
 from wecook_core.trees.notation import action_of, format_tree
 
@@ -34,10 +35,10 @@ def plan_actions(graph: ActionGraph, categories: Mapping[str, Category]) -> tupl
     """Plan actions of the graph's nodes that contain an action or a collaboration (grasp-only nodes, and holdings
     where the partner only holds too, are left out), in order of start frame.
 
-    ``after``: each action comes after the previous action of every agent it involves (so a handover waits
-    for the receiver to be free and the receiver's next action waits for the handover; a holding waits for
-    both arms and both arms' next actions wait for it), plus the graph's collaboration edges between kept
-    actions when they point forward in time.
+    ``after`` (see :func:`object_dependencies`): each action comes after the latest earlier action that uses or
+    changes each of its objects, plus the graph's collaboration edges between kept actions when they point
+    forward in time. An arm still does its own actions in plan order, and a collaboration starts when both its
+    arms have come to it; but a failure skips only the actions that depend on it through their objects.
     """
     nodes = sorted(graph.nodes, key=lambda n: (n.span.start, n.id))
     kept: list[PlanAction] = []
@@ -63,19 +64,35 @@ def plan_actions(graph: ActionGraph, categories: Mapping[str, Category]) -> tupl
         kept.append(PlanAction(node.id, (person_of(action.hand),), action.verb or "transfer", tool, ingredients,
                                location, source, frames=frames, tree=tree))
     order = {a.id: k for k, a in enumerate(kept)}
-    after: dict[str, set[str]] = {a.id: set() for a in kept}
-    last: dict[str, str] = {}
-    for a in kept:
-        for pid in a.pids:
-            if pid in last:
-                after[a.id].add(last[pid])
-            last[pid] = a.id
+    after = {k: set(v) for k, v in object_dependencies(kept).items()}
     for edge in graph.edges:
         if edge.kind != "sequence" and edge.source in order and edge.target in order \
                 and order[edge.source] < order[edge.target]:
             after[edge.target].add(edge.source)
     return tuple(PlanAction(a.id, a.pids, a.verb, a.tool, a.ingredients, a.location, a.source, a.partner,
                             tuple(sorted(after[a.id], key=order.__getitem__)), a.frames, a.tree) for a in kept)
+
+
+def action_objects(action: PlanAction) -> frozenset[str]:
+    """The objects an action uses or changes: its tool, ingredients, location and source, and its partner's."""
+    acts: list[PlanAction | Act] = [action] if action.partner is None else [action, action.partner]
+    return frozenset(n for a in acts for n in (a.tool, a.location, a.source, *a.ingredients) if n is not None)
+
+
+def object_dependencies(actions: Sequence[PlanAction]) -> dict[str, tuple[str, ...]]:
+    """Action id -> the earlier actions (in the order given) it depends on through its objects: for each object it
+    names, the latest earlier action naming that object (that one depends on the ones before it, so the chain
+    covers every earlier user). Two actions that share no object do not depend on each other, whatever the
+    order the video showed them in."""
+    last: dict[str, str] = {}
+    out: dict[str, tuple[str, ...]] = {}
+    order = {a.id: k for k, a in enumerate(actions)}
+    for a in actions:
+        names = sorted(action_objects(a))
+        out[a.id] = tuple(sorted({last[n] for n in names if n in last}, key=order.__getitem__))
+        for n in names:
+            last[n] = a.id
+    return out
 
 
 def plan_from_graph(graph: ActionGraph, obs: Observations, *, table: Table = DEFAULT_TABLE,
@@ -85,7 +102,5 @@ def plan_from_graph(graph: ActionGraph, obs: Observations, *, table: Table = DEF
     actions = plan_actions(graph, obs.categories)
     persons = {pid for a in actions for pid in a.pids} | set(graph.sequences) | {n.person for n in graph.nodes}
     persons = {p for p in persons if p in PERSONS} or {"P1"}
-    from wecook_core.plan.layout import layout_scene
-
-    return Plan(agents=agents_for(sorted(persons), table, robot), scene=layout_scene(graph, obs, table),
+    return Plan(agents=agents_for(sorted(persons), table, robot), scene=layout_scene(graph, obs, table, robot),
                 actions=actions)

@@ -11,12 +11,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
 from wecook_core.knowledge.nouns import match
 from wecook_core.model import ActionGraph, ActionKind, Category, Observations
-from wecook_core.plan import DEFAULT_TABLE, Scene, SceneObject, Table, Vec3
+from wecook_core.plan.model import DEFAULT_ROBOT, DEFAULT_TABLE, Scene, SceneObject, Table, Vec3
+from wecook_core.plan.reach import MIN_REACH, WORK_REACH
 from wecook_core.trees.notation import action_of
 
 _FLAT_CONTAINERS = ("board", "tray", "mat", "sheet")
@@ -39,6 +41,20 @@ HAND_ROOM = 0.1
 lies across it, its palm reaching about 11 cm either side of the tool's axis at the height of a pot's rim."""
 LOW = 0.04
 """Metres: objects at most this tall (boards, tools, small ingredients) pass under a gripper's palm."""
+HAND_DEPTH = 0.07
+"""Metres: the deepest a container may be for a hand to take something out of it (a gripper's fingers reach
+about 5 cm below its palm)."""
+END_ROOM = 0.06
+"""Metres kept free at each end of a board, for a hand holding it still."""
+ITEM_GAP = 0.04
+"""Metres between neighbouring ingredients on a board (room for a knife)."""
+MAX_BOARD = 0.36
+"""Metres: the longest a board grows to fit what starts on it."""
+WALL_ROOM = 0.01
+"""Metres between the ingredients spread in a container and its walls (or a board's ends)."""
+REACH_SLACK = 0.05
+"""Metres kept inside an arm's reach band when placing what it must reach (the object's own size, poses
+around it)."""
 ARM_CLEARANCE = 0.28
 """Metres kept free at each end of the table: the arm's base stands there, and a Panda reaches down to the
 table badly closer than about 0.3 m from its base."""
@@ -128,19 +144,24 @@ def _push_apart(centres: np.ndarray, halves: np.ndarray, bound: tuple[float, flo
 
 
 def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[float, float]], gaps: np.ndarray,
-            sides: np.ndarray, step: float = 0.01) -> np.ndarray:
+            sides: np.ndarray, step: float = 0.01, reach: Reach | None = None) -> np.ndarray:
     """Place objects one by one, biggest first: each stays at its centre if it keeps its gaps (:func:`_gaps`)
     from those already placed inside ``bounds[0]`` and on its arm's half (``sides``), else goes to the nearest
     point of a ``step`` grid that does. On a crowded table the rules loosen in this order: half the gaps in
     ``bounds[0]``, the gaps then half of them in ``bounds[1]`` (say, the whole table), then either half of the
-    table, then 5 mm in each bound. Always terminates; positions stay near the input."""
-    order = np.argsort(-(halves[:, 0] * halves[:, 1]), kind="stable")
+    table, then 5 mm in each bound. With ``reach`` (object index, points -> which points every arm using the
+    object reaches), every rule first asks for reach too, and objects that some arm must reach are placed before
+    the others. Always terminates; positions stay near the input."""
+    # objects both arms must reach first (the region both reach is small), then those of one arm, then the rest
+    arms = np.zeros(len(centres), int) if reach is None else np.array([len(reach.arms[i]) for i in range(len(centres))])
+    order = np.lexsort((-(halves[:, 0] * halves[:, 1]), -arms))
     out = centres.copy()
     settled: list[int] = []
-    # (bound, share of the gaps, fixed gap, keep the arm's half)
-    rules = [*((k, share, 0.0, True) for k in range(len(bounds)) for share in (1.0, 0.5)),
-             *((k, 0.5, 0.0, False) for k in range(len(bounds))),
-             *((k, 0.0, 0.005, False) for k in range(len(bounds)))]
+    # (bound, share of the gaps, fixed gap, keep the arm's half, within reach)
+    base_rules = [*((k, share, 0.0, True) for k in range(len(bounds)) for share in (1.0, 0.5)),
+                  *((k, 0.5, 0.0, False) for k in range(len(bounds))),
+                  *((k, 0.0, 0.005, False) for k in range(len(bounds)))]
+    rules = [*((*r, True) for r in base_rules if reach is not None), *((*r, False) for r in base_rules)]
     for i in order:
         def free(points: np.ndarray, share: float, fixed: float, i: int = i) -> np.ndarray:
             if not settled:
@@ -153,18 +174,22 @@ def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[floa
         def on_side(points: np.ndarray, i: int = i) -> np.ndarray:
             return points[:, 0] * sides[i] >= -1e-9
 
+        def reached(points: np.ndarray, i: int = i) -> np.ndarray:
+            return reach(int(i), points) if reach is not None else np.ones(len(points), bool)
+
         first = np.maximum(np.array(bounds[0]) - halves[i], 0.0)
         here = out[i][None, :]
-        if free(here, 1.0, 0.0)[0] and on_side(here)[0] and np.all(np.abs(out[i]) <= first + 1e-9):
+        if free(here, 1.0, 0.0)[0] and on_side(here)[0] and np.all(np.abs(out[i]) <= first + 1e-9) \
+                and reached(here)[0]:
             settled.append(int(i))
             continue
-        for k, share, fixed, keep_side in rules:
+        for k, share, fixed, keep_side, within in rules:
             limit = np.maximum(np.array(bounds[k]) - halves[i], 0.0)
             xs = np.arange(-limit[0], limit[0] + 1e-9, step)
             ys = np.arange(-limit[1], limit[1] + 1e-9, step)
             grid = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)
             grid = grid[np.argsort(np.hypot(*(grid - out[i]).T), kind="stable")]
-            ok = free(grid, share, fixed) & (on_side(grid) if keep_side else True)
+            ok = free(grid, share, fixed) & (on_side(grid) if keep_side else True) & (reached(grid) if within else True)
             if ok.any():
                 out[i] = grid[int(np.argmax(ok))]
                 break
@@ -185,6 +210,17 @@ def _users(graph: ActionGraph) -> dict[str, set[str]]:
                 if name is not None:
                     users.setdefault(name, set()).add(person)
     return users
+
+
+def _taken_from_by_hand(graph: ActionGraph) -> set[str]:
+    """Containers an ingredient is taken out of by hand (the source of a transfer without a tool)."""
+    out = set()
+    for node in graph.nodes:
+        action = action_of(node.span.tree, node.span.start, node.span.end)
+        for act in (action, action.partner):
+            if act is not None and act.kind is ActionKind.TRANSFER and act.held is None and len(act.targets) == 3:
+                out.add(act.targets[1])
+    return out
 
 
 def _containing(graph: ActionGraph, obs: Observations, first: Mapping[str, np.ndarray]) -> dict[str, str]:
@@ -223,7 +259,46 @@ def _containing(graph: ActionGraph, obs: Observations, first: Mapping[str, np.nd
     return {k: v for k, v in out.items() if k in first and v in first and cat.get(v) is Category.CONTAINER}
 
 
-def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_TABLE) -> Scene:
+@dataclass(frozen=True)
+class Reach:
+    """Where each object may lie so that every arm using it (or what starts in it) reaches it: between
+    :data:`~wecook_core.plan.reach.MIN_REACH` and the robot's work reach, less :data:`REACH_SLACK`, from each
+    such arm's base."""
+
+    arms: tuple[tuple[np.ndarray, ...], ...]
+    """Per object (by index): the bases (x, y) of the arms that must reach it."""
+    low: float
+    high: float | None
+    """Metres; None: the robot is not checked."""
+
+    def __call__(self, i: int, points: np.ndarray) -> np.ndarray:
+        """Which of the ``(n, 2)`` table points every arm of object ``i`` reaches."""
+        ok = np.ones(len(points), bool)
+        if self.high is None:
+            return ok
+        for base in self.arms[i]:
+            d = np.hypot(*(points - base).T)
+            ok &= (d >= self.low) & (d <= self.high)
+        return ok
+
+
+def _reach_rule(free: Sequence[str], users: Mapping[str, set[str]], containing: Mapping[str, str], table: Table,
+                robot: str) -> Reach:
+    """The :class:`Reach` of the objects ``free`` (P1 at the ``-x`` end of the table, P2 at the ``+x`` end)."""
+    high = WORK_REACH.get(robot)
+    bases = {"P1": np.array([-table.size[0] / 2, 0.0]), "P2": np.array([table.size[0] / 2, 0.0])}
+    arms = []
+    for name in free:
+        persons = set(users.get(name, ()))
+        for content, container in containing.items():
+            if container == name:
+                persons |= users.get(content, set())
+        arms.append(tuple(bases[p] for p in sorted(persons) if p in bases))
+    return Reach(tuple(arms), MIN_REACH + REACH_SLACK, None if high is None else high - REACH_SLACK)
+
+
+def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_TABLE,
+                 robot: str = DEFAULT_ROBOT) -> Scene:
     """Objects of the video laid out on the table.
 
     Mapping image -> table: each object's position is the centre of its median box over its first
@@ -272,6 +347,18 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
         d = float(boxes[k, 3] - boxes[k, 1]) * m_per_px
         shape, size, yaw = _shape_for(name, category, w, d)
         objects[name] = SceneObject(name, category, shape, size, float(xy[k, 0]), float(xy[k, 1]), yaw)
+    for container in _taken_from_by_hand(graph):  # a hand reaches into it: no deeper than the fingers reach
+        o = objects.get(container)
+        if o is not None and o.category is Category.CONTAINER and o.size[2] > HAND_DEPTH:
+            objects[container] = SceneObject(o.name, o.category, o.shape, (o.size[0], o.size[1], HAND_DEPTH),
+                                             o.x, o.y, o.yaw)
+    for container in set(containing.values()):  # a board long enough for what starts on it and a holding hand
+        o = objects[container]
+        if o.shape == "box":
+            items = [objects[n] for n, c in containing.items() if c == container]
+            need = sum(max(i.size[0], i.size[1]) + ITEM_GAP for i in items) + 2 * END_ROOM
+            size = (round(min(max(o.size[0], need), MAX_BOARD), 3), o.size[1], o.size[2])
+            objects[container] = SceneObject(o.name, o.category, o.shape, size, o.x, o.y, o.yaw)
     free = [n for n in names if n not in containing]
     centres = np.array([[objects[n].x, objects[n].y] for n in free])
     halves = np.array([objects[n].half_extents() for n in free])
@@ -281,8 +368,13 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     inner = (table.size[0] / 2 - ARM_CLEARANCE, table.size[1] / 2 - GAP)
     whole = (table.size[0] / 2 - 0.12, table.size[1] / 2 - 0.01)  # all but the arms' bases
     placed, ok = _push_apart(centres, halves, table.reach, gaps, sides)
+    reaches = _reach_rule(free, users, containing, table, robot)
     if not ok:  # too crowded for the reach region: each object, biggest first, to the free spot nearest its place
         placed = _settle(centres, halves, (inner, whole), gaps, sides)
+    if not all(reaches(k, placed[[k]])[0] for k in range(len(free))):  # something is out of an arm's reach: each
+        # object (those both arms must reach first, then the biggest first) to the free spot nearest its place
+        # that its arms reach
+        placed = _settle(centres, halves, (inner, whole), gaps, sides, reach=reaches)
     for n, (x, y) in zip(free, placed, strict=True):
         o = objects[n]
         objects[n] = SceneObject(o.name, o.category, o.shape, o.size, round(float(x), 4), round(float(y), 4), o.yaw)
@@ -292,10 +384,13 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     for container, ingredients in by_container.items():
         c = objects[container]
         hx, hy = c.half_extents()
-        for k, name in enumerate(ingredients):  # spread along the container's longer axis
+        longest = max(max(objects[n].half_extents()) for n in ingredients)
+        ends = END_ROOM if c.shape == "box" else WALL_ROOM  # a board's ends are where a holding hand presses
+        span = max(max(hx, hy) - longest - ends, 0.0)  # centres stay this far from the middle
+        for k, name in enumerate(ingredients):  # spread evenly along the container's longer axis, wall to wall
             o = objects[name]
-            s = (k + 1) / (len(ingredients) + 1) - 0.5
-            dx, dy = (s * hx, 0.0) if hx >= hy else (0.0, s * hy)
+            s = span * (2 * k / (len(ingredients) - 1) - 1) if len(ingredients) > 1 else 0.0
+            dx, dy = (s, 0.0) if hx >= hy else (0.0, s)
             limit = 0.8 * min(hx, hy) * 2
             size = (round(min(o.size[0], limit), 3), round(min(o.size[1], limit), 3), o.size[2])
             objects[name] = SceneObject(o.name, o.category, o.shape, size,

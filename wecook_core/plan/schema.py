@@ -17,11 +17,12 @@ from typing import Any
 
 import yaml
 
-from wecook_core.errors import InputError, read_input_text, yaml_error
+from wecook_core.errors import InputError, yaml_error
+from wecook_core.files import read_text
 from wecook_core.model import PERSONS, VERBS, Category
 from wecook_core.plan.checks import validate
 from wecook_core.plan.model import PLAN_VERBS, PLAN_VERSION, SHAPES, Plan
-from wecook_core.plan.yaml_file import plan_from_dict
+from wecook_core.plan.yaml_file import MAX_PLAN_BYTES, parse_plan_yaml, plan_from_dict
 
 SCHEMA_ID = "urn:wecook:plan:1"
 
@@ -220,9 +221,14 @@ def check_plan_file(path: str | Path) -> Plan:
     """Read a plan file and check it: YAML, then :func:`check_plan_schema`, then the plan's own checks
     (:func:`~wecook_core.plan.checks.validate`). The first problem raises an :class:`InputError` naming the file and
     the place; otherwise returns the plan."""
-    text = read_input_text(path, "no such plan file")
+    if not Path(path).exists():
+        raise InputError(path, "no such plan file")
     try:
-        data = yaml.safe_load(text)
+        text = read_text(path, "plan", MAX_PLAN_BYTES)
+    except InputError as error:
+        raise InputError(path, f"cannot read the plan ({error.message})", place=error.place) from None
+    try:
+        data = parse_plan_yaml(text, path)  # bounded: depth, aliases, size
     except yaml.YAMLError as error:
         raise yaml_error(path, error, "not valid YAML") from None
     check_plan_schema(data, path)

@@ -133,7 +133,7 @@ def _expanded_size(node: yaml.Node, path: str | Path | None) -> int:
     return sizes[id(node)]
 
 
-def _parse_yaml(text: str, path: str | Path | None) -> Any:
+def parse_plan_yaml(text: str, path: str | Path | None) -> Any:
     """The data of plan YAML text, with nesting and alias expansion bounded."""
     loader = _PlanLoader(text)
     try:
@@ -284,7 +284,7 @@ def plan_from_dict(data: Any, path: str | Path | None = None) -> Plan:
 def load_plan(text: str, path: str | Path | None = None, *, check: bool = True) -> Plan:
     """Parse plan YAML text (and validate it unless ``check`` is False)."""
     try:
-        data = _parse_yaml(text, path)
+        data = parse_plan_yaml(text, path)
     except yaml.YAMLError as error:
         raise yaml_error(path, error, "not valid YAML") from None
     plan = plan_from_dict(data, path)

@@ -1,7 +1,9 @@
 """`wecook execute`: run a plan (`wecook export` is in :mod:`.export`, `wecook runs` in :mod:`.runs`).
 
-- ``wecook execute PLAN [--record FILE.mcap | --no-record] [--seed N] [--realtime] [--jsonl]``: validate the
-  plan (errors before anything runs, exit 2), run it headless with progress per action, record it (default
+- ``wecook execute PLAN [--record FILE.mcap | --no-record] [--seed N] [--realtime] [--jsonl] [--timeout S]
+  [--stop-at-first-failure]``: validate the plan (errors before anything runs, exit 2), say which actions
+  ``wecook plan check`` finds out of reach, run it headless with progress per action and an ETA, within a
+  wall-clock limit (default from the plan's size), record it (default
   ``runs/<plan>-<time>.mcap``: the session's ``runs/`` when the plan is in a session's ``plans/``, else beside
   the plan), print a table of every action; exit 0 only if every action succeeded, else 1. ``--jsonl`` prints
   one JSON object per line instead (``run_start``, every plan event, then ``summary``) for programs such as the
@@ -15,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import datetime as dt
+import sys
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -46,6 +49,11 @@ def register(sub: Any) -> None:
     execute.add_argument("--port", type=int, default=8765, help="port of --live (default: %(default)s; 0: any)")
     execute.add_argument("--camera-hz", type=_rate, default=2.0, metavar="HZ",
                          help="camera images per simulated second (default: %(default)s; 0: at action boundaries)")
+    execute.add_argument("--timeout", type=float, metavar="SECONDS",
+                         help="wall-clock limit of the run (default: 60 s + 30 s per action of the plan)")
+    execute.add_argument("--stop-at-first-failure", action="store_true",
+                         help="skip every action not yet started once one has failed (default: only the actions "
+                              "that depend on the failure through their objects are skipped)")
     execute.set_defaults(func=run_execute)
 
 
@@ -95,15 +103,17 @@ class Progress:
         self.jsonl = jsonl
         live = self.live
         self.sim_time = 0.0
+        self.began = time.perf_counter()
         self._bar: Any = None
         self._overall: Any = None
         self._agents: dict[str, Any] = {}
         if live:
-            from rich.progress import BarColumn, MofNCompleteColumn, TextColumn, TimeElapsedColumn
+            from rich.progress import BarColumn, MofNCompleteColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
             from rich.progress import Progress as RichProgress
 
             self._bar = RichProgress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-                                     TimeElapsedColumn(), console=console, transient=False)
+                                     TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
+                                     console=console, transient=False)
             self._overall = self._bar.add_task("actions", total=len(self.rows))
             for pid in sorted({p for a in plan.actions for p in a.pids}):  # each arm: its actions, its step now
                 mine = sum(pid in a.pids for a in plan.actions)
@@ -153,7 +163,7 @@ class Progress:
             mark = {"done": "done", "failed": "FAILED", "skipped": "skipped"}[row.status]
             if row.status != "done":
                 mark += f": {row.reason or 'no reason given'}"
-            self._say(f"[{t:7.2f}s] {row.id} {row.agents} {row.verb}: {mark}")
+            self._say(f"[{t:7.2f}s] {row.id} {row.agents} {row.verb}: {mark} ({self.eta()})")
             if self._bar is not None:
                 self._bar.advance(self._overall)
                 for pid in row.agents.split(","):
@@ -167,6 +177,14 @@ class Progress:
             elif event.kind == "wait":
                 what = f"waiting: {event.detail}"
             self._agent(agent, f"{row.id} {row.verb}: {what}")
+
+    def eta(self) -> str:
+        """``k/n actions, ETA s``: the wall time left at the pace of the actions finished so far."""
+        finished = sum(r.status in ("done", "failed", "skipped") for r in self.rows.values())
+        total = len(self.rows)
+        wall = time.perf_counter() - self.began
+        left = wall / finished * (total - finished) if finished else float("nan")
+        return f"{finished}/{total} actions, ETA {left:.0f} s" if finished < total else f"{finished}/{total} actions"
 
     def _agent(self, agent: str | None, text: str) -> None:
         if self._bar is not None and agent in self._agents:
@@ -244,6 +262,10 @@ def run_execute(args: argparse.Namespace) -> int:
     from wecook_core.plan import read_plan
 
     plan = read_plan(args.plan)  # validates: a bad plan is an InputError before anything runs
+    from wecook_tui.commands.plan import plan_findings
+
+    for line in plan_findings(plan):  # what will fail, said before the run
+        print(f"wecook: warning: {args.plan}: {line}", file=sys.stderr)
     try:
         from wecook_core.execution.executor import execute_plan
     except ImportError as error:
@@ -268,7 +290,8 @@ def run_execute(args: argparse.Namespace) -> int:
     _interrupt_on_sigterm()
     try:
         result = execute_plan(plan, _with_camera(FanOut(*observers), args.camera_hz), seed=args.seed,
-                              realtime=args.realtime, images=not args.camera_hz)
+                              realtime=args.realtime, images=not args.camera_hz, timeout=args.timeout,
+                              stop_at_first_failure=args.stop_at_first_failure)
     except KeyboardInterrupt:
         for row in progress.rows.values():  # close the story in the recording and on the terminal
             if row.status == "running":

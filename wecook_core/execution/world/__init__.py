@@ -7,11 +7,12 @@ Goals come from TSR samples through re-seeded IK, checked for collisions in the 
 the motion planner (every query time-limited). A goal that fails is retried with new samples, up to
 ``attempts`` rounds of ``samples`` samples; then the primitive fails with its reason.
 
-Four layers, each a class built on the one below:
+Layers, each a class built on the one below:
 
 - :mod:`.state` (``WorldState``): the two clients, the scene, the hands, the clock, what the observer sees;
 - :mod:`.moves` (``ArmMotion``): goals, planned and straight moves, sharing the table between the arms;
-- :mod:`.primitives` (``Primitives``): grasp, engage, actuate, place;
+- :mod:`.grasping` (``Grasping``): grasp and release; :mod:`.actuating` (``Actuating``): engage and actuate;
+  :mod:`.primitives` (``Primitives``): place; all retried by one policy, :mod:`.retry`;
 - :mod:`.roles` (``BulletWorld``): actions and the roles of collaborations.
 """
 

@@ -24,6 +24,8 @@ from wecook_core.plan import PlanAction
 
 ZONE_MARGIN = 0.08
 """Metres around the objects of an action that its arm may sweep over while working."""
+HAND_OVER_ROOM = 0.02
+"""Metres, beyond the receiver's clearance, between the two hands' grasp points on a tool handed over mid-air."""
 ZONE_WAIT_SECONDS = 120.0
 """Longest wait for the other arm to leave an overlapping zone (then the action goes ahead, reservations still
 keep the arms apart)."""
@@ -141,6 +143,13 @@ class BulletWorld(Primitives):
                 yield from self.place(action, pid, [near], free=True)
         yield from self.go_home(pid)
 
+    def _mid_air(self, name: str) -> bool:
+        """Whether ``name`` is handed over mid-air: a tool long enough for both hands on it, each grasping near its
+        own end (:data:`HAND_OVER_ROOM` beyond the receiver's clearance between them); else on the table."""
+        if self._kind(name) != "tool":
+            return False
+        return 2 * 0.55 * self.half(name).hx >= self.skills.receiver_clearance + HAND_OVER_ROOM
+
     def _giver(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
         """Mid-air for long objects (tools): carry it to the meeting pose, wait until the receiver holds it, let
         go. Small objects (both grippers would not fit on them) are handed over on the table between the arms:
@@ -150,7 +159,7 @@ class BulletWorld(Primitives):
         giver, receiver = action.pids
         yield from self.grasp(action, pid, name)
         meet = self._meet(giver, receiver)
-        if self._kind(name) != "tool":
+        if not self._mid_air(name):
             spot = meet.copy()
             spot[2, 3] = self.bodies.table_height + self.half(name).hz
             region = TSR(spot, np.eye(4), np.array([[-0.1, 0.1], [-0.25, 0.25], [0.002, 0.006], [0, 0], [0, 0],
@@ -182,7 +191,7 @@ class BulletWorld(Primitives):
         assert name is not None
         giver = action.pids[0]
         yield from meeting.wait_for("at_meet")
-        if self._kind(name) != "tool":  # on the table: an ordinary grasp once the giver has let go
+        if not self._mid_air(name):  # on the table: an ordinary grasp once the giver has let go
             yield from meeting.wait_for("released")
             yield from self.grasp(action, pid, name, primitive="take")
         else:

@@ -89,6 +89,8 @@ class WorldState:
         self.moved_at = {pid: 0.0 for pid in self.arms}
         """Simulated time each arm last moved."""
         self._touching = False
+        self._riding: set[str] = set()
+        """Objects riding on a hand at the last step."""
         for pid, arm in self.arms.items():
             arm.set_q(REST, 0.04)
             self.commands[pid] = REST.copy()
@@ -128,6 +130,11 @@ class WorldState:
                     pos, orn = p.multiplyTransforms(state[4], state[5], local[0], local[1])
                     p.resetBasePositionAndOrientation(body, pos, orn, physicsClientId=c)
                     p.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0], physicsClientId=c)
+        riding = {r.name for hand in self.hands.values() for r in hand.riding}
+        for name in self._riding - riding:  # let go: resting objects sleep (scene.py), this one must fall
+            p.changeDynamics(self.bodies.objects[name].body, -1, activationState=p.ACTIVATION_STATE_WAKE_UP,
+                             physicsClientId=c)
+        self._riding = riding
         p.stepSimulation(physicsClientId=c)
         self.steps += 1
         if self.steps % CONTACT_EVERY == 0:
@@ -238,7 +245,15 @@ class WorldState:
         if name is None:
             raise ActionFailed(f"the skill needs a {role} and the action names none")
         sizes["f"] = self.half(name)
-        return (self.pose(name) if kind == "object" else self._facing(name, pid)), sizes
+        return (self._upright(name) if kind == "object" else self._facing(name, pid)), sizes
+
+    def _upright(self, name: str) -> np.ndarray:
+        """The object's pose as a frame for TSRs; a sphere's only by its position (it turns as it rolls, so its
+        own axes say nothing: its frame is the world's, and a hand takes it from above)."""
+        T = self.pose(name)
+        if self.plan.scene.object(name).shape == "sphere":
+            T[:3, :3] = np.eye(3)
+        return T
 
     def _kind(self, name: str) -> str:
         b = self.bodies.objects[name]
