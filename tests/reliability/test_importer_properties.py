@@ -13,9 +13,11 @@ from hypothesis import strategies as st
 from wecook_core.formats.cocovid import read_cocovid
 from wecook_core.formats.cvat import read_cvat
 from wecook_core.formats.detect import read_hands, read_objects
+from wecook_core.formats.labelstudio import read_labelstudio
 from wecook_core.formats.mot import read_mot
 from wecook_core.formats.native import read_hands_csv, read_objects_csv
 from wecook_core.formats.openpose import read_openpose
+from wecook_core.model import VideoInfo
 
 OBJECTS_CSV = "frame,track_id,label,x1,y1,x2,y2\n0,1,pot,10,10,20,20\n1,1,pot,11,10,21,20\n0,2,big bowl,40,30,90,60\n"
 HANDS_CSV = "frame,hand,x,y,x1,y1,x2,y2\n0,LH_P1,5,5,1,1,9,9\n1,LH_P1,6,5,2,1,10,9\n0,RH_P1,50,5,46,1,54,9\n"
@@ -38,6 +40,12 @@ COCO = json.dumps({
     "annotations": [{"id": 1, "image_id": 1, "category_id": 1, "instance_id": 1, "bbox": [10, 10, 10, 10]},
                     {"id": 2, "image_id": 2, "category_id": 1, "instance_id": 1, "bbox": [11, 10, 10, 10]}],
     "categories": [{"id": 1, "name": "pot"}]}, indent=1)
+LABEL_STUDIO = json.dumps([{"id": 1, "data": {"video": "/videos/take.mp4"}, "annotations": [{"id": 7, "result": [
+    {"type": "videorectangle", "id": "pot", "from_name": "box", "to_name": "video", "value": {
+        "framesCount": 10, "labels": ["pot"], "sequence": [
+            {"frame": 1, "enabled": True, "x": 10, "y": 10, "width": 20, "height": 20, "time": 0.0},
+            {"frame": 5, "enabled": False, "x": 12, "y": 10, "width": 20, "height": 20, "time": 0.13}]}}]}]}],
+    indent=1)
 BODY = [v for x, y in [(0, -30), (0, -20), (-10, -20), (-12, -5), (-14, 8), (10, -20), (12, -5), (14, 8)]
         for v in (30 + x, 30 + y, 0.9)]
 KEYPOINTS = json.dumps({"version": 1.3, "people": [{"pose_keypoints_2d": BODY, "hand_left_keypoints_2d": [],
@@ -97,3 +105,11 @@ def test_openpose(tmp_path: Path, data: bytes, name: str) -> None:
     _write(folder, name, data)
     keeps_contract(lambda: read_openpose(folder), folder)
     keeps_contract(lambda: read_hands(folder), folder)
+
+
+@given(data=st.one_of(mutated(LABEL_STUDIO.encode()), field_swapped(LABEL_STUDIO, ',:\n').map(str.encode)))
+def test_labelstudio(tmp_path: Path, data: bytes) -> None:
+    path = _write(tmp_path, "export.json", data)
+    video = VideoInfo("/videos/take.mp4", 30.0, 10, 96, 64, 10)
+    keeps_contract(lambda: read_labelstudio(path, video=video), path)
+    keeps_contract(lambda: read_objects(path), path)

@@ -18,13 +18,13 @@ or the one chosen by ``select`` (its id or video name).
 
 from __future__ import annotations
 
-import json
 from collections.abc import Mapping
 from itertools import pairwise
 from pathlib import Path
 from typing import Any
 
-from wecook_core.errors import InputError, json_error
+from wecook_core.errors import InputError, load_json
+from wecook_core.files import read_text
 from wecook_core.formats.fields import Box, Warn, ignore_warning, parse_float, parse_int
 from wecook_core.formats.tracks import object_tracks
 from wecook_core.model import ObjectTrack, VideoInfo
@@ -67,16 +67,9 @@ def read_labelstudio(
 
 
 def _load(path: Path) -> Any:
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError(path, "file not found") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(path, f"cannot read: {error}") from None
-    try:
-        return json.loads(text)
-    except json.JSONDecodeError as error:
-        raise json_error(path, error) from None
+    """The file's JSON, read as every importer reads the user's files (a regular file of bounded size; bounded
+    nesting and integers: :func:`~wecook_core.errors.load_json`)."""
+    return load_json(path, read_text(path, "Label Studio JSON file").removeprefix("\ufeff"))
 
 
 def _video_name(task: Mapping[str, Any]) -> str | None:
