@@ -4,6 +4,7 @@ Every import statement counts, wherever it stands: at the top, inside a function
 The layers, top to bottom (a layer may import any layer below it, never one above or a sibling):
 
     wecook_tui                       the command line and the workbench
+    wecook_core.batch                many videos: one task per video and stage, resumable
     wecook_core.workflows            use cases: analyse a session, export its plan, the demo
     wecook_core.session              a session on disk: inputs, journal, typed corrections
     wecook_core.execution            the plan acted out in PyBullet, recorded as MCAP
