@@ -321,3 +321,21 @@ def test_an_ingredient_that_misses_its_destination_fails_the_transfer_saying_whe
         assert world._container_of("onion") is None
     finally:
         world.close()
+
+
+def test_cutting_on_a_plate_with_no_ingredient_named_engages_over_the_food_on_it():
+    """The action names no ingredient: the knife works on what lies on the plate, so it engages over the food's
+    top (over the plate's own top it would stand inside the food) and the cut is done."""
+    objects = (SceneObject("plate", Category.CONTAINER, "cylinder", (0.12, 0.12, 0.03), 0.05, 0.1),
+               SceneObject("tomato", Category.INGREDIENT, "sphere", (0.045, 0.045, 0.045), 0.03, 0.1),
+               SceneObject("bell_pepper", Category.INGREDIENT, "sphere", (0.045, 0.045, 0.045), 0.08, 0.1),
+               SceneObject("knife", Category.TOOL, "box", (0.14, 0.03, 0.025), 0.2, -0.1, np.pi / 2))
+    plan = Plan(agents=agents_for(["P1", "P2"]),
+                scene=Scene(objects=objects, containing=(("tomato", "plate"), ("bell_pepper", "plate"))),
+                actions=(PlanAction("a1", ("P2",), "cut", "knife", (), "plate"),))
+    world = BulletWorld(plan, Recorder(), seed=0, images=False)
+    try:
+        results = run_schedule(plan, world)
+        assert results[0].status == "done", results
+    finally:
+        world.close()

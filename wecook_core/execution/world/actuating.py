@@ -52,6 +52,7 @@ class Actuating(Grasping):
         hand = self.hands[pid]
         T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
         T0_w, sizes = self.frame(spec, roles, pid, meet)
+        T0_w = self._over_contents(spec, roles, T0_w)
         region = spec.tsr(T0_w, sizes)
         rank = self._away_from_other(pid, T0_w[:3, 3]) if meet is None else None
         spin = bool(hand.riding) and self.plan.scene.object(hand.riding[0].name).shape in ("cylinder", "sphere")
@@ -101,6 +102,24 @@ class Actuating(Grasping):
         self.goal_blockers = set()
         text, count = why.most_common(1)[0]
         return None, f"the {then.motion} from there: {text} ({count} of {why.total()} tries)"
+
+    def _over_contents(self, spec: TSRSpec, roles: dict[str, str | None], T0_w: np.ndarray) -> np.ndarray:
+        """``T0_w`` raised so that a TSR over the top of an ingredient that is a container (the action names no
+        ingredient: the tool works on what lies in or on its location, the food cut on a plate) stands over the
+        top of what lies there: the tool engages what it works on, not the container under it."""
+        name = roles.get("ingredient")
+        if spec.frame.split(":", 1)[-1] != "ingredient" or name is None:
+            return T0_w
+        contents = self._contents(name)
+        if not contents:
+            return T0_w
+        top = max(p.getAABB(self.bodies.objects[c].body, physicsClientId=self.client)[1][2] for c in contents)
+        rise = top - (self.pose(name)[2, 3] + self.half(name).hz)
+        if rise <= 0:
+            return T0_w
+        T = T0_w.copy()
+        T[2, 3] += rise
+        return T
 
     def _touched(self, step: Step, roles: dict[str, str | None]) -> list[str]:
         """The objects an actuation may touch: those of its contact pairs, what lies in them (the rice in the
