@@ -193,3 +193,28 @@ def test_ray_with_two_workers_gives_what_one_video_at_a_time_gives(tmp_path: Pat
         assert [r.status for r in run.results[name]] == ["done", "done", "done"], run.results[name]
         for file in ("trees.yaml", "graph.yaml", "plans/plan.yaml"):
             assert (batch_root / name / file).read_text() == (one_by_one / name / file).read_text(), (name, file)
+
+
+@pytest.mark.slow
+def test_a_video_without_hands_gets_them_detected_as_wecook_new_detects_them(tmp_path: Path) -> None:
+    """The hands stage runs MediaPipe on a video with a real hand (tests/data, Apache-2.0) and writes the hands
+    where `wecook new` without --hands writes them; the session is then made from them."""
+    pytest.importorskip("mediapipe")
+    from tests.hand_video import hand_and_tomato
+
+    video = tmp_path / "hand.avi"
+    boxes = hand_and_tomato(video)
+    objects = tmp_path / "objects.csv"
+    objects.write_text("frame,track_id,label,x1,y1,x2,y2\n" + "".join(
+        f"0,{i},{label},{x1},{y1},{x2},{y2}\n" for i, (label, (x1, y1, x2, y2)) in enumerate(boxes.items(), 1)))
+    item = BatchItem("handy", video, objects)
+    run = run_batch([item], ["hands", "import"], tmp_path / "batch", engine="local")
+    assert [(r.stage, r.status) for r in run.results["handy"]] == [("hands", "done"), ("import", "done")], \
+        run.results["handy"]
+    assert main(["new", "handy", "--video", str(video), "--objects", str(objects), "--root",
+                 str(tmp_path / "one")]) == 0
+    detected = (tmp_path / "batch" / "handy.hands.csv").read_text()
+    assert detected == (tmp_path / "one" / "handy.hands.csv").read_text()
+    assert detected.count("\n") > 10  # a header and the hand on most frames
+    again = run_batch([item], ["hands", "import"], tmp_path / "batch", engine="local")
+    assert [r.status for r in again.results["handy"]] == ["cached", "cached"]

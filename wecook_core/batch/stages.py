@@ -28,6 +28,9 @@ from wecook_core.errors import InputError
 STAGES: tuple[str, ...] = ("hands", "import", "analyze", "export", "execute")
 """Every stage, in the order they run for one video."""
 STAMP_DIR = "batch"
+"""A session's stamps: ``<session>/batch/<stage>.json``."""
+EARLY_STAMPS = ".batch"
+"""Stamps of the stages before the session exists (``hands``): ``ROOT/.batch/<name>/<stage>.json``."""
 
 
 @dataclass(frozen=True)
@@ -88,12 +91,13 @@ def _peak_rss_mb() -> float:
 def _run(item: BatchItem, stage: str, root: Path, options: StageOptions, began: float) -> StageResult:
     try:
         key = _key(item, stage, root, options)
-        stamp = _read_stamp(root / item.name, stage)
+        stamp = _read_stamp(_stamp_path(root, item.name, stage))
         if not options.force and stamp is not None and stamp.get("key") == key:
             return StageResult(item.name, stage, "cached", 0.0, stamp.get("summary", {}), key=key)
         summary = _RUN[stage](item, root, options)
         result = StageResult(item.name, stage, "done", time.perf_counter() - began, summary, key=key)
-        _write_stamp(root / item.name, stage, {"key": key, "summary": summary, "seconds": result.seconds})
+        _write_stamp(_stamp_path(root, item.name, stage),
+                     {"key": key, "summary": summary, "seconds": result.seconds})
         return result
     except InputError as error:
         return StageResult(item.name, stage, "failed", time.perf_counter() - began, error=str(error))
@@ -149,16 +153,23 @@ def _key(item: BatchItem, stage: str, root: Path, options: StageOptions) -> str:
     return digest.hexdigest()[:32]
 
 
-def _read_stamp(session: Path, stage: str) -> dict[str, Any] | None:
+def _stamp_path(root: Path, name: str, stage: str) -> Path:
+    """Where ``stage``'s stamp of video ``name`` lies: in its session, or beside it before the session exists."""
+    if stage == "hands":
+        return root / EARLY_STAMPS / name / f"{stage}.json"
+    return root / name / STAMP_DIR / f"{stage}.json"
+
+
+def _read_stamp(path: Path) -> dict[str, Any] | None:
     try:
-        data = json.loads((session / STAMP_DIR / f"{stage}.json").read_text(encoding="utf-8"))
+        data = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return None
     return data if isinstance(data, dict) else None
 
 
-def _write_stamp(session: Path, stage: str, data: Mapping[str, Any]) -> None:
-    folder = session / STAMP_DIR
+def _write_stamp(path: Path, data: Mapping[str, Any]) -> None:
+    folder, stage = path.parent, path.stem
     folder.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{stage}.", suffix=".json", dir=folder)
     try:
@@ -166,7 +177,7 @@ def _write_stamp(session: Path, stage: str, data: Mapping[str, Any]) -> None:
             json.dump(data, out, indent=1, default=str)
             out.flush()
             os.fsync(out.fileno())
-        os.replace(tmp, folder / f"{stage}.json")
+        os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
