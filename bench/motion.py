@@ -104,17 +104,13 @@ def scenario_plans() -> list[tuple[str, Plan]]:
     """(name, plan) of every scenario in ``../shared/data/scenarios/``: its observations imported (CVAT boxes,
     OpenPose hands), analysed with the default parameters and laid out, as ``wecook new``, ``analyze`` and
     ``export`` would."""
-    from wecook_core.knowledge.recognize import load_knowledge
-    from wecook_core.observations.importer import load_observations
-    from wecook_core.perception.pipeline import analyze
-    from wecook_core.plan import plan_from_graph
     from wecook_core.resources import shared_dir
+    from wecook_core.workflows import inputs_plan
 
     root = shared_dir() / "data" / "scenarios"
     out = []
     for folder in sorted(p for p in root.iterdir() if (p / "objects.xml").is_file()):
-        obs = load_observations(folder / "video.mp4", folder / "objects.xml", folder / "openpose")
-        out.append((folder.name, plan_from_graph(analyze(obs, load_knowledge()).graph, obs)))
+        out.append((folder.name, inputs_plan(folder / "video.mp4", folder / "objects.xml", folder / "openpose")))
     return out
 
 

@@ -63,6 +63,8 @@ class Review:
     """What is wrong with the video when the boxes and hands are shown against the recorded facts."""
     segmentation: Segmentation | None = None
     """GGS's segmentation, computed by the first analysis and reused by the next ones."""
+    shots: tuple[int, ...] | None = None
+    """The video's shot cuts, found (or read from the session's cache) by the first analysis and reused."""
 
     def analyse(self, corrections: Sequence[Correction] | None = None) -> Analysis:
         """The analysis with ``corrections`` (default: the journal's, in effect now)."""
@@ -74,8 +76,10 @@ class Review:
             self.segmentation = segment(self.observations, self.session.params)
         knowledge = self.knowledge if self.knowledge is not None else load_knowledge()
         applied = self.session.applied_corrections if corrections is None else corrections
+        if self.shots is None:
+            self.shots = cached_shot_cuts(self.session.path, self.observations.video.path)
         return analyse(self.observations, knowledge, self.session.params, applied, segmentation=self.segmentation,
-                       shots=cached_shot_cuts(self.session.path, self.observations.video.path))
+                       shots=self.shots)
 
 
 def open_review(path: str | Path) -> Review:
@@ -218,19 +222,28 @@ def export_session_plan(session_path: str | Path, out: str | Path | None = None,
     return Exported(plan, path, warnings)
 
 
-def demo_plan(table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT) -> Plan:
-    """The plan of the bundled demo (``wecook_core/assets/demo``) as ``wecook export demo`` writes it for a new demo
-    session: its observations analysed with the default parameters and no corrections, laid out on ``table``."""
+def inputs_plan(video: str | Path, objects: str | Path, hands: str | Path, *, table: Table = DEFAULT_TABLE,
+                robot: str = DEFAULT_ROBOT) -> Plan:
+    """The plan ``wecook new``, ``analyze`` and ``export`` give for these input files, without a session: the
+    observations imported, analysed with the default parameters, no corrections and the video's shot cuts, and
+    laid out on ``table``."""
     from wecook_core.knowledge.recognize import load_knowledge
     from wecook_core.observations.importer import load_observations
     from wecook_core.perception.params import Params
     from wecook_core.perception.shots import shot_cuts
+
+    obs = load_observations(video, objects, hands)
+    analysis = analyse(obs, load_knowledge(), Params(), shots=shot_cuts(video))
+    return plan_of(analysis, obs, table=table, robot=robot)
+
+
+def demo_plan(table: Table = DEFAULT_TABLE, robot: str = DEFAULT_ROBOT) -> Plan:
+    """The plan of the bundled demo (``wecook_core/assets/demo``) as ``wecook export demo`` writes it for a new demo
+    session: its observations analysed with the default parameters and no corrections, laid out on ``table``."""
     from wecook_core.synth import demo_dir
 
     folder = demo_dir()
-    obs = load_observations(folder / "video.mp4", folder / "objects.csv", folder / "hands.csv")
-    analysis = analyse(obs, load_knowledge(), Params(), shots=shot_cuts(folder / "video.mp4"))
-    return plan_of(analysis, obs, table=table, robot=robot)
+    return inputs_plan(folder / "video.mp4", folder / "objects.csv", folder / "hands.csv", table=table, robot=robot)
 
 
 # ----------------------------------------------------------------------------------------------- demo

@@ -19,14 +19,10 @@ SCENARIOS = sorted(p.name for p in (shared_dir() / "data" / "scenarios").glob("s
 
 
 def scenario_plan(name: str) -> Plan:
-    from wecook_core.knowledge.recognize import load_knowledge
-    from wecook_core.observations.importer import load_observations
-    from wecook_core.perception.pipeline import analyze
-    from wecook_core.plan import plan_from_graph
+    from wecook_core.workflows import inputs_plan
 
     folder = shared_dir() / "data" / "scenarios" / name
-    obs = load_observations(folder / "video.mp4", folder / "objects.xml", folder / "openpose")
-    return plan_from_graph(analyze(obs, load_knowledge()).graph, obs)
+    return inputs_plan(folder / "video.mp4", folder / "objects.xml", folder / "openpose")
 
 
 def test_the_shared_scenarios_are_there() -> None:

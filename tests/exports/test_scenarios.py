@@ -10,7 +10,7 @@ import pytest
 import yaml
 from exports_helpers import check_message, expected_verbs, run_dispatch, simulate
 
-from wecook_core.plan import dump_plan, load_plan, plan_from_graph, validate
+from wecook_core.plan import dump_plan, load_plan, validate
 from wecook_core.plan.pddl import export_pddl, write_pddl
 from wecook_core.plan.ros_script import dispatch_script
 from wecook_core.plan.schema import check_plan_schema
@@ -22,13 +22,10 @@ SCENARIOS = ("s301", "s302", "s303", "s304")
 @pytest.mark.parametrize("name", SCENARIOS)
 def test_a_shared_scenario_plan_exports_to_every_format(shared: Path, name: str, tmp_path: Path,
                                                         monkeypatch: pytest.MonkeyPatch) -> None:
-    from wecook_core.knowledge.recognize import load_knowledge
-    from wecook_core.observations.importer import load_observations
-    from wecook_core.perception.pipeline import analyze
+    from wecook_core.workflows import inputs_plan
 
     folder = shared / "data" / "scenarios" / name
-    obs = load_observations(folder / "video.mp4", folder / "objects.xml", folder / "openpose")
-    plan = plan_from_graph(analyze(obs, load_knowledge()).graph, obs)
+    plan = inputs_plan(folder / "video.mp4", folder / "objects.xml", folder / "openpose")
     validate(plan)
     assert plan.actions
 

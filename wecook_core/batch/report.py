@@ -4,14 +4,13 @@ and recall over the videos that have truth files. Written as ``batch.json`` in t
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from wecook_core.batch.engine import BatchRun
 from wecook_core.batch.stages import StageResult
+from wecook_core.files import write_atomic
 
 REPORT_FILE = "batch.json"
 
@@ -108,16 +107,6 @@ def report_dict(report: BatchReport) -> dict[str, Any]:
 
 
 def write_report(report: BatchReport, root: str | Path) -> Path:
-    """Write ``batch.json`` into ``root`` atomically; returns its path."""
-    path = Path(root) / REPORT_FILE
-    fd, tmp = tempfile.mkstemp(prefix=".batch.", suffix=".json", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as out:
-            json.dump(report_dict(report), out, indent=1)
-            out.flush()
-            os.fsync(out.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    """Write ``batch.json`` into ``root`` atomically (the last report is replaced whole); returns its path."""
+    return write_atomic(Path(root) / REPORT_FILE, json.dumps(report_dict(report), indent=1), replace=True,
+                        what="batch report")

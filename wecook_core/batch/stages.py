@@ -14,7 +14,6 @@ import hashlib
 import json
 import os
 import shutil
-import tempfile
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field, replace
@@ -24,6 +23,7 @@ from typing import Any, Literal
 from wecook_core import __version__
 from wecook_core.batch.manifest import BatchItem
 from wecook_core.errors import InputError
+from wecook_core.files import write_atomic
 
 STAGES: tuple[str, ...] = ("hands", "import", "analyze", "export", "execute")
 """Every stage, in the order they run for one video."""
@@ -169,38 +169,19 @@ def _read_stamp(path: Path) -> dict[str, Any] | None:
 
 
 def _write_stamp(path: Path, data: Mapping[str, Any]) -> None:
-    folder, stage = path.parent, path.stem
-    folder.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{stage}.", suffix=".json", dir=folder)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as out:
-            json.dump(data, out, indent=1, default=str)
-            out.flush()
-            os.fsync(out.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    write_atomic(path, json.dumps(data, indent=1, default=str), replace=True, what="batch stamp")
 
 
 # ---------------------------------------------------------------------------------------------- stages
 
 
 def _hands(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
-    from wecook_core.formats.native import write_hands_csv
+    from wecook_core.observations.hands_detect import detect_hands, write_hands
 
-    try:
-        from wecook_core.observations.hands_detect import detect_hands
-    except ImportError as error:
-        raise InputError(item.video, f"no hands given and hand detection is not available ({error})") from None
     found = detect_hands(item.video)
-    if not found.tracks:
-        raise InputError(item.video, f"no hand found in any of the {found.frames_read} frames")
     out = _hands_path(item, root)
     out.parent.mkdir(parents=True, exist_ok=True)
-    partial = out.with_name(f".{out.name}.partial")
-    write_hands_csv(partial, found.tracks)
-    partial.replace(out)
+    write_hands(found, item.video, out)
     return {"path": str(out), "hands": [t.hand for t in found.tracks], "frames": found.frames_read,
             "frames_with_hands": found.frames_with_hands}
 

@@ -212,6 +212,20 @@ def detect_hands(
 DETECTION_COLUMNS = ("frame", "hand", "detector_label", "score", "x", "y", "x1", "y1", "x2", "y2")
 
 
+def write_hands(found: DetectedHands, video: str | Path, output: str | Path) -> Path:
+    """Write the named hands of ``video`` to ``output`` as wecook's hands CSV, whole or not at all; a video in
+    which no hand was found is an :class:`InputError`."""
+    from wecook_core.formats.native import write_hands_csv
+
+    if not found.tracks:
+        raise InputError(video, f"no hand found in any of the {found.frames_read} frames")
+    output = Path(output)
+    partial = output.with_name(f".{output.name}.partial")
+    write_hands_csv(partial, found.tracks)
+    partial.replace(output)
+    return output
+
+
 def write_detections_csv(path: str | Path, assigned: tuple[AssignedHand, ...]) -> None:
     """Every kept detection with its name, the detector's own handedness label and its score (wecook's hands
     CSV holds the names and places only)."""

@@ -63,9 +63,8 @@ def detect_to_csv(video: str | Path, output: Path, args: argparse.Namespace) -> 
         TimeRemainingColumn,
     )
 
-    from wecook_core.formats.native import write_hands_csv
     from wecook_core.observations.hand_assign import AssignParams
-    from wecook_core.observations.hands_detect import DetectParams, detect_hands, native_stderr_silenced
+    from wecook_core.observations.hands_detect import DetectParams, detect_hands, native_stderr_silenced, write_hands
 
     params = DetectParams(model=args.hand_model)
     assign = AssignParams(mirrored=args.mirrored)
@@ -80,11 +79,7 @@ def detect_to_csv(video: str | Path, output: Path, args: argparse.Namespace) -> 
                 bar.update(task, completed=done, total=total)
 
             found = detect_hands(video, params, assign, persons=args.persons, progress=progress)
-    if not found.tracks:
-        raise InputError(video, f"no hand found in any of the {found.frames_read} frames")
-    partial = output.with_name(f".{output.name}.partial")
-    write_hands_csv(partial, found.tracks)
-    partial.replace(output)
+    write_hands(found, video, output)
     return found
 
 
