@@ -17,6 +17,7 @@ from wecook_core.errors import InputError
 from wecook_core.plan import DEFAULT_ROBOT, DEFAULT_TABLE, Plan, Table, plan_from_graph, validate, write_plan
 
 if TYPE_CHECKING:
+    from wecook_core.knowledge.categories import CategoryTable
     from wecook_core.knowledge.recognize import Knowledge
     from wecook_core.model import Observations, Scores, Segmentation
     from wecook_core.perception.params import Params
@@ -37,13 +38,18 @@ def segment(obs: Observations, params: Params) -> Segmentation:
 
 
 def analyse(obs: Observations, knowledge: Knowledge, params: Params, corrections: Sequence[Correction] = (), *,
-            segmentation: Segmentation | None = None, shots: Sequence[int] = ()) -> Analysis:
-    """Every stage with the typed ``corrections`` applied: splits and merges cut GGS's segmentation
-    (``segmentation``, computed by :func:`segment` when not given; corrections never change it), then the other
-    corrections are folded against the segments they cut."""
+            segmentation: Segmentation | None = None, shots: Sequence[int] = (),
+            categories: CategoryTable | None = None) -> Analysis:
+    """Every stage with the typed ``corrections`` applied: the boxes drawn in the box mode join the observations
+    and the categories the user gave apply (:func:`wecook_core.session.boxes.with_drawn`, drawn labels
+    categorised with ``categories``, default the shipped table), splits and merges cut GGS's segmentation
+    (``segmentation``, computed by :func:`segment` when not given; corrections never change it, nor do boxes:
+    GGS reads the hands), then the other corrections are folded against the segments they cut."""
     from wecook_core.perception.pipeline import analyze, apply_cuts
+    from wecook_core.session.boxes import with_drawn
     from wecook_core.session.corrections import fold
 
+    obs = with_drawn(obs, corrections, categories).observations
     if segmentation is None:
         segmentation = segment(obs, params)
     cut = apply_cuts(segmentation, fold(corrections))
@@ -79,7 +85,7 @@ class Review:
         if self.shots is None:
             self.shots = cached_shot_cuts(self.session.path, self.observations.video.path)
         return analyse(self.observations, knowledge, self.session.params, applied, segmentation=self.segmentation,
-                       shots=self.shots)
+                       shots=self.shots, categories=self.session.category_table())
 
 
 def open_review(path: str | Path) -> Review:
@@ -152,6 +158,7 @@ class Analysed:
 
     session: Session
     observations: Observations
+    """The imported observations with the boxes drawn in the box mode (what the plan is laid out from)."""
     analysis: Analysis
 
 
@@ -159,15 +166,17 @@ def analyse_session(path: str | Path, knowledge: Knowledge | None = None, *, wri
     """Open the session at ``path``, import its inputs, analyse them with its corrections and (``write``) write
     its trees and graph. Unreadable inputs raise :class:`InputError`."""
     from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.session.boxes import with_drawn
     from wecook_core.session.store import open_session
 
     session = open_session(path)
     obs = session.load_observations()
+    corrections, table = session.applied_corrections, session.category_table()
     analysis = analyse(obs, knowledge if knowledge is not None else load_knowledge(), session.params,
-                       session.applied_corrections, shots=cached_shot_cuts(session.path, obs.video.path))
+                       corrections, shots=cached_shot_cuts(session.path, obs.video.path), categories=table)
     if write:
         write_results(session, analysis)
-    return Analysed(session, obs, analysis)
+    return Analysed(session, with_drawn(obs, corrections, table).observations, analysis)
 
 
 # ---------------------------------------------------------------------------------------------- plans

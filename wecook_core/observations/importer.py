@@ -79,6 +79,10 @@ class Imported:
     :meth:`wecook_core.session.Session.import_observations`); None: the video was probed."""
 
 
+NO_OBJECTS = "none"
+"""The objects format of a session made from a video alone (no boxes imported)."""
+
+
 def load_observations(
     video: str | Path,
     objects: str | Path,
@@ -101,7 +105,7 @@ def load_observations(
 
 def import_observations(
     video: str | Path,
-    objects: str | Path,
+    objects: str | Path | None,
     hands: str | Path,
     *,
     objects_format: str | None = None,
@@ -112,20 +116,25 @@ def import_observations(
     checks: InputChecks | None = None,
     video_facts: VideoInfo | None = None,
 ) -> Imported:
-    """Import the video's facts, the object boxes and the hand tracks, name objects uniquely, categorise
-    them and check everything against the video. ``labels`` is the labels file of MOT boxes; ``select`` the
-    video (name or id) of a COCO-VID file that holds several. ``video_facts``, when known (a session
-    records them), stand in for probing ``video``, which is then not opened (it may be missing or damaged)."""
+    """Import the video's facts, the object boxes (none when ``objects`` is None) and the hand tracks, name
+    objects uniquely, categorise them and check everything against the video. ``labels`` is the labels file of
+    MOT boxes; ``select`` the video (name or id) of a COCO-VID file that holds several. ``video_facts``, when
+    known (a session records them), stand in for probing ``video``, which is then not opened (it may be missing
+    or damaged)."""
     checks = checks or InputChecks()
     warnings: list[str] = []
     info = video_facts if video_facts is not None else probe_video(video)
     note = frame_count_note(info)
     if note:
         warnings.append(note)
-    object_tracks, chosen_objects = read_objects(objects, objects_format, labels=labels, video=info,
-                                                 select=select, warn=warnings.append)
+    object_tracks: Sequence[ObjectTrack] = ()
+    if objects is None:  # a video alone: boxes are drawn in the workbench's box mode
+        chosen_objects = NO_OBJECTS
+    else:
+        object_tracks, chosen_objects = read_objects(objects, objects_format, labels=labels, video=info,
+                                                     select=select, warn=warnings.append)
     hand_tracks, chosen_hands = read_hands(hands, hands_format, warn=warnings.append)
-    checked_objects = _check_objects(Path(objects), unique_names(object_tracks), info, checks, warnings)
+    checked_objects = _check_objects(Path(objects or video), unique_names(object_tracks), info, checks, warnings)
     checked_hands = _check_hands(Path(hands), hand_tracks, info, checks, warnings)
     gaps, missing = hand_gaps(checked_hands, info.fps, checks.max_gap_seconds)
     if checks.gap_error_seconds is not None:

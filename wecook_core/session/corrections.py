@@ -1,6 +1,8 @@
 """Corrections as typed operations, and the one fold that turns them into :class:`Corrections`.
 
-A person's corrections are values of six frozen dataclasses (:data:`Correction`). The journal stores each as
+A person's corrections are values of frozen dataclasses (:data:`Correction`): six about segments and their
+cuts, here, and the boxes drawn in the box mode and categories given to unknown labels
+(:mod:`wecook_core.session.boxes`, replayed by its own fold). The journal stores each as
 a JSON object (:func:`to_record`; :func:`parse` reads one back and says what is wrong with a bad one), the
 workbench builds them from keys, and :func:`fold` applies a sequence of them, later ones winning.
 
@@ -13,12 +15,22 @@ the segment starting at ``segment`` (what journals written before spans existed 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, fields
 from typing import Any, ClassVar
 
 from wecook_core.formats.fields import MAX_FRAME
-from wecook_core.model import HANDS, VERBS, Corrections, Segment, SegmentStatus
+from wecook_core.model import HANDS, VERBS, Category, Corrections, Segment, SegmentStatus
+from wecook_core.session import boxes
+from wecook_core.session.boxes import (
+    DropBoxKeyframe,
+    OtherCorrection,
+    SetBoxKeyframe,
+    SetBoxLabel,
+    SetBoxTracked,
+    SetCategory,
+)
 
 MAX_NAME_CHARS = 200
 """The longest object name a correction may carry."""
@@ -83,11 +95,11 @@ class Merge:
     frame: int
 
 
-Correction = SetHandObject | SetObjectObject | SetVerb | SetStatus | Split | Merge
+Correction = SetHandObject | SetObjectObject | SetVerb | SetStatus | Split | Merge | OtherCorrection
 SegmentCorrection = SetHandObject | SetObjectObject | SetVerb | SetStatus
 
 TYPES: dict[str, type[Correction]] = {t.op: t for t in (SetHandObject, SetObjectObject, SetVerb, SetStatus,
-                                                         Split, Merge)}
+                                                         Split, Merge, *boxes.OTHER_TYPES)}
 """Operation name -> its type."""
 
 KINDS: dict[str, dict[str, str]] = {
@@ -97,6 +109,7 @@ KINDS: dict[str, dict[str, str]] = {
     "set_status": {"segment": "frame", "status": "status", "end": "frame?"},
     "split": {"frame": "frame"},
     "merge": {"frame": "frame"},
+    **boxes.KINDS,
 }
 """Each operation's fields and the kind of value each takes (``?``: optional, may be null or absent)."""
 
@@ -130,10 +143,10 @@ def to_record(correction: Correction) -> dict[str, Any]:
         value = getattr(correction, f.name)
         if f.name == "end" and value is None:
             continue
-        if isinstance(value, SegmentStatus):
+        if isinstance(value, SegmentStatus | Category):
             value = value.value
         elif isinstance(value, tuple):
-            value = list(value)
+            value = [list(v) if isinstance(v, tuple) else v for v in value]
         record[f.name] = value
     return record
 
@@ -156,11 +169,32 @@ def _check_value(op: str, name: str, kind: str, value: Any) -> Any:
         if value not in VERBS:
             raise bad("one of " + " ".join(VERBS))
         return value
+    if kind == "track":
+        if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_TRACK:
+            raise bad(f"a drawn track id (int from 1 to {MAX_TRACK})")
+        return value
+    if kind == "box":
+        return _box(value, bad)
+    if kind == "boxes":
+        if not isinstance(value, list | tuple):
+            raise bad("a list of boxes")
+        return tuple(_box(v, bad) for v in value)
+    if kind == "frames":
+        if not isinstance(value, list | tuple) or not all(
+                not isinstance(v, bool) and isinstance(v, int) and 0 <= v <= MAX_FRAME for v in value):
+            raise bad("a list of frame indices")
+        return tuple(value)
+    if kind == "category":
+        if value not in {c.value for c in Category}:
+            raise bad("one of " + " ".join(c.value for c in Category))
+        return Category(value)
+    if kind == "label?" and value is None:
+        return None
     if kind == "status":
         if value not in {s.value for s in SegmentStatus}:
             raise bad("one of " + " ".join(s.value for s in SegmentStatus))
         return SegmentStatus(value)
-    if kind in ("name", "name?"):
+    if kind in ("name", "name?", "label?"):
         if value is None and kind == "name?":
             return None
         if not isinstance(value, str) or not value or len(value) > MAX_NAME_CHARS:
@@ -172,6 +206,22 @@ def _check_value(op: str, name: str, kind: str, value: Any) -> Any:
             raise bad("a list of object names")
         return tuple(value)
     raise AssertionError(kind)
+
+
+MAX_TRACK = 1 << 20
+"""The largest id of a drawn track."""
+
+
+def _box(value: Any, bad: Any) -> tuple[float, float, float, float]:
+    """A box ``[x1, y1, x2, y2]`` of finite pixels with x1 < x2 and y1 < y2, or ``bad``'s error."""
+    if not isinstance(value, list | tuple) or len(value) != 4 or not all(
+            not isinstance(v, bool) and isinstance(v, int | float) and math.isfinite(v) and abs(v) < 1e6
+            for v in value):
+        raise bad("a box [x1, y1, x2, y2] of pixels")
+    x1, y1, x2, y2 = (float(v) for v in value)
+    if not (x1 < x2 and y1 < y2):
+        raise bad("a box with x1 < x2 and y1 < y2")
+    return (x1, y1, x2, y2)
 
 
 def covered(correction: SegmentCorrection, segments: Sequence[Segment] | None) -> tuple[int, ...]:
@@ -198,6 +248,8 @@ def fold(corrections: Iterable[Correction], segments: Sequence[Segment] | None =
     verbs: dict[tuple[int, str], str] = {}
     status: dict[int, SegmentStatus] = {}
     for c in corrections:
+        if isinstance(c, SetBoxKeyframe | SetBoxLabel | DropBoxKeyframe | SetBoxTracked | SetCategory):
+            continue  # boxes and categories: folded by wecook_core.session.boxes
         if isinstance(c, Split):
             if c.frame in merges:
                 merges.discard(c.frame)
@@ -233,11 +285,28 @@ def describe(correction: Correction) -> str:
         return f"segment {correction.status.value}"
     if isinstance(correction, Split):
         return f"split at frame {correction.frame}"
-    return f"merge at frame {correction.frame}"
+    if isinstance(correction, Merge):
+        return f"merge at frame {correction.frame}"
+    if isinstance(correction, SetBoxKeyframe):
+        x1, y1, x2, y2 = correction.box
+        return f"box {correction.track} at frame {correction.frame}: {x1:.0f},{y1:.0f}-{x2:.0f},{y2:.0f}"
+    if isinstance(correction, SetBoxLabel):
+        return f"box {correction.track} named {correction.label}"
+    if isinstance(correction, DropBoxKeyframe):
+        return f"box {correction.track}: keyframe at frame {correction.frame} dropped"
+    if isinstance(correction, SetBoxTracked):
+        lost = f", lost at frame {correction.lost_at}" if correction.lost_at is not None else ""
+        return f"box {correction.track} tracked over {len(correction.frames)} frames{lost}"
+    return f"{correction.label} is a {correction.category.value}"
 
 
-def span_of(correction: Correction) -> tuple[int, int | None]:
-    """(first frame, end or None) the correction is about: where the workbench jumps to show it."""
-    if isinstance(correction, Split | Merge):
+def span_of(correction: Correction) -> tuple[int, int | None] | None:
+    """(first frame, end or None) the correction is about: where the workbench jumps to show it (None: no
+    place, a category or a name)."""
+    if isinstance(correction, Split | Merge | SetBoxKeyframe | DropBoxKeyframe):
         return correction.frame, None
+    if isinstance(correction, SetBoxTracked):
+        return (correction.frames[0], correction.frames[-1] + 1) if correction.frames else None
+    if isinstance(correction, SetBoxLabel | SetCategory):
+        return None
     return correction.segment, correction.end

@@ -11,6 +11,11 @@ stable id. The corrections are the typed operations of :mod:`wecook_core.session
 ``set_status``        ``segment``, ``status`` (unreviewed, accepted, corrected, rejected), ``end``
 ``split``             ``frame`` (a new breakpoint)
 ``merge``             ``frame`` (a breakpoint removed; a merge of a split frame cancels the split)
+``box_keyframe``      ``track`` (a drawn box's id), ``frame``, ``box`` ([x1, y1, x2, y2] pixels), ``label``
+``box_label``         ``track``, ``label``
+``box_drop``          ``track``, ``frame`` (the keyframe removed; the box with its only one)
+``box_tracked``       ``track``, ``frames``, ``boxes`` (the tracker's, after the last keyframe), ``lost_at``
+``set_category``      ``label``, ``category`` (tool, container, ingredient)
 ``undo``              ``target``: the seq of the correction undone
 ``redo``              ``target``: the seq of the correction redone
 ===================== ====================================================================
@@ -199,6 +204,11 @@ class Journal:
     @property
     def entries(self) -> tuple[JournalEntry, ...]:
         return tuple(self._entries)
+
+    @property
+    def version(self) -> int:
+        """Changes with every line appended (a cheap key for what the corrections give)."""
+        return len(self._entries)
 
     @property
     def corrections(self) -> Corrections:

@@ -192,16 +192,17 @@ class Session:
         return replace(self._import(video, recorded), video_problem=problem)
 
     def _import(self, video: str, facts: VideoInfo) -> Imported:
-        objects, hands = self._input("objects"), self._input("hands")
+        objects, hands = self.inputs.get("objects"), self._input("hands")  # no objects: a video alone
         for item, formats in ((objects, OBJECT_FORMATS), (hands, HAND_FORMATS)):
-            if item.format is not None and item.format not in formats:
+            if item is not None and item.format is not None and item.format not in formats:
                 raise InputError(self.path / SESSION_FILE, f"unknown {item.role} format {item.format!r:.40}; "
                                  f"expected one of {', '.join(formats)}", place=f"inputs.{item.role}.format")
         labels = self.inputs.get("labels")
         return import_observations(
-            video, objects.path, hands.path, objects_format=objects.format, hands_format=hands.format,
-            labels=labels.path if labels else None, select=objects.select, categories=self.category_table(),
-            video_facts=facts,
+            video, objects.path if objects else None, hands.path,
+            objects_format=objects.format if objects else None, hands_format=hands.format,
+            labels=labels.path if labels else None, select=objects.select if objects else None,
+            categories=self.category_table(), video_facts=facts,
         )
 
     def category_table(self) -> CategoryTable | None:
@@ -218,6 +219,15 @@ class Session:
         if item is None:
             raise InputError(self.path / SESSION_FILE, f"no {role} input recorded", place="inputs")
         return item
+
+    @property
+    def uncategorised(self) -> tuple[str, ...]:
+        """Imported labels nothing categorised (taken as ingredients) that the user has not categorised yet."""
+        from wecook_core.session.boxes import categories_given
+
+        listed = self.meta.get("uncategorised")
+        given = categories_given(self.applied_corrections)
+        return tuple(str(label) for label in listed if str(label) not in given) if isinstance(listed, list) else ()
 
     def set_params(self, params: Params) -> None:
         """Record new parameters in ``session.yaml`` (atomically)."""
@@ -301,7 +311,7 @@ def create_session(
     root: str | Path,
     name: str,
     video: str | Path,
-    objects: str | Path,
+    objects: str | Path | None,
     hands: str | Path,
     *,
     objects_format: str | None = None,
@@ -315,7 +325,8 @@ def create_session(
     """Make ``root/name`` from the inputs, after importing them all; return its path.
 
     Bad input raises :class:`InputError` and leaves nothing behind (the folder is built under a temporary
-    name and renamed into place). ``labels`` is MOT's labels file and ``categories`` a file of extra object
+    name and renamed into place). ``objects`` None makes a session of a video alone (boxes drawn later in the
+    workbench's box mode). ``labels`` is MOT's labels file and ``categories`` a file of extra object
     categories (both recorded as inputs); ``select`` the video of a COCO-VID file holding several.
     ``imported`` skips the import when the caller already did it with the same arguments.
     """
@@ -328,11 +339,10 @@ def create_session(
         imported = import_observations(video, objects, hands, objects_format=objects_format,
                                        hands_format=hands_format, labels=labels, select=select,
                                        categories=_category_table(Path(categories) if categories else None))
-    inputs = {
-        "video": record_input("video", video),
-        "objects": record_input("objects", objects, imported.objects_format, select),
-        "hands": record_input("hands", hands, imported.hands_format),
-    }
+    inputs = {"video": record_input("video", video)}
+    if objects is not None:  # else a video alone: its boxes are drawn in the workbench
+        inputs["objects"] = record_input("objects", objects, imported.objects_format, select)
+    inputs["hands"] = record_input("hands", hands, imported.hands_format)
     if labels is not None:
         inputs["labels"] = record_input("labels", labels)
     if categories is not None:

@@ -27,8 +27,9 @@ def register(sub: Any) -> None:
     )
     new.add_argument("name", help="session name: letters, digits, '.', '_', '-'")
     new.add_argument("--video", required=True, help="the video (any file OpenCV reads)")
-    new.add_argument("--objects", required=True,
-                     help="object boxes: CVAT video XML, MOT txt, COCO-VID JSON, Label Studio JSON or wecook CSV")
+    new.add_argument("--objects", default=None,
+                     help="object boxes: CVAT video XML, MOT txt, COCO-VID JSON, Label Studio JSON or wecook CSV "
+                          "(default: none; draw them in the workbench's box mode, B in `wecook open NAME`)")
     new.add_argument("--hands", default=None,
                      help="hands: an OpenPose JSON folder or wecook CSV (default: found in the video by MediaPipe "
                           "and written to ROOT/NAME.hands.csv)")
@@ -86,8 +87,10 @@ def run_new(args: argparse.Namespace) -> int:
         if detected.exists():
             raise InputError(detected, "exists; give it with --hands, or remove it to detect the hands again")
         # The boxes are checked before the (slow) detection; the detected hands stay if the import fails later.
-        read_objects(args.objects, args.objects_format, labels=args.labels, video=probe_video(args.video),
-                     select=args.select_video)
+        info = probe_video(args.video)
+        if args.objects is not None:
+            read_objects(args.objects, args.objects_format, labels=args.labels, video=info,
+                         select=args.select_video)
         root.mkdir(parents=True, exist_ok=True)
         print(summary(detect_to_csv(args.video, detected, args)))
         args.hands = str(detected)
@@ -104,14 +107,17 @@ def run_new(args: argparse.Namespace) -> int:
     return 0
 
 
-def describe(imported: Imported, objects: str | Path, hands: str | Path) -> str:
+def describe(imported: Imported, objects: str | Path | None, hands: str | Path) -> str:
     """What an import found, for a person: video, objects with categories, hands, gaps, warnings."""
     obs = imported.observations
     video = obs.video
     frames = video.decoded_frames if video.decoded_frames is not None else video.frame_count
     lines = [f"video    {video.path}: {frames} frames at {video.fps:g} fps ({frames / video.fps:.1f} s), "
              f"{video.width}x{video.height}"]
-    lines.append(f"objects  {objects} ({imported.objects_format}): {len(obs.objects)} tracks")
+    if objects is None:
+        lines.append("objects  none yet: draw and track them in the workbench's box mode (B)")
+    else:
+        lines.append(f"objects  {objects} ({imported.objects_format}): {len(obs.objects)} tracks")
     width = max((len(t.name) for t in obs.objects), default=0)
     for track in obs.objects:
         label = f" (label {track.label!r})" if track.label != track.name else ""
