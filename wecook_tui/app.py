@@ -11,11 +11,10 @@ import time
 from collections.abc import Callable, Iterable, Sequence
 from functools import partial
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, Any
 
 from textual import work
 from textual.app import App, SystemCommand
-from textual.binding import Binding
 from textual.reactive import var
 from textual.screen import Screen
 
@@ -23,6 +22,7 @@ from wecook_core.errors import InputError
 from wecook_core.session.journal import JournalChangedError
 from wecook_tui.keymap import LoadedKeymap, load_keymap
 from wecook_tui.messages import AnalysisFailed, AnalysisReady, FirstFramePainted, SessionFailed, SessionOpened
+from wecook_tui.review import shown_observations
 from wecook_tui.screens.catalogue import binding_ids
 from wecook_tui.screens.help import HelpScreen
 from wecook_tui.screens.main import MAIN_BINDINGS, MainScreen
@@ -40,8 +40,6 @@ class WecookApp(App[None]):
     CSS_PATH = "workbench.tcss"
     TITLE = "wecook"
     COMMANDS = App.COMMANDS | {SearchProvider}
-
-    BINDINGS: ClassVar = [Binding("B", "boxes", "Box mode", show=False, id="box-mode")]
 
     pending: var[bool] = var(False, init=False)
     """An analysis is being recomputed for the latest corrections."""
@@ -77,7 +75,8 @@ class WecookApp(App[None]):
 
     @property
     def obs(self) -> Any:
-        return self.opened.observations if self.opened else None
+        """The observations shown and analysed: the imported ones with the boxes drawn in the box mode."""
+        return shown_observations(self.opened)
 
     @property
     def corrections(self) -> Corrections | None:
@@ -323,14 +322,6 @@ class WecookApp(App[None]):
 
         command = {"command": self.run_command} if self.run_command is not None else {}
         self.push_screen(RunScreen(self.session_path, self.analysis if start else None, self.obs, **command))
-
-    def action_boxes(self) -> None:
-        """Box mode (screens/boxes.py): draw and track boxes on the session's video, exported to its boxes/."""
-        from wecook_tui.screens.boxes import BoxScreen, box_video
-
-        video = box_video(self)
-        if video is not None and not isinstance(self.screen, BoxScreen):
-            self.push_screen(BoxScreen(video, self.session_path / "boxes"))
 
     def get_system_commands(self, screen: Screen) -> Iterable[SystemCommand]:
         yield from super().get_system_commands(screen)
