@@ -25,8 +25,8 @@ def span_of(span: tuple[int, int] | None, seg: Segment) -> tuple[int, int | None
 
 def where(correction: Correction, segments: tuple[Segment, ...] | None) -> str:
     """Where a correction applies, for its one-line answer: `` at [30, 66), 2 segments``."""
-    if isinstance(correction, Split | Merge):
-        return ""
+    if not isinstance(correction, SetHandObject | SetObjectObject | SetVerb | SetStatus):
+        return ""  # cuts say their frame; boxes and categories have no segment
     spread = covered(correction, segments)
     end = correction.end
     if end is None:

@@ -26,6 +26,7 @@ from wecook_core.model import (
     SegmentStatus,
     TreeSpan,
 )
+from wecook_core.session.boxes import Drawn, with_drawn
 from wecook_tui.frames import BoxMark, HandMark, LinkMark, Overlay
 
 NOTHING = "-"
@@ -49,6 +50,46 @@ STATUS_GLYPHS: Mapping[SegmentStatus, tuple[str, str]] = {
     SegmentStatus.CORRECTED: ("✎", "#ffb300"),
     SegmentStatus.REJECTED: ("✗", "#e53935"),
 }
+
+
+# ---------------------------------------------------------------------------------- observations
+
+_shown: list[tuple[object, object, int, Drawn]] = []
+"""The latest :func:`drawn_of` result with what it was made from (observations, session, journal version)."""
+
+
+def drawn_of(opened: object | None) -> Drawn | None:
+    """The :class:`wecook_core.session.boxes.Drawn` of an open session: its observations with the boxes drawn in
+    the box mode and the categories the user gave (what the analysis runs on), and the drawn labels still
+    unknown; kept until the journal changes. None before the session opened."""
+    obs = getattr(opened, "observations", None)
+    session = getattr(opened, "session", None)
+    if obs is None or session is None:
+        return None
+    version = session.journal.version
+    if _shown and _shown[0][0] is obs and _shown[0][1] is session and _shown[0][2] == version:
+        return _shown[0][3]
+    corrections = session.applied_corrections
+    drawn = with_drawn(obs, corrections, session.category_table())
+    _shown[:] = [(obs, session, version, drawn)]
+    return drawn
+
+
+def shown_observations(opened: object | None) -> Observations | None:
+    """The observations the review shows and analyses (:func:`drawn_of`), None before the session opened."""
+    drawn = drawn_of(opened)
+    return drawn.observations if drawn is not None else None
+
+
+def unknown_labels(opened: object | None) -> tuple[str, ...]:
+    """Labels nothing categorises that the user has not answered yet: imported ones, then drawn ones."""
+    session = getattr(opened, "session", None)
+    drawn = drawn_of(opened)
+    if session is None:
+        return ()
+    found = list(session.uncategorised)
+    found += [label for label in (drawn.unknown if drawn is not None else ()) if label not in found]
+    return tuple(found)
 
 
 # --------------------------------------------------------------------------------------- segments

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from textual.app import App
 from tui_driving import pilot_test, wait_for
 
@@ -46,8 +47,9 @@ async def test_draw_with_keys_name_track_and_export(tmp_path: Path) -> None:
         before = track.keyframes[0]
         await pilot.press("a", "a", "W")
         moved = screen.tracks[0].keyframes[0]
-        assert moved[0] < before[0] and moved[3] < before[3] and moved[2] - moved[0] == before[2] - before[0]
-        screen.tracks[0] = screen.tracks[0].with_keyframe(0, truth[0])
+        assert moved[0] < before[0] and moved[3] < before[3]
+        assert moved[2] - moved[0] == pytest.approx(before[2] - before[0])  # journaled to 0.1 px
+        screen.set_keyframe(truth[0])  # the box fitted exactly at frame 0 (a keyframe)
         await pilot.press("t")
         assert await wait_for(pilot, lambda: not screen.tracking and bool(screen.tracks[0].tracked), 500)
         tracked = screen.tracks[0]

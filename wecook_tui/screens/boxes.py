@@ -2,16 +2,19 @@
 carry it through the video until it loses the object, correct it at any frame (a keyframe; boxes between
 keyframes are interpolated), export the boxes as CVAT for video XML and wecook CSV.
 
-The core is :mod:`wecook_core.observations.tracking`; this screen only edits :class:`BoxTrack` values (every
-edit is kept for undo) and runs the tracker in a worker.
+The core is :mod:`wecook_core.observations.tracking`; this screen runs the tracker in a worker and makes every
+edit a box correction (:mod:`wecook_core.session.boxes`) through a :class:`BoxEdits`: in the workbench
+(:class:`SessionEdits`) they are journaled like every correction, so undo and redo work here and on the review
+screen alike, they survive quitting, and the analysis re-runs on them; `wecook boxes` (no session) keeps them in
+memory (:class:`MemoryEdits`). The tracks shown are always the fold of the corrections in effect.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Protocol
 
 from textual import events, work
 from textual.app import ComposeResult
@@ -23,6 +26,15 @@ from textual.widgets import Footer, Input, OptionList, Static
 from textual.widgets.option_list import Option
 
 from wecook_core.observations.tracking import Box, BoxTrack, TrackParams, track_from_last_keyframe
+from wecook_core.session.boxes import (
+    BoxCorrection,
+    DropBoxKeyframe,
+    SetBoxKeyframe,
+    SetBoxLabel,
+    fold_boxes,
+    rounded,
+    tracked,
+)
 from wecook_tui.frames import BoxMark, FrameSource, Overlay, fit
 from wecook_tui.widgets.frame_view import FrameView
 
@@ -50,6 +62,7 @@ BOX_BINDINGS: list[Binding] = [
     Binding("tab", "next_box", "Next box", show=False, id="boxes-next"),
     Binding("x", "drop_keyframe", "Drop keyframe", show=False, id="boxes-drop"),
     Binding("z,ctrl+z", "undo", "Undo", id="boxes-undo"),
+    Binding("y,ctrl+y", "redo", "Redo", show=False, id="boxes-redo"),
     Binding("e", "export", "Export", id="boxes-export"),
     Binding("escape,q", "back", "Back", id="boxes-back"),
 ]
@@ -120,6 +133,74 @@ def known_labels() -> list[str]:
     return ranked + rest
 
 
+class BoxEdits(Protocol):
+    """Where the box mode's corrections go, and the tracks they give."""
+
+    def tracks(self) -> tuple[BoxTrack, ...]: ...
+
+    def apply(self, correction: BoxCorrection) -> bool:
+        """Record one correction; False when it was not recorded."""
+
+    def undo(self) -> None: ...
+
+    def redo(self) -> None: ...
+
+    def message(self) -> str:
+        """The answer to the latest edit, undo or redo (empty when there is none to show)."""
+
+
+class MemoryEdits:
+    """`wecook boxes` (no session): the corrections in memory, with undo and redo."""
+
+    def __init__(self) -> None:
+        self.applied: list[BoxCorrection] = []
+        self.undone: list[BoxCorrection] = []
+
+    def tracks(self) -> tuple[BoxTrack, ...]:
+        return fold_boxes(self.applied)
+
+    def apply(self, correction: BoxCorrection) -> bool:
+        self.applied.append(correction)
+        self.undone.clear()
+        return True
+
+    def undo(self) -> None:
+        if self.applied:
+            self.undone.append(self.applied.pop())
+
+    def redo(self) -> None:
+        if self.undone:
+            self.applied.append(self.undone.pop())
+
+    def message(self) -> str:
+        return ""
+
+
+class SessionEdits:
+    """The workbench: every box correction journaled (``Workbench.correct``), undone and redone with the rest."""
+
+    def __init__(self, app: Any) -> None:
+        from wecook_tui.workbench_state import workbench
+
+        self.wb = workbench(app)
+
+    def tracks(self) -> tuple[BoxTrack, ...]:
+        session = self.wb.opened.session if self.wb.opened is not None else None
+        return fold_boxes(session.applied_corrections) if session is not None else ()
+
+    def apply(self, correction: BoxCorrection) -> bool:
+        return self.wb.correct(correction)
+
+    def undo(self) -> None:
+        self.wb.undo()
+
+    def redo(self) -> None:
+        self.wb.redo()
+
+    def message(self) -> str:
+        return self.wb.last_message
+
+
 class BoxScreen(Screen[None]):
     BINDINGS: ClassVar[list[BindingType]] = list(BOX_BINDINGS)
 
@@ -127,8 +208,10 @@ class BoxScreen(Screen[None]):
 
     def __init__(self, video: BoxVideo, out_dir: Path, *, source: FrameSource | None = None,
                  labels: Callable[[], list[str]] = known_labels, params: TrackParams | None = None,
-                 exit_on_back: bool = False) -> None:
+                 exit_on_back: bool = False, edits: BoxEdits | None = None, start: int = 0) -> None:
         super().__init__()
+        self.start = max(0, min(video.frame_count - 1, start))
+        """The frame shown first."""
         self.exit_on_back = exit_on_back
         """Back quits the app (`wecook boxes`) instead of returning to the workbench."""
         self.video = video
@@ -136,11 +219,11 @@ class BoxScreen(Screen[None]):
         self.source = source if source is not None else FrameSource(video.path)
         self.labels = labels
         self.params = params or TrackParams()
-        self.tracks: list[BoxTrack] = []
-        self.selected: int | None = None
-        self.history: list[tuple[list[BoxTrack], int | None]] = []
-        self.editing: Box | None = None
-        """The box being placed at the current frame, before it becomes a keyframe."""
+        self.edits: BoxEdits = edits if edits is not None else MemoryEdits()
+        self.tracks: list[BoxTrack] = list(self.edits.tracks())
+        """The tracks the corrections in effect give (reloaded after every edit)."""
+        self.selected: int | None = len(self.tracks) - 1 if self.tracks else None
+        self._last_id = max((t.track_id for t in self.tracks), default=0)
         self._drag: tuple[float, float] | None = None
         self.tracking = False
 
@@ -152,19 +235,29 @@ class BoxScreen(Screen[None]):
     def on_mount(self) -> None:
         view = self.query_one(FrameView)
         view.set_source(self.source, self.video.size)
+        self.set_reactive(BoxScreen.frame, self.start)
         self._show()
 
     # --------------------------------------------------------------------------------- state
 
-    def _remember(self) -> None:
-        self.history.append((list(self.tracks), self.selected))
+    def _apply(self, correction: BoxCorrection) -> None:
+        """Record one correction, then show the tracks it gives (the same box stays selected)."""
+        if self.edits.apply(correction):
+            self._reload(correction.track)
 
-    def _set(self, index: int, track: BoxTrack) -> None:
-        self._remember()
-        self.tracks[index] = track
+    def _reload(self, select: int | None = None) -> None:
+        current = self.current()
+        keep = select if select is not None else (current.track_id if current is not None else None)
+        self.tracks = list(self.edits.tracks())
+        self._last_id = max(self._last_id, *(t.track_id for t in self.tracks), 0)
+        ids = [t.track_id for t in self.tracks]
+        self.selected = ids.index(keep) if keep in ids else (len(ids) - 1 if ids else None)
+        self._show()
 
     def current(self) -> BoxTrack | None:
-        return self.tracks[self.selected] if self.selected is not None else None
+        if self.selected is None or not 0 <= self.selected < len(self.tracks):
+            return None
+        return self.tracks[self.selected]
 
     def box_at(self, track: BoxTrack, frame: int) -> Box | None:
         return track.boxes().get(frame)
@@ -189,6 +282,9 @@ class BoxScreen(Screen[None]):
                 f"tracked to frame {max(track.tracked) + 1}" if track.tracked else "not tracked")
             parts.append(f"{track.label} (keyframes {keys}; {state})")
         parts.append(f"{len(self.tracks)} boxes")
+        message = self.edits.message()
+        if message:
+            parts.append(message)
         self.query_one("#box-status", Static).update("   ".join(parts))
 
     def watch_frame(self) -> None:
@@ -205,13 +301,20 @@ class BoxScreen(Screen[None]):
         self.add_box(box)
 
     def add_box(self, box: Box, label: str = "object") -> None:
-        self._remember()
-        track_id = max((t.track_id for t in self.tracks), default=0) + 1
-        self.tracks.append(BoxTrack(track_id, label).with_keyframe(self.frame, box))
-        self.selected = len(self.tracks) - 1
-        self._show()
+        track_id = self._last_id + 1
+        if not self.edits.apply(SetBoxKeyframe(track_id, self.frame, rounded(self._clip(box)),
+                                               None if label == "object" else label)):
+            return
+        self._last_id = track_id
+        self._reload(track_id)
         if label == "object":
             self.action_name()
+
+    def set_keyframe(self, box: Box) -> None:
+        """The selected box is ``box`` at the current frame (a keyframe)."""
+        track = self.current()
+        if track is not None:
+            self._apply(SetBoxKeyframe(track.track_id, self.frame, rounded(self._clip(box))))
 
     def _edit(self, change: Callable[[Box], Box]) -> None:
         track = self.current()
@@ -222,8 +325,7 @@ class BoxScreen(Screen[None]):
         if box is None:
             box = track.keyframes[max(f for f in track.keyframes if f <= self.frame)] if any(
                 f <= self.frame for f in track.keyframes) else track.keyframes[min(track.keyframes)]
-        self._set(self.selected, track.with_keyframe(self.frame, self._clip(change(box))))  # type: ignore[arg-type]
-        self._show()
+        self.set_keyframe(change(box))
 
     def _clip(self, box: Box) -> Box:
         w, h = self.video.size
@@ -249,12 +351,11 @@ class BoxScreen(Screen[None]):
         track = self.current()
         if track is None:
             return
-        index = self.selected
+        track_id = track.track_id
 
         def named(label: str | None) -> None:
-            if label and index is not None and index < len(self.tracks):
-                self._set(index, replace(self.tracks[index], label=label))
-                self._show()
+            if label and label != track.label:
+                self._apply(SetBoxLabel(track_id, label))
 
         self.app.push_screen(NameScreen(self.labels(), "" if track.label == "object" else track.label), named)
 
@@ -262,18 +363,15 @@ class BoxScreen(Screen[None]):
         track = self.current()
         if track is None or self.frame not in track.keyframes:
             return
-        if len(track.keyframes) == 1:
-            self._remember()
-            del self.tracks[self.selected]  # type: ignore[arg-type]
-            self.selected = (len(self.tracks) - 1) if self.tracks else None
-        else:
-            self._set(self.selected, track.without_keyframe(self.frame))  # type: ignore[arg-type]
-        self._show()
+        self._apply(DropBoxKeyframe(track.track_id, self.frame))
 
     def action_undo(self) -> None:
-        if self.history:
-            self.tracks, self.selected = self.history.pop()
-            self._show()
+        self.edits.undo()
+        self._reload()
+
+    def action_redo(self) -> None:
+        self.edits.redo()
+        self._reload()
 
     def action_track(self) -> None:
         track = self.current()
@@ -281,23 +379,24 @@ class BoxScreen(Screen[None]):
             return
         self.tracking = True
         self._show()
-        self._track(self.selected, track)
+        self._track(track)
 
     @work(thread=True, exclusive=True, group="box-track", exit_on_error=False)
-    def _track(self, index: int, track: BoxTrack) -> None:
+    def _track(self, track: BoxTrack) -> None:
         try:
             result = track_from_last_keyframe(self.video.path, track, self.video.fps, self.params)
         except Exception as error:  # say what failed, never a traceback
-            self.app.call_from_thread(self._tracked, index, track, f"{type(error).__name__}: {error}")
+            self.app.call_from_thread(self._tracked, track, f"{type(error).__name__}: {error}")
             return
-        self.app.call_from_thread(self._tracked, index, result, None)
+        self.app.call_from_thread(self._tracked, result, None)
 
-    def _tracked(self, index: int, result: BoxTrack, error: str | None) -> None:
+    def _tracked(self, result: BoxTrack, error: str | None) -> None:
         self.tracking = False
+        now = next((t for t in self.tracks if t.track_id == result.track_id), None)
         if error is not None:
             self.notify(f"Tracking failed: {error}", severity="error")
-        elif index < len(self.tracks) and self.tracks[index].keyframes == result.keyframes:
-            self._set(index, result)
+        elif now is not None and now.keyframes == result.keyframes:  # not edited meanwhile
+            self._apply(tracked(result.track_id, result))
             end = result.lost_at if result.lost_at is not None else "the end"
             self.notify(f"{result.label}: followed {len(result.tracked)} frames (to {end})")
         self._show()
@@ -353,8 +452,7 @@ class BoxScreen(Screen[None]):
                           max(start[1], end[1])))
         track = self.current()
         if track is not None and self.box_at(track, self.frame) is not None:
-            self._set(self.selected, track.with_keyframe(self.frame, box))  # type: ignore[arg-type]
-            self._show()
+            self.set_keyframe(box)
         else:
             self.add_box(box)
 

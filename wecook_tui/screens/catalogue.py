@@ -16,6 +16,7 @@ def _bindings(items: Iterable[object]) -> list[Binding]:
 
 def other_screens() -> dict[str, list[Binding]]:
     """Screen title -> its bindings, for every screen but the review screen."""
+    from wecook_tui.screens.boxes import BOX_BINDINGS
     from wecook_tui.screens.goto import GoToScreen
     from wecook_tui.screens.links import LinkPickerScreen
     from wecook_tui.screens.picker import PickerScreen
@@ -25,7 +26,8 @@ def other_screens() -> dict[str, list[Binding]]:
     return {"Plan review": PLAN_BINDINGS, "Run screen": RUN_BINDINGS,
             "Pickers (enter chooses)": _bindings(PickerScreen.BINDINGS),
             "Link picker (space toggles)": _bindings(LinkPickerScreen.BINDINGS),
-            "Go to (enter goes)": _bindings(GoToScreen.BINDINGS)}
+            "Go to (enter goes)": _bindings(GoToScreen.BINDINGS),
+            "Box mode (B on the review screen)": BOX_BINDINGS}
 
 
 def binding_ids() -> set[str]:

@@ -52,7 +52,14 @@ MAIN_BINDINGS: list[Binding] = [  # help and quit first: the footer is cut on th
     Binding("e", "plan", "Plan / export", id="export-plan"),
     Binding("r", "run", "Run", id="run"),
     Binding("R", "runs", "Past runs", show=False, id="open-runs"),
+    Binding("B", "boxes", "Box mode: draw, track and correct boxes", show=False, id="box-mode"),
+    Binding("N", "categorise", "Categorise labels nothing knows", show=False, id="categorise-labels"),
 ]
+
+
+CATEGORY_OPTIONS = [("tool", "tool         acts on others: knife, spoon, whisk"),
+                    ("container", "container    holds others: bowl, pan, board"),
+                    ("ingredient", "ingredient   is held, cut or poured: tomato, salt")]
 
 
 class MainScreen(Screen[None]):
@@ -74,6 +81,8 @@ class MainScreen(Screen[None]):
         self._segment: Segment | None = None
         self._clock = (0.0, 0)
         """(perf_counter, frame) when playback started."""
+        self._told: set[str] = set()
+        """Unknown labels the user was told about (each once)."""
 
     @property
     def wb(self) -> Workbench:
@@ -114,6 +123,16 @@ class MainScreen(Screen[None]):
             timeline.set_data(self.frame_count, review.lanes(wb.analysis, hands, self.frame_count), segs, status)
         self._inspected = None
         self.refresh_view()
+        self._tell_unknown_labels()
+
+    def _tell_unknown_labels(self) -> None:
+        """Say once per label that labels nothing categorises were taken as ingredients, and how to answer."""
+        new = [label for label in review.unknown_labels(self.wb.opened) if label not in self._told]
+        if new:
+            self._told.update(new)
+            self.notify(f"No category known for {', '.join(repr(label) for label in new)}: taken as ingredient "
+                        "until you say. Press N to choose tool, container or ingredient.",
+                        title="Unknown labels", severity="warning", timeout=20)
 
     def _select_acting_hand(self) -> None:
         """Select the first hand acting in the segment, unless the user chose one (t) here."""
@@ -125,8 +144,11 @@ class MainScreen(Screen[None]):
         choices: list[str | None] = [*acting, *hands, None]
         self.selected_hand = choices[0]
 
-    def jump_to(self, span: tuple[int, int | None]) -> None:
-        """Show what an edit changed: move the cursor to ``span``'s start unless it is already inside."""
+    def jump_to(self, span: tuple[int, int | None] | None) -> None:
+        """Show what an edit changed: move the cursor to ``span``'s start unless it is already inside (None:
+        the edit has no place, a category)."""
+        if span is None:
+            return
         start, end = span
         if not (start <= self.frame < (end if end is not None else start + 1)):
             self.frame = max(0, min(self.frame_count - 1, start))
@@ -374,6 +396,46 @@ class MainScreen(Screen[None]):
 
     def action_help(self) -> None:
         self.wb.open_help()
+
+    def action_boxes(self) -> None:
+        """Box mode (screens/boxes.py) on the session's video at the cursor: every box drawn, named, tracked or
+        corrected is journaled, and the analysis re-runs on it."""
+        from wecook_tui.screens.boxes import BoxScreen, SessionEdits, box_video
+
+        video = box_video(self.app)
+        if video is None or self.wb.opened is None:
+            self.notify("The session is not open yet.", severity="warning")
+            return
+        self.app.push_screen(BoxScreen(video, self.wb.session_path / "boxes", edits=SessionEdits(self.app),
+                                       start=self.frame))
+
+    def action_categorise(self) -> None:
+        """Ask what each label nothing categorises is (tool, container or ingredient); each answer is journaled
+        and the analysis re-runs. One label is asked at once; with several, pick the label first."""
+        labels = review.unknown_labels(self.wb.opened)
+        if not labels:
+            self.notify("Every object label has a category.")
+            return
+
+        def category_chosen(label: str, value: str | None) -> None:
+            from wecook_core.model import Category
+            from wecook_core.session.boxes import SetCategory
+
+            if value and self.wb.correct(SetCategory(label, Category(value))) \
+                    and review.unknown_labels(self.wb.opened):
+                self.action_categorise()  # the next one
+
+        def label_chosen(label: str | None) -> None:
+            if label:
+                self.app.push_screen(PickerScreen(f"What is {label!r}? (taken as an ingredient until you say)",
+                                                  CATEGORY_OPTIONS, "ingredient"),
+                                     lambda value: category_chosen(label, value))
+
+        if len(labels) == 1:
+            label_chosen(labels[0])
+        else:
+            self.app.push_screen(PickerScreen(f"{len(labels)} labels nothing categorises: pick one",
+                                              [(label, label) for label in labels]), label_chosen)
 
     def _remember(self) -> None:
         from wecook_tui.resume import save_position
