@@ -1,6 +1,7 @@
-"""From a video alone to a tree, in a real terminal: `wecook boxes` (two boxes drawn with keys and tracked by
-OpenCV), `wecook new` without --hands (MediaPipe finds the hand), `wecook analyze`. The video holds a real
-hand (tests/data/hand_four.png, Apache-2.0) carrying a drawn tomato into a drawn bowl."""
+"""From a video alone to a tree, in a real terminal: `wecook new` with neither boxes nor hands (MediaPipe finds
+the hand), `wecook open`, B: two boxes drawn with keys and tracked by OpenCV in the workbench's box mode, and the
+workbench's own analysis gives a tree of them (and `wecook analyze` the same, from the journal). The video holds
+a real hand (tests/data/hand_four.png, Apache-2.0) carrying a drawn tomato into a drawn bowl."""
 
 from __future__ import annotations
 
@@ -13,10 +14,12 @@ from pathlib import Path
 
 import pytest
 from test_tmux import Terminal
+from tui_driving import journal
 
 from tests.hand_video import hand_and_tomato
-from wecook_core.formats.cvat import read_cvat
 from wecook_core.observations.hand_assign import iou
+from wecook_core.session.boxes import fold_boxes
+from wecook_core.session.store import open_session
 from wecook_core.trees.treefile import read_tree_file
 
 WECOOK = Path(sys.executable).with_name("wecook")
@@ -47,28 +50,37 @@ def draw(terminal: Terminal, label: str, keys: str) -> None:
 def test_video_alone_to_a_tree(tmp_path: Path, term: Terminal) -> None:
     video = tmp_path / "kitchen.avi"
     truth = hand_and_tomato(video)  # 640x360: the box mode's new box is 256-384 x 144-216
-    out = tmp_path / "boxes"
-    env = "TERM=xterm-256color COLORTERM=truecolor"
-    term.start(f"exec env -u COLUMNS -u LINES {env} {shlex.quote(str(WECOOK))} boxes {shlex.quote(str(video))} "
-               f"--out {shlex.quote(str(out))}; sleep 30")
+    root = tmp_path / "sessions"
+    made = subprocess.run([str(WECOOK), "new", "kitchen", "--video", str(video), "--root", str(root),
+                           "--hand-model", "lite"], capture_output=True, text=True, timeout=300)
+    assert made.returncode == 0, made.stderr
+    assert "RH_P1" in (root / "kitchen.hands.csv").read_text() and "objects  none yet" in made.stdout
+    session = root / "kitchen"
+    env = f"WECOOK_KEYS={shlex.quote(str(tmp_path / 'none.toml'))} TERM=xterm-256color COLORTERM=truecolor"
+    term.start(f"exec env -u COLUMNS -u LINES {env} {shlex.quote(str(WECOOK))} open kitchen "
+               f"--root {shlex.quote(str(root))}")
+    term.wait_ready()
+    term.keys("B")
     term.wait_text("frame 1/60")
     draw(term, "tomato", "AAAAAWW" + "a" * 11 + "s" * 8)  # onto the tomato, about 115-179 x 202-259
     draw(term, "bowl", "D" + "S" * 9 + "d" * 11 + "ss")  # onto the bowl, about 397-538 x 158-295
-    term.keys("e")
-    term.wait(lambda: (out / "boxes.xml").exists() and (out / "boxes.csv").exists(), "nothing was exported")
+    term.keys("Escape")
+    term.wait_ready()  # back on the review screen, the analysis re-run on the drawn boxes
+    term.wait(lambda: (session / "trees.yaml").exists() and "tomato" in (session / "trees.yaml").read_text(),
+              "the workbench wrote no tree of the drawn boxes")
     term.keys("q")
-    tomato, bowl = read_cvat(out / "boxes.xml", frame_size=(640, 360), frame_count=60)
-    assert (tomato.label, bowl.label) == ("tomato", "bowl")
-    assert iou(tomato.boxes[0], truth["tomato"]) > 0.6 and iou(bowl.boxes[0], truth["bowl"]) > 0.6
-    assert len(tomato.frames) > 40  # carried into the bowl and followed
+    term.wait(lambda: not term.alive() or "$" in term.screen(), "the workbench did not quit")
 
-    root = tmp_path / "sessions"
-    made = subprocess.run([str(WECOOK), "new", "kitchen", "--video", str(video), "--objects", str(out / "boxes.xml"),
-                           "--root", str(root), "--hand-model", "lite"], capture_output=True, text=True, timeout=300)
-    assert made.returncode == 0, made.stderr
-    assert "RH_P1" in (root / "kitchen.hands.csv").read_text()
+    ops = [e["op"] for e in journal(session)]
+    assert ops.count("box_tracked") == 2 and "box_label" in ops
+    tomato, bowl = fold_boxes(open_session(session).applied_corrections)
+    assert (tomato.label, bowl.label) == ("tomato", "bowl")
+    assert iou(tomato.keyframes[0], truth["tomato"]) > 0.6 and iou(bowl.keyframes[0], truth["bowl"]) > 0.6
+    assert len(tomato.boxes()) > 40  # carried into the bowl and followed
+    shown = [str(t.tree) for t in read_tree_file(session / "trees.yaml")]
+    assert any("tomato" in t and "RH_P1" in t for t in shown), shown
+    # `wecook analyze` reads the same journal and finds the same trees.
     analysed = subprocess.run([str(WECOOK), "analyze", "kitchen", "--root", str(root)], capture_output=True,
                               text=True, timeout=300)
     assert analysed.returncode == 0, analysed.stderr
-    trees = read_tree_file(root / "kitchen" / "trees.yaml")
-    assert any("tomato" in str(t.tree) and "RH_P1" in str(t.tree) for t in trees), trees
+    assert [str(t.tree) for t in read_tree_file(session / "trees.yaml")] == shown
