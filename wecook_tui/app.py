@@ -314,14 +314,15 @@ class WecookApp(App[None]):
                               statuses.count(SegmentStatus.REJECTED))
         self.push_screen(PlanReviewScreen(self.analysis, self.obs, self.session_path, counts))
 
-    def open_runs(self, start: bool) -> None:
+    def open_runs(self, start: bool, live_port: int | None = None) -> None:
         if start and self.analysis is None:
             self.notify("The analysis is not ready yet.", severity="warning")
             return
         from wecook_tui.screens.run import RunScreen
 
         command = {"command": self.run_command} if self.run_command is not None else {}
-        self.push_screen(RunScreen(self.session_path, self.analysis if start else None, self.obs, **command))
+        self.push_screen(RunScreen(self.session_path, self.analysis if start else None, self.obs, **command,
+                                   live_port=live_port if start else None))
 
     def get_system_commands(self, screen: Screen) -> Iterable[SystemCommand]:
         yield from super().get_system_commands(screen)
