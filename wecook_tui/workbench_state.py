@@ -55,7 +55,8 @@ class Workbench(Protocol):
 
     def open_plan(self) -> None: ...
 
-    def open_runs(self, start: bool) -> None: ...
+    def open_runs(self, start: bool, live_port: int | None = None) -> None:
+        """The run screen: running the plan (``start``; served live on ``live_port`` when given) or past runs."""
 
     def open_help(self) -> None: ...
 

@@ -9,7 +9,8 @@
   one JSON object per line instead (``run_start``, every plan event, then ``summary``) for programs such as the
   workbench. SIGTERM or Ctrl-C stop the run with the recording closed properly (exit 130).
 - ``--live [--port N]`` serves the run over Foxglove's WebSocket protocol on ``ws://127.0.0.1:N`` while it runs
-  (default 8765; 0: any free port; the address is printed first); ``--camera-hz HZ`` records a camera view at HZ
+  (default 8765; 0: any free port; the address is printed first, and with ``--jsonl`` is the ``live`` field of
+  the ``run_start`` event); ``--camera-hz HZ`` records a camera view at HZ
   images per simulated second (default 2; 0: one image at each action's start and end instead).
 """
 
@@ -103,6 +104,8 @@ class Progress:
         self.jsonl = jsonl
         live = self.live
         self.sim_time = 0.0
+        self.live_url: str | None = None
+        """``--live``: the address the run is served on (said in ``--jsonl``'s ``run_start`` event)."""
         self.began = time.perf_counter()
         self._bar: Any = None
         self._overall: Any = None
@@ -132,7 +135,8 @@ class Progress:
         if self._bar is not None:
             self._bar.start()
         elif self.jsonl:
-            _json_line({"t": 0.0, "kind": "run_start", "actions": len(self.rows), "seed": seed})
+            _json_line({"t": 0.0, "kind": "run_start", "actions": len(self.rows), "seed": seed,
+                        **({"live": self.live_url} if self.live_url else {})})
         else:
             self._say(f"run started: {len(self.rows)} actions, seed {seed}")
 
@@ -285,6 +289,7 @@ def run_execute(args: argparse.Namespace) -> int:
     server = _live_server(args, console)
     if server is not None:
         observers.append(server)
+        progress.live_url = server.url
     clock = time.perf_counter()
     result = None
     _interrupt_on_sigterm()

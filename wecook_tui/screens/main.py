@@ -52,6 +52,7 @@ MAIN_BINDINGS: list[Binding] = [  # help and quit first: the footer is cut on th
     Binding("e", "plan", "Plan / export", id="export-plan"),
     Binding("r", "run", "Run", id="run"),
     Binding("R", "runs", "Past runs", show=False, id="open-runs"),
+    Binding("v", "run_live", "Run, served live for Foxglove", show=False, id="run-live"),
     Binding("B", "boxes", "Box mode: draw, track and correct boxes", show=False, id="box-mode"),
     Binding("N", "categorise", "Categorise labels nothing knows", show=False, id="categorise-labels"),
 ]
@@ -390,6 +391,12 @@ class MainScreen(Screen[None]):
 
     def action_run(self) -> None:
         self.wb.open_runs(start=True)
+
+    def action_run_live(self) -> None:
+        """Run the plan served over Foxglove's WebSocket (`wecook execute --live`); the run screen says where."""
+        from wecook_core.execution.live import DEFAULT_PORT
+
+        self.wb.open_runs(start=True, live_port=DEFAULT_PORT)
 
     def action_runs(self) -> None:
         self.wb.open_runs(start=False)

@@ -3,8 +3,9 @@ and log, the summary and the MCAP path; past runs of the session listed with the
 
 `wecook execute --jsonl` prints one JSON object per line (``run_start``, every plan event, ``summary``) on
 stdout, its messages on stderr; the screen folds the events into each action's state (:func:`apply_event`) and
-never reads the human text. Stopping sends SIGTERM: the run closes its recording and reports the action under
-way as interrupted, which shows as stopped.
+never reads the human text. A run served live (``live_port``: ``--live --port N``) says its address, from the
+``live`` field of its ``run_start`` event, for Foxglove to connect to. Stopping sends SIGTERM: the run closes
+its recording and reports the action under way as interrupted, which shows as stopped.
 """
 
 from __future__ import annotations
@@ -99,8 +100,13 @@ def past_runs(session_path: Path) -> list[dict[str, Any]]:
 class RunScreen(Screen[None]):
     BINDINGS: ClassVar[list[BindingType]] = [*RUN_BINDINGS]
 
-    def __init__(self, session_path: Path, analysis: Any, obs: Any, command: Command = execute_command) -> None:
+    def __init__(self, session_path: Path, analysis: Any, obs: Any, command: Command = execute_command,
+                 live_port: int | None = None) -> None:
         super().__init__()
+        self.live_port = live_port
+        """Serve the run over Foxglove's WebSocket on this port (0: any free one); None: not served."""
+        self.live_url: str | None = None
+        """The address the run is served on, as its ``run_start`` event says."""
         self.session_path = session_path
         self.analysis = analysis
         """Run the current analysis' plan; None only lists the past runs."""
@@ -144,8 +150,18 @@ class RunScreen(Screen[None]):
             return
         stamp = time.strftime("%Y%m%d-%H%M%S")
         self.mcap = runs_dir(self.session_path) / f"run-{stamp}.mcap"
-        self.query_one("#run-summary", Static).update(Text(f"Running… recording to {self.mcap}", style="yellow"))
+        self.query_one("#run-summary", Static).update(self._running_summary())
         self._execute(self.mcap)
+
+    def _running_summary(self) -> Text:
+        """The summary while the run goes: where it records and, served live, where Foxglove connects."""
+        text = Text(f"Running… recording to {self.mcap}", style="yellow")
+        if self.live_url:
+            text.append_text(Text.assemble("\nlive: ", (self.live_url, "bold cyan"),
+                                           " (Foxglove: Open connection > Foxglove WebSocket)"))
+        elif self.live_port is not None:
+            text.append("\nlive: starting the server…", style="dim")
+        return text
 
     def _list_runs(self) -> None:
         options = self.query_one("#run-list", OptionList)
@@ -206,7 +222,10 @@ class RunScreen(Screen[None]):
             plan_path = write_checked_plan(plan, plan_file(self.session_path))
             self.app.call_from_thread(self._show_plan, plan)
             env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "120", "NO_COLOR": "1"}
-            self.process = subprocess.Popen(self.command(Path(plan_path), mcap), stdout=subprocess.PIPE,
+            argv = self.command(Path(plan_path), mcap)
+            if self.live_port is not None:
+                argv += ["--live", "--port", str(self.live_port)]
+            self.process = subprocess.Popen(argv, stdout=subprocess.PIPE,
                                             stderr=subprocess.PIPE, text=True, bufsize=1, env=env)
         except Exception as error:
             self.post_message(RunOutput(f"cannot start the run: {type(error).__name__}: {error}"))
@@ -270,6 +289,9 @@ class RunScreen(Screen[None]):
         event = message.event
         if event.get("kind") in ("action_start", "action_end", "action_failed", "run_start", "retry"):
             self.query_one("#run-log", RichLog).write(Text(_describe(event, {})))
+        if event.get("kind") == "run_start" and isinstance(event.get("live"), str):
+            self.live_url = event["live"]
+            self.query_one("#run-summary", Static).update(self._running_summary())
         changed = apply_event(self.states, event)
         for action_id in ([changed] if changed else list(self.states) if event.get("kind") == "summary" else []):
             self._show_state(action_id)
@@ -302,6 +324,7 @@ class RunScreen(Screen[None]):
             f", failed: {', '.join(failed)}" if failed else "",
             f", skipped: {', '.join(skipped)}" if skipped else "",
             f" in {message.seconds:.1f} s\nMCAP: {message.mcap}\nlog: {message.log}",
+            f"\nlive view was {self.live_url} (closed with the run)" if self.live_url else "",
         )
         self.query_one("#run-summary", Static).update(summary)
         if stopped:
