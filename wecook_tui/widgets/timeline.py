@@ -7,7 +7,7 @@ swaps the cursor column, so stepping through frames costs a few hundred microsec
 from __future__ import annotations
 
 import bisect
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass
 from functools import cache
 
@@ -20,7 +20,7 @@ from textual.strip import Strip
 from textual.widget import Widget
 
 from wecook_core.model import Segment, SegmentStatus
-from wecook_tui.review import ACTION_COLOURS, STATUS_GLYPHS, Lane
+from wecook_tui.review import ACTION_COLOURS, STATUS_GLYPHS, UNSURE_GLYPH, Lane
 
 LABEL_WIDTH = 8
 IDLE = "#303030"
@@ -67,6 +67,7 @@ class Timeline(Widget):
         self.lanes: tuple[Lane, ...] = ()
         self.segments: tuple[Segment, ...] = ()
         self.status: Mapping[int, SegmentStatus] = {}
+        self.unsure: frozenset[int] = frozenset()
         self._rows: list[list[Cell]] = []
         """Lane rows then the status row, without cursor or current-segment marks; for the current width."""
         self._row_width = -1
@@ -74,7 +75,9 @@ class Timeline(Widget):
         """First frame of each track column."""
 
     def set_data(self, frame_count: int, lanes: tuple[Lane, ...], segments: tuple[Segment, ...],
-                 status: Mapping[int, SegmentStatus]) -> None:
+                 status: Mapping[int, SegmentStatus], unsure: Collection[int] = ()) -> None:
+        """``unsure``: starts of the segments still to review whose evidence is too thin (marked ?)."""
+        self.unsure = frozenset(unsure)
         self.frame_count = max(1, frame_count)
         self.lanes = lanes
         self.segments = segments
@@ -132,6 +135,8 @@ class Timeline(Widget):
         status_row: list[Cell] = [(" ", IDLE)] * width
         for seg in self.segments:
             glyph, colour = STATUS_GLYPHS[SegmentStatus(self.status.get(seg.start, SegmentStatus.UNREVIEWED))]
+            if seg.start in self.unsure:
+                glyph, colour = UNSURE_GLYPH
             first, last = self._columns_of(seg)
             for column in range(first, min(max(first, last) + 1, width)):
                 status_row[column] = (glyph if column == first else "─", colour)
