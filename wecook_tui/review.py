@@ -26,7 +26,7 @@ from wecook_core.model import (
     SegmentStatus,
     TreeSpan,
 )
-from wecook_core.session.boxes import Drawn, with_drawn
+from wecook_core.session.boxes import OTHER_TYPES, Drawn, with_drawn
 from wecook_tui.frames import BoxMark, HandMark, LinkMark, Overlay
 
 NOTHING = "-"
@@ -70,7 +70,10 @@ def drawn_of(opened: object | None) -> Drawn | None:
     if _shown and _shown[0][0] is obs and _shown[0][1] is session and _shown[0][2] == version:
         return _shown[0][3]
     corrections = session.applied_corrections
-    drawn = with_drawn(obs, corrections, session.category_table())
+    if any(isinstance(c, OTHER_TYPES) for c in corrections):
+        drawn = with_drawn(obs, corrections, session.category_table())
+    else:
+        drawn = Drawn(obs, ())  # nothing drawn, no category given: the imported observations as they are
     _shown[:] = [(obs, session, version, drawn)]
     return drawn
 
@@ -87,7 +90,7 @@ def unknown_labels(opened: object | None) -> tuple[str, ...]:
     drawn = drawn_of(opened)
     if session is None:
         return ()
-    found = list(session.uncategorised)
+    found = list(getattr(session, "uncategorised", ()))
     found += [label for label in (drawn.unknown if drawn is not None else ()) if label not in found]
     return tuple(found)
 
@@ -123,14 +126,33 @@ def status_of(corrections: Corrections | None, start: int) -> SegmentStatus:
     return SegmentStatus.UNREVIEWED
 
 
+UNSURE_GLYPH = ("?", "#ff7043")
+"""The timeline's mark of an unsure segment still to review."""
+
+
+def unsure_of(analysis: object | None, seg: Segment) -> str | None:
+    """Why the evidence in ``seg`` is too thin to trust what was recognised there (``Analysis.unsure``), or
+    None when it is not unsure."""
+    reasons = getattr(analysis, "unsure", None) or {}
+    return reasons.get(seg.start)
+
+
+def to_review(corrections: Corrections | None, start: int, unsure: Mapping[int, str] | None = None) -> bool:
+    """Whether the segment starting at ``start`` still needs the reviewer: unreviewed, or unsure (the evidence
+    too thin) and neither accepted nor rejected, even if a verb or object there was corrected."""
+    if status_of(corrections, start) is SegmentStatus.UNREVIEWED:
+        return True
+    return unsure is not None and start in unsure and (corrections is None or start not in corrections.status)
+
+
 def next_unreviewed(segs: tuple[Segment, ...], corrections: Corrections | None, current: int,
-                    direction: int = 1) -> int | None:
-    """The first unreviewed segment after ``current`` (before it: ``direction`` -1), wrapping around; None when
-    all are reviewed."""
+                    direction: int = 1, unsure: Mapping[int, str] | None = None) -> int | None:
+    """The first segment after ``current`` (before it: ``direction`` -1) still to review (:func:`to_review`:
+    unsure ones until accepted or rejected), wrapping around; None when all are reviewed."""
     n = len(segs)
     for step in range(1, n + 1):
         index = (current + direction * step) % n
-        if status_of(corrections, segs[index].start) is SegmentStatus.UNREVIEWED:
+        if to_review(corrections, segs[index].start, unsure):
             return index
     return None
 

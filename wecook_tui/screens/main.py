@@ -121,7 +121,10 @@ class MainScreen(Screen[None]):
             segs = self.segments()
             corrections = wb.corrections
             status = {s.start: review.status_of(corrections, s.start) for s in segs}
-            timeline.set_data(self.frame_count, review.lanes(wb.analysis, hands, self.frame_count), segs, status)
+            unsure = {s.start for s in segs if review.unsure_of(wb.analysis, s)
+                      and review.to_review(corrections, s.start, {s.start: ""})}
+            timeline.set_data(self.frame_count, review.lanes(wb.analysis, hands, self.frame_count), segs, status,
+                              unsure)
         self._inspected = None
         self.refresh_view()
         self._tell_unknown_labels()
@@ -169,14 +172,14 @@ class MainScreen(Screen[None]):
         timeline.cursor = self.frame
         timeline.selected_hand = self.selected_hand
         status = review.status_of(wb.corrections, seg.start)
-        key = (id(wb.analysis), index, seg, status, self.selected_hand, wb.pending)
+        key = (id(wb.analysis), index, seg, status, self.selected_hand, wb.pending, id(wb.corrections))
         if key != self._inspected:
             self._inspected = key
             actions = review.actions_of(wb.analysis, seg, index)
             rankings = {hand: review.ranking_of(wb.analysis, seg, index, hand) for hand in actions}
             self.query_one(Inspector).show(
                 index, len(self.segments()), seg, status, review.trees_of(wb.analysis, seg), assoc,
-                actions, self.selected_hand, wb.pending, rankings)
+                actions, self.selected_hand, wb.pending, rankings, self._unsure(seg))
         fps = wb.fps
         state = ("  ▶ playing" if self.playing else "",
                  ("  recomputing…" if wb.pending else ("  opening…" if wb.opened is None else ""), "bold yellow"),
@@ -191,6 +194,13 @@ class MainScreen(Screen[None]):
                                  f" seg {index + 1}/{len(self.segments())}", f" {self.selected_hand or '-'}",
                                  *state)
         self.query_one(StatusLine).show(line)
+
+    def _unsure(self, seg: Segment) -> str | None:
+        """Why ``seg`` is unsure, while it is still to review (an accepted or rejected one is settled)."""
+        reason = review.unsure_of(self.wb.analysis, seg)
+        if reason and review.to_review(self.wb.corrections, seg.start, {seg.start: reason}):
+            return reason
+        return None
 
     def watch_frame(self) -> None:
         self.refresh_view()
@@ -210,7 +220,9 @@ class MainScreen(Screen[None]):
 
     def action_next_unreviewed(self, direction: int = 1) -> None:
         segs = self.segments()
-        index = review.next_unreviewed(segs, self.wb.corrections, review.segment_index(segs, self.frame), direction)
+        unsure = getattr(self.wb.analysis, "unsure", None)
+        index = review.next_unreviewed(segs, self.wb.corrections, review.segment_index(segs, self.frame), direction,
+                                       unsure)
         if index is None:
             self.notify("Every segment is reviewed.")
         else:

@@ -11,7 +11,7 @@ from textual.widgets import Static, Tree
 from textual.widgets.tree import TreeNode
 
 from wecook_core.model import Action, Associations, Node, Segment, SegmentStatus, TreeSpan
-from wecook_tui.review import STATUS_GLYPHS, action_label
+from wecook_tui.review import STATUS_GLYPHS, UNSURE_GLYPH, action_label
 
 
 class SegmentTree(Tree[str]):
@@ -42,13 +42,19 @@ class Inspector(VerticalScroll):
 
     def show(self, index: int, count: int, seg: Segment, status: SegmentStatus, trees: tuple[TreeSpan, ...],
              assoc: Associations | None, actions: Mapping[str, Action], selected: str | None,
-             pending: bool, rankings: Mapping[str, tuple[tuple[str, float], ...]] | None = None) -> None:
+             pending: bool, rankings: Mapping[str, tuple[tuple[str, float], ...]] | None = None,
+             unsure: str | None = None) -> None:
+        """``unsure``: why the evidence in the segment is too thin to trust what was recognised (None: it is not)."""
         glyph, colour = STATUS_GLYPHS[status]
         header = Text.assemble(
             ("segment ", "dim"), (f"{index + 1}/{count}", "bold"), ("  frames ", "dim"),
             f"[{seg.start}, {seg.end})", "  ", (f"{glyph} {status}", colour),
             ("  (recomputing…)", "italic yellow") if pending else "",
         )
+        if unsure:
+            mark, tone = UNSURE_GLYPH
+            header.append_text(Text.assemble("\n", (f"{mark} unsure: ", f"bold {tone}"), (unsure, tone),
+                                             (" (check it, then accept or correct)", "dim")))
         self.query_one("#segment-header", Static).update(header)
         tree = self.query_one("#segment-trees", SegmentTree)
         tree.clear()
