@@ -11,19 +11,17 @@ memory (:class:`MemoryEdits`). The tracks shown are always the fold of the corre
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, ClassVar, Protocol
+from typing import Any, ClassVar
 
 from textual import events, work
 from textual.app import ComposeResult
 from textual.binding import Binding, BindingType
-from textual.containers import Vertical
 from textual.reactive import var
-from textual.screen import ModalScreen, Screen
-from textual.widgets import Footer, Input, OptionList, Static
-from textual.widgets.option_list import Option
+from textual.screen import Screen
+from textual.widgets import Footer, Static
 
 from wecook_core.observations.tracking import Box, BoxTrack, TrackParams, track_from_last_keyframe
 from wecook_core.session.boxes import (
@@ -31,11 +29,12 @@ from wecook_core.session.boxes import (
     DropBoxKeyframe,
     SetBoxKeyframe,
     SetBoxLabel,
-    fold_boxes,
     rounded,
     tracked,
 )
+from wecook_tui.box_edits import BoxEdits, MemoryEdits
 from wecook_tui.frames import BoxMark, FrameSource, Overlay, fit
+from wecook_tui.screens.box_name import NameScreen, known_labels
 from wecook_tui.widgets.frame_view import FrameView
 
 STEP = 0.02
@@ -77,128 +76,6 @@ class BoxVideo:
     """(width, height) pixels."""
     fps: float
     frame_count: int
-
-
-class NameScreen(ModalScreen[str | None]):
-    """Type a label (any new one is allowed) or pick one of the known labels, best first."""
-
-    BINDINGS: ClassVar = [Binding("escape", "cancel", "Cancel", id="name-cancel")]
-
-    def __init__(self, labels: Sequence[str], current: str = "") -> None:
-        super().__init__()
-        self.labels = list(labels)
-        self.current = current
-
-    def compose(self) -> ComposeResult:
-        with Vertical(id="picker"):
-            yield Static("Name the box: type a label, or pick one (enter)", id="picker-title")
-            yield Input(value=self.current, placeholder="label", id="name-input")
-            yield OptionList(*(Option(label, id=label) for label in self.labels[:200]), id="picker-options")
-
-    def on_mount(self) -> None:
-        self.query_one(Input).focus()
-
-    def on_input_changed(self, event: Input.Changed) -> None:
-        text = event.value.strip().lower()
-        options = self.query_one(OptionList)
-        options.clear_options()
-        matching = [label for label in self.labels if text in label.lower()] if text else self.labels
-        options.add_options([Option(label, id=label) for label in matching[:200]])
-
-    def on_input_submitted(self, event: Input.Submitted) -> None:
-        event.stop()
-        value = event.value.strip()
-        self.dismiss(value or None)
-
-    def on_option_list_option_selected(self, event: OptionList.OptionSelected) -> None:
-        event.stop()
-        self.dismiss(event.option.id)
-
-    def action_cancel(self) -> None:
-        self.dismiss(None)
-
-
-def known_labels() -> list[str]:
-    """Labels to name a box from: the commonsense corpus's objects, most often seen first, then the rest of
-    the category table, alphabetically."""
-    from wecook_core.knowledge.categories import load_categories
-    from wecook_core.knowledge.recognize import load_knowledge
-
-    knowledge = load_knowledge()
-    counts = knowledge.pair_counts.sum(axis=0)
-    ranked = [knowledge.objects[i].replace("_", " ") for i in sorted(range(len(knowledge.objects)),
-                                                                      key=lambda i: (-int(counts[i]), i))]
-    seen = set(ranked)
-    rest = sorted(name.replace("_", " ") for name in load_categories().entries if name.replace("_", " ") not in seen)
-    return ranked + rest
-
-
-class BoxEdits(Protocol):
-    """Where the box mode's corrections go, and the tracks they give."""
-
-    def tracks(self) -> tuple[BoxTrack, ...]: ...
-
-    def apply(self, correction: BoxCorrection) -> bool:
-        """Record one correction; False when it was not recorded."""
-
-    def undo(self) -> None: ...
-
-    def redo(self) -> None: ...
-
-    def message(self) -> str:
-        """The answer to the latest edit, undo or redo (empty when there is none to show)."""
-
-
-class MemoryEdits:
-    """`wecook boxes` (no session): the corrections in memory, with undo and redo."""
-
-    def __init__(self) -> None:
-        self.applied: list[BoxCorrection] = []
-        self.undone: list[BoxCorrection] = []
-
-    def tracks(self) -> tuple[BoxTrack, ...]:
-        return fold_boxes(self.applied)
-
-    def apply(self, correction: BoxCorrection) -> bool:
-        self.applied.append(correction)
-        self.undone.clear()
-        return True
-
-    def undo(self) -> None:
-        if self.applied:
-            self.undone.append(self.applied.pop())
-
-    def redo(self) -> None:
-        if self.undone:
-            self.applied.append(self.undone.pop())
-
-    def message(self) -> str:
-        return ""
-
-
-class SessionEdits:
-    """The workbench: every box correction journaled (``Workbench.correct``), undone and redone with the rest."""
-
-    def __init__(self, app: Any) -> None:
-        from wecook_tui.workbench_state import workbench
-
-        self.wb = workbench(app)
-
-    def tracks(self) -> tuple[BoxTrack, ...]:
-        session = self.wb.opened.session if self.wb.opened is not None else None
-        return fold_boxes(session.applied_corrections) if session is not None else ()
-
-    def apply(self, correction: BoxCorrection) -> bool:
-        return self.wb.correct(correction)
-
-    def undo(self) -> None:
-        self.wb.undo()
-
-    def redo(self) -> None:
-        self.wb.redo()
-
-    def message(self) -> str:
-        return self.wb.last_message
 
 
 class BoxScreen(Screen[None]):

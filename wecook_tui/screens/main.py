@@ -58,11 +58,6 @@ MAIN_BINDINGS: list[Binding] = [  # help and quit first: the footer is cut on th
 ]
 
 
-CATEGORY_OPTIONS = [("tool", "tool         acts on others: knife, spoon, whisk"),
-                    ("container", "container    holds others: bowl, pan, board"),
-                    ("ingredient", "ingredient   is held, cut or poured: tomato, salt")]
-
-
 class MainScreen(Screen[None]):
     BINDINGS: ClassVar[list[BindingType]] = [*MAIN_BINDINGS]
 
@@ -419,7 +414,8 @@ class MainScreen(Screen[None]):
     def action_boxes(self) -> None:
         """Box mode (screens/boxes.py) on the session's video at the cursor: every box drawn, named, tracked or
         corrected is journaled, and the analysis re-runs on it."""
-        from wecook_tui.screens.boxes import BoxScreen, SessionEdits, box_video
+        from wecook_tui.box_edits import SessionEdits
+        from wecook_tui.screens.boxes import BoxScreen, box_video
 
         video = box_video(self.app)
         if video is None or self.wb.opened is None:
@@ -429,32 +425,10 @@ class MainScreen(Screen[None]):
                                        start=self.frame))
 
     def action_categorise(self) -> None:
-        """Ask what each label nothing categorises is (tool, container or ingredient); each answer is journaled
-        and the analysis re-runs. One label is asked at once; with several, pick the label first."""
-        labels = review.unknown_labels(self.wb.opened)
-        if not labels:
-            self.notify("Every object label has a category.")
-            return
+        """Ask what each label nothing categorises is (screens/categorise.py)."""
+        from wecook_tui.screens.categorise import ask_categories
 
-        def category_chosen(label: str, value: str | None) -> None:
-            from wecook_core.model import Category
-            from wecook_core.session.boxes import SetCategory
-
-            if value and self.wb.correct(SetCategory(label, Category(value))) \
-                    and review.unknown_labels(self.wb.opened):
-                self.action_categorise()  # the next one
-
-        def label_chosen(label: str | None) -> None:
-            if label:
-                self.app.push_screen(PickerScreen(f"What is {label!r}? (taken as an ingredient until you say)",
-                                                  CATEGORY_OPTIONS, "ingredient"),
-                                     lambda value: category_chosen(label, value))
-
-        if len(labels) == 1:
-            label_chosen(labels[0])
-        else:
-            self.app.push_screen(PickerScreen(f"{len(labels)} labels nothing categorises: pick one",
-                                              [(label, label) for label in labels]), label_chosen)
+        ask_categories(self.app)
 
     def _remember(self) -> None:
         from wecook_tui.resume import save_position
