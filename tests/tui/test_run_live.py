@@ -62,11 +62,18 @@ async def test_the_run_screen_says_the_live_address_from_the_run_events(session_
         assert await wait_for(pilot, lambda: screen.result is not None, 500)
         assert "live view was ws://127.0.0.1:8765" in summary(screen)
         await pilot.press("escape")
+        # The past run keeps its address (R lists past runs; the newest is shown).
+        await pilot.press("R")
+        assert await wait_for(pilot, lambda: isinstance(app.screen, RunScreen) and app.screen.analysis is None)
+        past = app.screen
+        assert isinstance(past, RunScreen)
+        assert await wait_for(pilot, lambda: "served live on ws://127.0.0.1:8765" in summary(past))
+        await pilot.press("escape")
         # r runs without serving: no address is said.
         await pilot.press("r")
         assert await wait_for(pilot, lambda: isinstance(app.screen, RunScreen) and app.screen is not screen)
         plain = app.screen
-        assert isinstance(plain, RunScreen) and plain.live_port is None
+        assert isinstance(plain, RunScreen) and plain.live_port is None and plain is not past
         assert await wait_for(pilot, lambda: "running" in plain.states.values(), 500)
         assert "live" not in summary(plain) and plain.live_url is None
         await pilot.press("ctrl+k")

@@ -197,7 +197,8 @@ class RunScreen(Screen[None]):
         done = sum(1 for s in actions.values() if s == "done")
         self.query_one("#run-summary", Static).update(Text.assemble(
             (f"{name}: {verdict}", "bold"), f", {done}/{len(actions)} actions done" if actions else "",
-            f"\nMCAP: {record.get('mcap')}"))
+            f"\nMCAP: {record.get('mcap')}",
+            f"\nserved live on {record['live']}" if isinstance(record.get("live"), str) else ""))
         log = self.query_one("#run-log", RichLog)
         log.clear()
         path = Path(record.get("log") or Path(record.get("mcap", "")).with_suffix(".log"))
@@ -234,6 +235,7 @@ class RunScreen(Screen[None]):
         states = {action.id: "waiting" for action in plan.actions}
         verbs = {action.id: [",".join(action.pids), action.verb] for action in plan.actions}
         tail: list[str] = []
+        live: str | None = None
         process = self.process
         assert process.stdout is not None and process.stderr is not None
         with log_path.open("w") as log:
@@ -261,6 +263,8 @@ class RunScreen(Screen[None]):
                 with lock:
                     log.write(_describe(event, verbs) + "\n")
                 tail = [*tail[-199:], _describe(event, verbs)]
+                if event.get("kind") == "run_start" and isinstance(event.get("live"), str):
+                    live = event["live"]
                 apply_event(states, event)
                 self.post_message(RunEvent(event))
             code = process.wait()
@@ -271,7 +275,7 @@ class RunScreen(Screen[None]):
                     states[action_id] = "stopped"
         seconds = time.perf_counter() - started
         record = {"returncode": code, "mcap": str(mcap), "log": str(log_path), "seconds": round(seconds, 2),
-                  "actions": states, "verbs": verbs, "tail": tail[-40:]}
+                  "actions": states, "verbs": verbs, "tail": tail[-40:], **({"live": live} if live else {})}
         mcap.with_suffix(".json").write_text(json.dumps(record, indent=1))
         self.post_message(RunFinished(code, mcap, log_path, seconds))
 
