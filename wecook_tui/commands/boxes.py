@@ -1,6 +1,6 @@
 """`wecook boxes VIDEO --out DIR`: the box mode on a video alone (no session yet): draw boxes, track them, export
 ``DIR/boxes.xml`` (CVAT for video) and ``DIR/boxes.csv`` (wecook CSV), which `wecook new --objects` imports.
-In the workbench the same mode opens with B on the session's video."""
+In the workbench the same mode opens with B on the session's video, where every box is journaled."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ def register(sub: Any) -> None:
         "boxes", help="draw object boxes on a video and track them (box mode), export CVAT XML and CSV",
         description="Open the box mode on VIDEO: b draws a box, wasd/WASD move and resize it (or drag with the "
                     "mouse), n names it, t tracks it with OpenCV until it is lost, a change at another frame is a "
-                    "keyframe, z undoes, e exports DIR/boxes.xml and DIR/boxes.csv, q quits.",
+                    "keyframe, z undoes, y redoes, e exports DIR/boxes.xml and DIR/boxes.csv, q quits.",
     )
     parser.add_argument("video", metavar="VIDEO", help="the video (any file OpenCV reads)")
     parser.add_argument("--out", required=True, metavar="DIR", help="folder for boxes.xml and boxes.csv")
