@@ -37,6 +37,7 @@ from __future__ import annotations
 import contextlib
 import datetime as dt
 import fcntl
+import functools
 import json
 import os
 from collections.abc import Mapping, Sequence
@@ -72,9 +73,10 @@ class JournalEntry:
     fields: Mapping[str, Any] = field(default_factory=dict)
     """The operation's fields (``target`` for undo and redo)."""
 
-    @property
+    @functools.cached_property
     def correction(self) -> Correction:
-        """The typed correction of a correction entry (ValueError for ``undo`` and ``redo``)."""
+        """The typed correction of a correction entry (ValueError for ``undo`` and ``redo``); parsed once (a
+        tracked box's run holds a box per frame, and every append replays the whole journal)."""
         return parse({"op": self.op, **self.fields})
 
     def to_json(self) -> str:
@@ -84,10 +86,22 @@ class JournalEntry:
 
 def check_correction(correction: Mapping[str, Any] | Correction) -> tuple[str, dict[str, Any]]:
     """(op, fields as stored) of a correction, or ValueError saying what is wrong."""
+    _, op, record = _checked(correction)
+    return op, record
+
+
+def _checked(correction: Mapping[str, Any] | Correction) -> tuple[Correction, str, dict[str, Any]]:
     typed = correction if isinstance(correction, tuple(TYPES.values())) else parse(correction)  # type: ignore[arg-type]
     record = to_record(typed)  # type: ignore[arg-type]
     op = record.pop("op")
-    return op, record
+    return typed, op, record  # type: ignore[return-value]
+
+
+def _entry(seq: int, time: str, op: str, fields: dict[str, Any], typed: Correction) -> JournalEntry:
+    """A correction entry whose typed correction is already known (not parsed again)."""
+    entry = JournalEntry(seq, time, op, fields)
+    entry.__dict__["correction"] = typed  # the cached_property's slot
+    return entry
 
 
 @dataclass(frozen=True)
@@ -175,10 +189,10 @@ def _parse_line(raw: bytes) -> tuple[JournalEntry | None, str]:
             return None, f"{op} needs only an int target"
         return JournalEntry(seq, str(time), op, {"target": target}), ""
     try:
-        op, fields = check_correction({"op": op, **value})
+        typed, op, fields = _checked({"op": op, **value})
     except ValueError as error:
         return None, str(error)
-    return JournalEntry(seq, str(time), op, fields), ""
+    return _entry(seq, str(time), op, fields, typed), ""
 
 
 def _now() -> str:
@@ -238,8 +252,8 @@ class Journal:
 
         ValueError for a malformed correction; OSError when the disk refuses (nothing changes then).
         """
-        op, fields = check_correction(correction)
-        return self._append(op, fields)
+        typed, op, fields = _checked(correction)
+        return self._append(op, fields, typed)
 
     def undo(self) -> JournalEntry | None:
         """Take back the latest correction in effect; None when there is none."""
@@ -253,9 +267,9 @@ class Journal:
             return None
         return self._append("redo", {"target": self._replay.undone[-1]})
 
-    def _append(self, op: str, fields: dict[str, Any]) -> JournalEntry:
+    def _append(self, op: str, fields: dict[str, Any], typed: Correction | None = None) -> JournalEntry:
         seq = max((e.seq for e in self._entries), default=0) + 1
-        entry = JournalEntry(seq, _now(), op, fields)
+        entry = JournalEntry(seq, _now(), op, fields) if typed is None else _entry(seq, _now(), op, fields, typed)
         line = (entry.to_json() + "\n").encode("utf-8")
         fd = os.open(self.path, os.O_RDWR | os.O_APPEND | os.O_CREAT, 0o644)
         try:
