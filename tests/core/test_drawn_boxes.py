@@ -100,5 +100,7 @@ def test_a_category_given_for_an_unknown_label_is_applied_and_no_longer_asked(tm
     # A drawn box with a label nothing knows is listed until answered.
     box = SetBoxKeyframe(1, 0, (1.0, 1.0, 20.0, 20.0), "zorblax")
     assert with_drawn(obs, [box]).unknown == ("zorblax",)
+    unnamed = with_drawn(obs, [SetBoxKeyframe(1, 0, (1.0, 1.0, 20.0, 20.0))])  # not named yet: not asked about
+    assert unnamed.unknown == () and unnamed.observations.categories["object"] is Category.INGREDIENT
     answered = with_drawn(obs, [box, SetCategory("zorblax", Category.CONTAINER)])
     assert answered.unknown == () and answered.observations.categories["zorblax"] is Category.CONTAINER

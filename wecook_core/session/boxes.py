@@ -24,6 +24,9 @@ from wecook_core.observations.tracking import Box, BoxTrack
 if TYPE_CHECKING:
     from wecook_core.knowledge.categories import CategoryTable
 
+UNNAMED = "object"
+"""The label of a drawn box not named yet (never asked about as an unknown label)."""
+
 DECIMALS = 1
 """Box coordinates are journaled to a tenth of a pixel."""
 
@@ -107,7 +110,7 @@ def fold_boxes(corrections: Iterable[object]) -> tuple[BoxTrack, ...]:
     tracks: dict[int, BoxTrack] = {}
     for c in corrections:
         if isinstance(c, SetBoxKeyframe):
-            track = tracks.get(c.track) or BoxTrack(c.track, c.label or "object")
+            track = tracks.get(c.track) or BoxTrack(c.track, c.label or UNNAMED)
             if c.label and track.label != c.label:
                 track = replace(track, label=c.label)
             tracks[c.track] = track.with_keyframe(c.frame, c.box)
@@ -162,14 +165,16 @@ def with_drawn(obs: Observations, corrections: Sequence[object],
         added.append(replace(track.object_track(name), track_id=base + track.track_id))
     objects = (*obs.objects, *added)
     label_category = {t.label: obs.categories[t.name] for t in obs.objects if t.name in obs.categories}
-    new_labels = [t.label for t in added if t.label not in label_category and t.label not in given]
+    new_labels = [t.label for t in added if t.label not in label_category and t.label not in given
+                  and t.label != UNNAMED]
     unknown: tuple[str, ...] = ()
-    if new_labels:
-        from wecook_core.knowledge.categories import categorise_labels
+    from wecook_core.knowledge.categories import DEFAULT_CATEGORY, categorise_labels
 
+    if new_labels:
         found = categorise_labels(new_labels, table)
         label_category.update(found.categories)
         unknown = tuple(found.unknown)
+    label_category.setdefault(UNNAMED, DEFAULT_CATEGORY)  # a box not named yet: as an unknown label, unasked
     label_category.update(given)
     categories: Mapping[str, Category] = {**obs.categories, **{t.name: label_category[t.label] for t in objects
                                                                 if t.label in label_category}}

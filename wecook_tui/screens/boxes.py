@@ -25,6 +25,7 @@ from textual.widgets import Footer, Static
 
 from wecook_core.observations.tracking import Box, BoxTrack, TrackParams, track_from_last_keyframe
 from wecook_core.session.boxes import (
+    UNNAMED,
     BoxCorrection,
     DropBoxKeyframe,
     SetBoxKeyframe,
@@ -177,14 +178,14 @@ class BoxScreen(Screen[None]):
         box = (0.4 * w, 0.4 * h, 0.6 * w, 0.6 * h)
         self.add_box(box)
 
-    def add_box(self, box: Box, label: str = "object") -> None:
+    def add_box(self, box: Box, label: str = UNNAMED) -> None:
         track_id = self._last_id + 1
         if not self.edits.apply(SetBoxKeyframe(track_id, self.frame, rounded(self._clip(box)),
-                                               None if label == "object" else label)):
+                                               None if label == UNNAMED else label)):
             return
         self._last_id = track_id
         self._reload(track_id)
-        if label == "object":
+        if label == UNNAMED:
             self.action_name()
 
     def set_keyframe(self, box: Box) -> None:
@@ -234,7 +235,7 @@ class BoxScreen(Screen[None]):
             if label and label != track.label:
                 self._apply(SetBoxLabel(track_id, label))
 
-        self.app.push_screen(NameScreen(self.labels(), "" if track.label == "object" else track.label), named)
+        self.app.push_screen(NameScreen(self.labels(), "" if track.label == UNNAMED else track.label), named)
 
     def action_drop_keyframe(self) -> None:
         track = self.current()

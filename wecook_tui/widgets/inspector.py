@@ -53,8 +53,7 @@ class Inspector(VerticalScroll):
         )
         if unsure:
             mark, tone = UNSURE_GLYPH
-            header.append_text(Text.assemble("\n", (f"{mark} unsure: ", f"bold {tone}"), (unsure, tone),
-                                             (" (check it, then accept or correct)", "dim")))
+            header.append_text(Text.assemble("\n", (f"{mark} unsure: ", f"bold {tone}"), (unsure, tone)))
         self.query_one("#segment-header", Static).update(header)
         tree = self.query_one("#segment-trees", SegmentTree)
         tree.clear()
