@@ -51,7 +51,8 @@ async def test_draw_with_keys_name_track_and_export(tmp_path: Path) -> None:
         assert moved[2] - moved[0] == pytest.approx(before[2] - before[0])  # journaled to 0.1 px
         screen.set_keyframe(truth[0])  # the box fitted exactly at frame 0 (a keyframe)
         await pilot.press("t")
-        assert await wait_for(pilot, lambda: not screen.tracking and bool(screen.tracks[0].tracked), 500)
+        assert await wait_for(pilot, lambda: not screen.tracking, 3000)  # OpenCV in a worker: slow on a busy machine
+        assert screen.tracks[0].tracked, "the tracker lost the box at once"
         tracked = screen.tracks[0]
         assert len(tracked.tracked) >= 20 and tracked.lost_at is not None  # the square vanishes at frame 30
         await pilot.press("right", "right", "right")

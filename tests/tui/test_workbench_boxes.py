@@ -48,7 +48,8 @@ async def test_boxes_drawn_in_the_workbench_are_journaled_undone_from_review_and
         await name(pilot, app, "chopping board")
         screen.set_keyframe((120.0, 70.0, 230.0, 150.0))
         await pilot.press("t")
-        assert await wait_for(pilot, lambda: not screen.tracking and bool(screen.tracks[0].tracked), 500)
+        assert await wait_for(pilot, lambda: not screen.tracking, 3000)  # OpenCV in a worker: slow on a busy machine
+        assert screen.tracks[0].tracked, "the tracker lost the box at once"
         assert len(screen.tracks[0].boxes()) > 80
         # The knife: carried by the hand, so keyframed every few frames (interpolated between).
         right = hand_path()
