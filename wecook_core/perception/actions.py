@@ -4,11 +4,18 @@
   held ingredient acts on a container (pour oil into the pot) or, held still with nothing near and when the
   commonsense model says hands work it (``Params.hand_share``), is worked by the hand itself (squeeze the
   lemon). The verb is the argmax over candidate verbs of P(A) prod_k P(O_k | A)
-  (:func:`wecook_core.recognize.rank`) over the held object and the targets.
+  (:func:`wecook_core.recognize.rank`) over the held object and the targets. The candidates come from
+  the evidence other than the tables: a held tool is the instrument, and only the verbs it affords by
+  itself are candidates (:func:`afforded`: a peeler peels, even on a board that says "cut"); the held
+  object's own motion narrows them further (:mod:`.motion`: circles stir, a tipped bottle pours, an
+  ingredient stroked by the hand is peeled and one gripped in place squeezed). A held object lying where
+  its hold begins or ends acts on nothing it lies beside (:mod:`.resting`: bread picked up next to a cup
+  is not dipped in it).
 - Transfer: an ingredient whose container changes (tracked over the whole video) while a hand, or the object
   it holds, moves it: targets ``(ingredient, source, destination)``.
-- Collaborative: a handover when an object passes from one person's hand to the other's; a holding when one
-  person holds an object that the other acts on (or holds too).
+- Collaborative: a handover when an object passes from one person's hand to the other's (before the
+  exchange, in the same hold, the giver only grasps it: a pause with it is not hand work); a holding when
+  one person holds an object that the other acts on (or holds too).
 
 A hand that holds something without acting is a GRASP: no action, but it tells the graph when the action's
 grasp starts and its release ends.
