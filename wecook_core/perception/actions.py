@@ -4,11 +4,18 @@
   held ingredient acts on a container (pour oil into the pot) or, held still with nothing near and when the
   commonsense model says hands work it (``Params.hand_share``), is worked by the hand itself (squeeze the
   lemon). The verb is the argmax over candidate verbs of P(A) prod_k P(O_k | A)
-  (:func:`wecook_core.recognize.rank`) over the held object and the targets.
+  (:func:`wecook_core.recognize.rank`) over the held object and the targets. The candidates come from
+  the evidence other than the tables: a held tool is the instrument, and only the verbs it affords by
+  itself are candidates (:func:`afforded`: a peeler peels, even on a board that says "cut"); the held
+  object's own motion narrows them further (:mod:`.motion`: circles stir, a tipped bottle pours, an
+  ingredient stroked by the hand is peeled and one gripped in place squeezed). A held object lying where
+  its hold begins or ends acts on nothing it lies beside (:mod:`.resting`: bread picked up next to a cup
+  is not dipped in it).
 - Transfer: an ingredient whose container changes (tracked over the whole video) while a hand, or the object
   it holds, moves it: targets ``(ingredient, source, destination)``.
-- Collaborative: a handover when an object passes from one person's hand to the other's; a holding when one
-  person holds an object that the other acts on (or holds too).
+- Collaborative: a handover when an object passes from one person's hand to the other's (before the
+  exchange, in the same hold, the giver only grasps it: a pause with it is not hand work); a holding when
+  one person holds an object that the other acts on (or holds too).
 
 A hand that holds something without acting is a GRASP: no action, but it tells the graph when the action's
 grasp starts and its release ends.
@@ -39,6 +46,8 @@ from wecook_core.model import (
 )
 from wecook_core.perception.associate import Timeline, associate_segments, dwelling_points, video_diagonal
 from wecook_core.perception.label_runs import longest_runs, runs
+from wecook_core.perception.motion import Role
+from wecook_core.perception.resting import SpanCache, acting_links
 from wecook_core.perception.transfers import HandoverEvent, TransferEvent, handover_events, hold_spans, transfer_events
 
 if TYPE_CHECKING:
@@ -57,6 +66,10 @@ squeezing and wrapping with the bare hand."""
 HELD_VERBS: tuple[str, ...] = ("pour", "sprinkle", "dip")
 """The candidates of a held ingredient acting on a container (DESIGN.md's "held" case): without a tool
 it cannot cut, peel or stir."""
+AFFORD_RATIO = 5.0
+"""A held tool affords the tool verbs the commonsense model gives it, alone, at least ``1 / AFFORD_RATIO`` of
+the probability of its main one (:func:`afforded`): a knife cuts, and may spread or peel; a peeler peels and
+nothing else, however much the board under the cucumber says "cut"."""
 
 
 # ------------------------------------------------------------------------------------------ individual
@@ -89,7 +102,7 @@ def individual_action(
     still: bool | Callable[[bool], bool] = True,
     verb: str | None = None,
     hand_share: float = 0.3,
-    moves: Callable[[str, bool], frozenset[str] | None] | None = None,
+    moves: Callable[[str, Role], frozenset[str] | None] | None = None,
 ) -> tuple[Action | None, Ranking]:
     """The action of one hand in one segment from its associations (no transfer, no collaboration).
 
@@ -98,8 +111,9 @@ def individual_action(
     ``Params.min_action_s`` (an ingredient worked by hand whatever the commonsense share of the hand verbs),
     ``False`` for ``Params.min_link_s`` (enough when the hand verbs get ``hand_share``).
     ``verb``: the user's choice, replacing the recognised verb. ``hand_share``: see ``Params.hand_share``.
-    ``moves``: (object name, held ingredient over a container?) -> the verbs its own motion in the segment
-    allows (:mod:`.motion`; None: no say);
+    ``moves``: (object name, its :data:`~.motion.Role`: a held tool, an ingredient held over a container,
+    an ingredient worked by the hand) -> the verbs its own motion in the segment allows (:mod:`.motion`;
+    None: no say);
     the candidates are narrowed to those when any is left. A held ingredient over a container is poured,
     sprinkled or dipped (:data:`HELD_VERBS`), a held tool cuts, peels, stirs, rolls or spreads
     (:data:`TOOL_VERBS`); a hand that works an ingredient by itself while staying put
@@ -117,7 +131,7 @@ def individual_action(
     kind = ActionKind.TOOL
     allowed: Sequence[str] | None = None
     if category is Category.TOOL:
-        allowed = TOOL_VERBS
+        allowed = afforded(knowledge, held)
         if ingredients:
             targets = _with_container(ingredients[0], assoc)
         elif containers:
@@ -135,7 +149,9 @@ def individual_action(
         # the user named a verb for a hand that only holds: the hand works the object it holds
         return Action(ActionKind.HAND, hand, segment.start, segment.end, verb=verb, targets=(held,)), ()
     objects = targets if kind is ActionKind.HAND else (held, *targets)
-    moved = moves(held, allowed is HELD_VERBS) if moves is not None and kind is not ActionKind.HAND else None
+    moved = None
+    if moves is not None:
+        moved = moves(held, "hand" if kind is ActionKind.HAND else "held" if allowed is HELD_VERBS else "tool")
     if moved is not None:
         narrowed = [v for v in (allowed if allowed is not None else knowledge.verbs) if v in moved]
         allowed = narrowed or allowed
@@ -147,6 +163,18 @@ def individual_action(
         return Action(kind, hand, segment.start, segment.end, verb=chosen, targets=targets, scores=ranking), ranking
     return Action(kind, hand, segment.start, segment.end, verb=chosen, held=held, targets=targets,
                   scores=ranking), ranking
+
+
+def afforded(knowledge: Knowledge, tool: str) -> tuple[str, ...]:
+    """The verbs of :data:`TOOL_VERBS` that ``tool`` itself affords: P(A | tool) at least ``1 / AFFORD_RATIO``
+    of its best. The tool in the hand is the instrument: it decides the verb, and what it works on (the
+    ingredient, the board or pot under it) only chooses among the verbs it affords. An object the model
+    does not know affords them all (its ranking is flat)."""
+    ranking = _rank(knowledge, [tool], TOOL_VERBS)
+    if not ranking:
+        return TOOL_VERBS
+    best = ranking[0][1]
+    return tuple(verb for verb, p in ranking if p * AFFORD_RATIO >= best)
 
 
 def _worked_by_hand(knowledge: Knowledge, held: str, hand_share: float, still: bool | Callable[[bool], bool]) -> bool:
@@ -186,8 +214,8 @@ def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, d
 
 def _moves(obs: Observations, segment: Segment, timeline: Timeline | None,
            hold_runs: Mapping[str, list[tuple[int, int, int]]],
-           cache: dict[tuple[str, int, int, bool], frozenset[str] | None], hand: str, name: str,
-           held_ingredient: bool = False) -> frozenset[str] | None:
+           cache: dict[tuple[str, int, int, Role], frozenset[str] | None], hand: str, name: str,
+           role: Role = "tool") -> frozenset[str] | None:
     """The verbs object ``name``'s own motion allows (:func:`.motion.verbs_of`), read over the whole hold
     of it by ``hand`` that ``segment`` lies in (grasp to release: the run of ``hold_runs[hand]``, the runs
     of the timeline's held labels; the segment alone when unknown): an actuation pattern is the hold's, and
@@ -212,10 +240,10 @@ def _moves(obs: Observations, segment: Segment, timeline: Timeline | None,
             if value == column and run_end > segment.start:
                 start, end = min(start, run_start), max(end, run_end)
                 break
-    key = (name, start, end, held_ingredient)
+    key = (name, start, end, role)
     if key not in cache:
         lo, hi = np.searchsorted(track.frames, [start, end])
-        cache[key] = verbs_of(motion_of(track.boxes[lo:hi], obs.video.fps), held_ingredient)
+        cache[key] = verbs_of(motion_of(track.boxes[lo:hi], obs.video.fps), role)
     return cache[key]
 
 
@@ -249,6 +277,18 @@ def _holding(
             acts[holder] = Action(ActionKind.HOLDING, holder, action.start, action.end, held=obj, partner=partner)
             partners.add(actor)
             break
+
+
+def _before_handover(acts: dict[str, Action], handover: HandoverEvent, segment: Segment) -> None:
+    """In the hold that ends by passing the object on, before the exchange, the giver holds it to give it:
+    a bare hand seemingly working it (a pause after the grasp, held still) is only its grasp, so the
+    handover's tree starts at the giver's grasp. A tool the giver uses on something else is still an
+    action."""
+    if not (handover.grasped < segment.end and segment.start < handover.start):
+        return
+    action = acts.get(handover.giver)
+    if action is not None and action.kind is ActionKind.HAND and action.targets == (handover.obj,):
+        acts[handover.giver] = Action(ActionKind.GRASP, handover.giver, segment.start, segment.end, held=handover.obj)
 
 
 def _same_object_holding(acts: dict[str, Action], assoc: Associations, timeline: Timeline, params: Params,
@@ -299,9 +339,12 @@ def recognize_actions(
     transfers = transfer_events(obs, timeline, params)
     handovers = handover_events(timeline, params)
     hold_runs = {hand: runs(timeline.held[:, column]) for column, hand in enumerate(HANDS)}
-    motion_cache: dict[tuple[str, int, int, bool], frozenset[str] | None] = {}
+    motion_cache: dict[tuple[str, int, int, Role], frozenset[str] | None] = {}
     result = []
+    spans: SpanCache = {}
+    min_frames = params.at(obs.video.fps).min_frames
     for assoc in associations:
+        assoc = acting_links(assoc, obs, timeline, min_frames, spans)
         segment = assoc.segment
         acts: dict[str, Action] = {}
         rankings: dict[str, Ranking] = {}
@@ -327,6 +370,7 @@ def recognize_actions(
                     held=event.carrier, targets=(event.ingredient, event.source, event.destination),
                 )
         for handover in handovers:
+            _before_handover(acts, handover, segment)
             if handover.start < segment.end and segment.start < handover.end and handover.giver in acts:
                 receiver = Action(ActionKind.GRASP, handover.receiver, segment.start, segment.end, held=handover.obj)
                 acts[handover.giver] = Action(ActionKind.HANDOVER, handover.giver, segment.start, segment.end,

@@ -17,6 +17,11 @@ read from the held object's box over a segment, each robust to box jitter and to
   its running mean by more than :data:`ACTIVE_FRACTION` of its size on a typical frame), turn it far less.
   Read only for an ingredient held over a container (on a knife's thin box, sawing changes the ratio as
   much: it says nothing there).
+- **stroke**: how far the box centre, smoothed over :data:`STROKE_SMOOTH_S` (detector jitter out), strays
+  from its running mean over a second, on a typical frame, as a fraction of the box's diagonal. Read for an
+  ingredient the bare hand works: peeling pulls strips off with strokes that move the ingredient by a good
+  part of its size (:data:`STROKE_FRACTION` or more: peel, wrap); squeezing closes the grip where it is and
+  the ingredient stays put (squeeze). Jitter of a few pixels, smoothed, is well under it.
 
 :func:`verbs_of` turns them into the verbs the motion allows (None: the motion does not say), which the
 recogniser intersects with the commonsense candidates (never leaving none).
@@ -25,8 +30,13 @@ recogniser intersects with the commonsense candidates (never leaving none).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
+
+Role = Literal["tool", "held", "hand"]
+"""What the object whose motion is read does: a held ``tool``; an ingredient ``held`` over a container (poured,
+sprinkled, dipped); an ingredient worked by the ``hand`` itself (squeezed, peeled)."""
 
 JITTER_TIMES = 3.0
 """The centre counts as away from its mean (winding) only beyond this many times the track's jitter."""
@@ -43,9 +53,17 @@ TILT_RATIO = 2.0
 """An ingredient's box changing its proportions by at least this factor is tipped: poured."""
 TILT_SMOOTH_S = 0.3
 """Seconds of running median over the box's proportions before the tilt is read."""
+STROKE_FRACTION = 0.05
+"""A hand-worked ingredient whose smoothed centre strays from its running mean by this fraction of its
+diagonal or more on a typical frame is stroked (peeled); below, it is gripped in place (squeezed). Half a
+typical peeling stroke, twice what a box's jitter leaves after smoothing."""
+STROKE_SMOOTH_S = 0.2
+"""Seconds of running mean over the centre before the stroke is read (box jitter out, strokes kept)."""
 CIRCLE_VERBS = frozenset({"stir"})
 TIPPED_VERBS = frozenset({"pour"})
 UNTIPPED_VERBS = frozenset({"sprinkle", "dip"})
+STROKED_VERBS = frozenset({"peel", "wrap"})
+GRIPPED_VERBS = frozenset({"squeeze"})
 
 
 @dataclass(frozen=True)
@@ -61,6 +79,15 @@ class Motion:
     active: bool = True
     """The centre strays from its running mean by more than :data:`ACTIVE_FRACTION` of the box's diagonal on
     a typical frame: the object is being worked, not held frozen."""
+    stroke: float = 0.0
+    """Median distance of the smoothed centre from its running mean, over the box's diagonal."""
+
+
+def _running_mean(values: np.ndarray, half: int) -> np.ndarray:
+    """Mean of ``values`` ``(n, 2)`` over ``2 half + 1`` rows around each (edges repeated)."""
+    padded = np.pad(values, ((half + 1, half), (0, 0)), mode="edge")
+    running = np.cumsum(padded, axis=0)
+    return (running[2 * half + 1 :] - running[: -2 * half - 1]) / (2 * half + 1)
 
 
 def motion_of(boxes: np.ndarray, fps: float) -> Motion | None:
@@ -83,10 +110,8 @@ def motion_of(boxes: np.ndarray, fps: float) -> Motion | None:
     second = np.linalg.norm(centre[2:] - 2 * centre[1:-1] + centre[:-2], axis=1)
     jitter = float(np.median(second)) / np.sqrt(6.0) if len(second) else 0.0
     # running mean over about a second removes the drift of the stroke's centre
-    half = max(1, round(0.5 * (fps if fps > 0 else 30.0)))
-    padded = np.pad(centre, ((half + 1, half), (0, 0)), mode="edge")
-    running = np.cumsum(padded, axis=0)
-    mean = (running[2 * half + 1 :] - running[: -2 * half - 1]) / (2 * half + 1)
+    rate = fps if fps > 0 else 30.0
+    mean = _running_mean(centre, max(1, round(0.5 * rate)))
     offset = centre - mean
     radius = np.linalg.norm(offset, axis=1)
     angle = np.arctan2(offset[:, 1], offset[:, 0])
@@ -98,16 +123,20 @@ def motion_of(boxes: np.ndarray, fps: float) -> Motion | None:
     turns = float(abs(swept.sum()) / (2 * np.pi))
     total = float(np.abs(swept).sum())
     roundness = float(abs(swept.sum()) / total) if total > 0 else 1.0
-    return Motion(turns=turns, tilt=tilt, roundness=roundness, active=active)
+    smooth = _running_mean(centre, round(STROKE_SMOOTH_S * rate / 2))
+    stroke = float(np.median(np.linalg.norm(smooth - mean, axis=1))) / max(diagonal, 1e-6)
+    return Motion(turns=turns, tilt=tilt, roundness=roundness, active=active, stroke=stroke)
 
 
-def verbs_of(motion: Motion | None, held_ingredient: bool = False) -> frozenset[str] | None:
+def verbs_of(motion: Motion | None, role: Role = "tool") -> frozenset[str] | None:
     """The verbs ``motion`` allows, None when it says nothing (too little seen, or no telling pattern).
-    ``held_ingredient``: the object is an ingredient held over a container (then its tilt tells a pour from a
-    sprinkle or a dip)."""
+    ``role``: a ``held`` ingredient over a container (its tilt tells a pour from a sprinkle or a dip), an
+    ingredient worked by the ``hand`` (its stroke tells a peel from a squeeze), a ``tool`` (circles stir)."""
     if motion is None:
         return None
-    if held_ingredient:
+    if role == "hand":
+        return STROKED_VERBS if motion.stroke >= STROKE_FRACTION else GRIPPED_VERBS
+    if role == "held":
         if motion.tilt >= TILT_RATIO:
             return TIPPED_VERBS
         return UNTIPPED_VERBS if motion.active else None  # held frozen, it may pour without tipping far

@@ -43,6 +43,9 @@ class HandoverEvent:
     start: int
     end: int
     """Frames ``[start, end)`` of the exchange: the receiver's grasp to the giver's release."""
+    grasped: int = -1
+    """The frame the giver grasped the object in the hold that ends with the exchange (``start`` when not
+    known): from there the giver holds it to pass it on."""
 
 
 def hold_spans(labels: np.ndarray, value: int, min_frames: int) -> list[tuple[int, int]]:
@@ -168,6 +171,7 @@ def handover_events(timeline: Timeline, params: Params) -> tuple[HandoverEvent, 
                 if g_end - r_start > rate.handover_overlap:
                     continue  # both held it a long time: a holding, not a handover
                 start, end = min(r_start, g_end - 1), max(g_end, r_start + 1)
-                events.append(HandoverEvent(timeline.names[column], HANDS[giver], HANDS[receiver], start, end))
+                events.append(HandoverEvent(timeline.names[column], HANDS[giver], HANDS[receiver], start, end,
+                                            min(g_start, start)))
                 break
     return tuple(events)
