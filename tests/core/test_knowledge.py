@@ -11,7 +11,7 @@ import pytest
 from wecook_core.errors import InputError
 from wecook_core.knowledge.build import build, default_corpora, read_corpora
 from wecook_core.knowledge.corpus import Corpus, Record, merge, read_csv, read_epic
-from wecook_core.knowledge.evaluation import Example, evaluate, score, split
+from wecook_core.knowledge.evaluation import Example, evaluate, object_oracle, score, split
 from wecook_core.knowledge.learning import INSTRUMENTS, fold, learn
 from wecook_core.knowledge.nouns import epic_name, match, normalise, singular
 from wecook_core.knowledge.recognize import load_knowledge, rank
@@ -309,6 +309,22 @@ def test_the_ceiling_is_what_the_objects_of_the_held_out_records_can_tell() -> N
     assert ceiling.accuracy == pytest.approx(0.5 * 8 / 12 + 4 / 12)  # cut always right, salt + pot half the time
     assert result.model.accuracy <= ceiling.accuracy
     assert ceiling.macro_recall == pytest.approx((1 + 1 + 0) / 3)  # one of pour and stir is never predicted
+
+
+def test_the_objects_oracle_names_each_object_set_by_its_most_frequent_verb() -> None:
+    """Three salt-over-pot records poured, one stirred, and a cut: the oracle names every salt + pot pour, so
+    it misses only the stir, whatever model is behind the held-out figures."""
+    examples = [Example("pour", ("salt", "pot"), "v1"), Example("stir", ("pot", "salt"), "v2"),
+                Example("pour", ("salt", "pot"), "v3"), Example("pour", ("salt", "pot"), "v4"),
+                Example("cut", ("knife", "onion"), "v5"), Example("stir", ("spoon",), "v6"),
+                Example("cut", ("spoon",), "v7")]
+    assert object_oracle(examples, ("cut", "stir", "pour")) == ["pour"] * 4 + ["cut", "cut", "cut"]  # tie: cut
+    rows = [Record(("pour", "stir")[i % 2], ("salt", "pot"), f"video{i // 2 % 10}") for i in range(40)]
+    rows += [Record("cut", ("knife", "onion"), f"video{i % 10}") for i in range(20)]
+    result = evaluate(Corpus(tuple(rows)), seed=0)
+    assert result.oracle is not None
+    assert result.model.accuracy <= result.oracle.accuracy == pytest.approx((4 + 4) / 12)
+    assert result.oracle_by_source == ()
 
 
 def test_evaluation_reports_each_corpus() -> None:

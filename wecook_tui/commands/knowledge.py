@@ -115,6 +115,10 @@ def run_learn(args: argparse.Namespace) -> int:
         if ceiling is not None:
             print(f"  ceiling (learned from the held-out records): accuracy {ceiling.accuracy:.3f}, macro precision "
                   f"{ceiling.macro_precision:.3f}, macro recall {ceiling.macro_recall:.3f}")
+        oracle = built.evaluation.oracle
+        if oracle is not None:
+            print(f"  objects oracle (most frequent verb per held-out object set): accuracy {oracle.accuracy:.3f}, "
+                  f"macro precision {oracle.macro_precision:.3f}, macro recall {oracle.macro_recall:.3f}")
     for path in built.files:
         print(f"wrote {path}")
     return 0
