@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -15,6 +15,7 @@ from wecook_core.knowledge.categories import (
 )
 from wecook_core.knowledge.corpus import (
     EPIC_LICENCE,
+    HELD_S,
     RECIPES_SOURCE,
     Corpus,
     merge,
@@ -28,6 +29,7 @@ from wecook_core.knowledge.instructions import is_recipe_folder, noun_table
 from wecook_core.knowledge.learning import fold, learn
 from wecook_core.knowledge.recognize import PRIORS, Knowledge, save_knowledge
 from wecook_core.knowledge.report import EXPECTED, source_markdown
+from wecook_core.model import Category
 from wecook_core.resources import ASSETS_DIR, shared_dir
 
 KNOWLEDGE_DIR = ASSETS_DIR / "knowledge"
@@ -57,14 +59,21 @@ def recipe_nouns() -> dict[str, str]:
     return noun_table([*read_categories(DERIVED_PATH).entries, *read_categories(CATEGORIES_PATH).entries])
 
 
-def read_corpora(paths: Sequence[Path], *, context: int = 2) -> Corpus:
+def tool_names() -> Callable[[str], bool]:
+    """Whether an object name is a tool in the shipped category tables (the hand-written over the derived)."""
+    table = read_categories(DERIVED_PATH).merged(read_categories(CATEGORIES_PATH))
+    return lambda name: table.categorize(name) is Category.TOOL
+
+
+def read_corpora(paths: Sequence[Path], *, context: int = 0, held_s: float = HELD_S) -> Corpus:
     """One corpus from EPIC folders, folders of Markdown recipes and CSV files (see
-    :func:`~wecook_core.knowledge.corpus.read_corpus`)."""
+    :func:`~wecook_core.knowledge.corpus.read_corpus`); EPIC's held tools are the tools of the shipped
+    category tables (:func:`tool_names`)."""
     corpora = []
     for path in paths:
         if path.is_dir():
             if _is_epic(path):
-                corpora.append(read_epic(path, context=context))
+                corpora.append(read_epic(path, context=context, held_s=held_s, is_tool=tool_names()))
             elif is_recipe_folder(path):
                 corpora.append(read_recipes(path, recipe_nouns()))
             else:
@@ -109,14 +118,14 @@ class Built:
     :attr:`evaluation`)."""
 
 
-def build(paths: Sequence[Path], out: Path = KNOWLEDGE_DIR, *, alpha: float = 1.0, context: int = 2,
-          seed: int = 0, fraction: float = 0.2, prior: str = "uniform", per_group: bool = True,
+def build(paths: Sequence[Path], out: Path = KNOWLEDGE_DIR, *, alpha: float = 1.0, context: int = 0,
+          held_s: float = HELD_S, seed: int = 0, fraction: float = 0.2, prior: str = "uniform", per_group: bool = True,
           command: str = "wecook knowledge learn") -> Built:
     """Learn the tables from ``paths`` into ``out``: ``commonsense.json``, ``epic_categories.yaml`` (when
     the corpus has noun categories) and ``SOURCE.md`` (sources, licences, counts, held-out evaluation over
     five seeds, with ``prior`` and ``per_group``, and for comparison with the other prior and the other way of
     counting, see :func:`~wecook_core.knowledge.learning.count`)."""
-    corpus = read_corpora(paths, context=context)
+    corpus = read_corpora(paths, context=context, held_s=held_s)
     knowledge = learn(corpus, alpha=alpha, source="; ".join(corpus.sources), prior=prior, per_group=per_group)
     seeds = range(seed, seed + 5)
     variants = dict.fromkeys([(prior, per_group), *((p, per_group) for p in PRIORS), (prior, not per_group)])
@@ -140,7 +149,7 @@ def build(paths: Sequence[Path], out: Path = KNOWLEDGE_DIR, *, alpha: float = 1.
         files[-1].write_text(format_categories(derived, header), encoding="utf-8")
     files.append(out / "SOURCE.md")
     files[-1].write_text(source_markdown(corpus, knowledge, runs, command=command, alpha=alpha, context=context,
-                                         records=len(fold(corpus)[0]), per_group=per_group,
+                                         held_s=held_s, records=len(fold(corpus)[0]), per_group=per_group,
                                          categories=categories), encoding="utf-8")
     ours = next(iter(runs.values()), ())
     return Built(knowledge, ours[0] if ours else None, categories, tuple(files), ours)

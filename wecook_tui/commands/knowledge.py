@@ -77,13 +77,23 @@ def _corpus_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--alpha", type=float, default=1.0, help="additive smoothing pseudo-count (1.0)")
     parser.add_argument("--prior", choices=("uniform", "corpus"), default="uniform",
                         help="P(A): uniform, or learned from the action counts (uniform)")
-    parser.add_argument("--context", type=int, default=2,
+    parser.add_argument("--held", type=float, default=None, metavar="SECONDS",
+                        help="EPIC: a tool taken at most this long before an action and not put down since counts "
+                             "as one of its objects (the held tool); 0 turns it off (default: "
+                             "wecook_core.knowledge.corpus.HELD_S, 30)")
+    parser.add_argument("--context", type=int, default=0,
                         help="EPIC: objects of 'take' records among this many before an action count as its "
-                             "objects (the held tool); 0 turns it off (2)")
+                             "objects too (0)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the held-out split (0)")
     parser.add_argument("--per-record", dest="per_group", action="store_false",
                         help="count every record (default: a group, an EPIC video or a recipe, that repeats a verb "
                              "with an object counts once)")
+
+
+def _held(args: argparse.Namespace) -> float:
+    from wecook_core.knowledge.corpus import HELD_S
+
+    return HELD_S if args.held is None else float(args.held)
 
 
 def _corpora(args: argparse.Namespace) -> list[Path]:
@@ -96,7 +106,8 @@ def run_learn(args: argparse.Namespace) -> int:
     from wecook_core.knowledge.build import KNOWLEDGE_DIR, build
 
     out = args.out or KNOWLEDGE_DIR
-    built = build(_corpora(args), out, alpha=args.alpha, context=args.context, seed=args.seed, prior=args.prior,
+    built = build(_corpora(args), out, alpha=args.alpha, context=args.context, held_s=_held(args), seed=args.seed,
+                  prior=args.prior,
                   per_group=args.per_group)
     k = built.knowledge
     counts = ", ".join(f"{v} {n}" for v, n in zip(k.verbs, k.action_counts.tolist(), strict=True))
@@ -115,6 +126,10 @@ def run_learn(args: argparse.Namespace) -> int:
         if ceiling is not None:
             print(f"  ceiling (learned from the held-out records): accuracy {ceiling.accuracy:.3f}, macro precision "
                   f"{ceiling.macro_precision:.3f}, macro recall {ceiling.macro_recall:.3f}")
+        oracle = built.evaluation.oracle
+        if oracle is not None:
+            print(f"  objects oracle (most frequent verb per held-out object set): accuracy {oracle.accuracy:.3f}, "
+                  f"macro precision {oracle.macro_precision:.3f}, macro recall {oracle.macro_recall:.3f}")
     for path in built.files:
         print(f"wrote {path}")
     return 0
@@ -144,7 +159,7 @@ def run_evaluate(args: argparse.Namespace) -> int:
     from wecook_core.knowledge.evaluation import evaluate
     from wecook_core.knowledge.report import metrics_table
 
-    corpus = read_corpora(_corpora(args), context=args.context)
+    corpus = read_corpora(_corpora(args), context=args.context, held_s=_held(args))
     try:
         result = evaluate(corpus, seed=args.seed, fraction=args.fraction, alpha=args.alpha, prior=args.prior,
                           per_group=args.per_group)
