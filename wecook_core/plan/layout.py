@@ -3,8 +3,9 @@
 Image -> table: each object's position is the centre of its median box over its first :data:`FIRST_FRAMES`
 sightings; the bounding rectangle of those boxes (at least a fifth of the image on each axis) is scaled, each
 axis on its own, onto the table's reach region (``Table.reach``): image left -> ``-x`` (P1's side), image top ->
-``+y`` (see :mod:`wecook_core.plan` for the world frame). Then nothing may overlap: push-apart inside the reach
-region, else each object to the nearest free spot.
+``+y`` (see :mod:`wecook_core.plan` for the world frame). Then nothing may overlap, and a hand keeps room where it
+works: push-apart inside the reach region, else each object to the nearest free spot. What starts in a container,
+and where on it: :mod:`wecook_core.plan.contents`.
 """
 
 from __future__ import annotations
@@ -263,11 +264,13 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     P2): a robot arm does not reach across the table as a person does.
     Sizes come from the category (containers wide, tools long and thin, ingredients small), scaled from the
     box by the mean of the two axis scales and clipped to sane limits. Objects on the table are then pushed
-    apart until no footprints overlap, :data:`GAP` apart (:data:`HAND_ROOM` across a tool from anything tall
-    enough to meet the gripper's palm), inside the reach region and each on its arm's half; when they do not fit
-    there, each object, biggest first, goes to the free spot nearest its mapped place on the table (less
-    :data:`ARM_CLEARANCE` at the arms' ends), the rules loosening only as far as the table needs (see
-    :func:`_settle`); ingredients that start in a container sit inside it.
+    apart until no footprints overlap, :data:`GAP` apart (:data:`HAND_ROOM` across a tool, and all round what a
+    held tool works on where it lies, from anything tall enough to meet the gripper's palm), inside the reach
+    region and each on its arm's half; when they do not fit there, each object, biggest first, goes to the free
+    spot nearest its mapped place on the table (less :data:`ARM_CLEARANCE` at the arms' ends), the rules
+    loosening only as far as the table needs (see :func:`_settle`); ingredients that start in a container sit
+    inside it, a board held still lies along x with its food clear of the end the holder presses
+    (:mod:`wecook_core.plan.contents`).
     """
     first = {t.name: _first_box(t.frames, t.boxes) for t in obs.objects if len(t.frames)}
     if not first:
