@@ -16,6 +16,10 @@
 - ``scenario_sim_speed_recording``: simulated seconds per wall second over those plans while recording MCAP
   (target: at least 10); baseline: the same runs with an observer that drops everything.
   For the shares the note lists the failures.
+- ``all_failing_plan_wall``: wall seconds of a 40-action plan whose actions all fail (the knife out of the arm's
+  reach, under its base: every grasp fails after its retries, nothing simulated); baseline: the same plan cut to
+  :data:`~wecook_core.execution.executor.FAILURES_IN_A_ROW` actions (a ratio near 1: the run does not grow with
+  the plan; issue 13's bar: nothing over 30 s).
 
 Run: ``.venv/bin/python -m bench.motion``.
 """
@@ -97,7 +101,32 @@ def run() -> list[dict[str, object]]:
                             f"plans of synthetic videos {VIDEO_SEEDS[0]}-{VIDEO_SEEDS[-1]} (analysed, laid out, "
                             "exported as a user would), run seed 0"))
     rows += _scenario_rows()
+    rows.append(_all_failing_row())
     return rows
+
+
+def all_failing_plan(n: int) -> Plan:
+    """``n`` cuts by P1 with a knife lying almost under P1's base, where the arm cannot take it."""
+    from wecook_core.model import Category
+    from wecook_core.plan import DEFAULT_ROBOT, Agent, PlanAction, Scene, SceneObject, Table
+
+    objects = (SceneObject("knife", Category.TOOL, "box", (0.2, 0.03, 0.025), -0.45, 0.2, 1.5708),
+               SceneObject("tomato", Category.INGREDIENT, "sphere", (0.06, 0.06, 0.06), 0.15, -0.3, 0.0))
+    return Plan(agents=(Agent("P1", DEFAULT_ROBOT, (-0.5, 0.0, 0.0), 0.0),),
+                scene=Scene(table=Table(size=(1.0, 0.8)), objects=objects),
+                actions=tuple(PlanAction(f"a{k + 1}", ("P1",), "cut", "knife", ("tomato",)) for k in range(n)))
+
+
+def _all_failing_row() -> dict[str, object]:
+    from wecook_core.execution.executor import FAILURES_IN_A_ROW
+
+    full = execute_plan(all_failing_plan(40), Discard(), seed=0, images=False)
+    cut = execute_plan(all_failing_plan(FAILURES_IN_A_ROW), Discard(), seed=0, images=False)
+    statuses = {s: sum(a.status == s for a in full.actions) for s in ("done", "failed", "skipped")}
+    return {"benchmark": "all_failing_plan_wall", "value": round(full.wall_time, 2), "unit": "s",
+            "ratio_vs_baseline": round(full.wall_time / cut.wall_time, 3),
+            "note": f"40 failing actions: {statuses}, {full.sim_time:.1f} s simulated; baseline the first "
+                    f"{FAILURES_IN_A_ROW} alone {cut.wall_time:.1f} s (bar: nothing over 30 s)"}
 
 
 def scenario_plans() -> list[tuple[str, Plan]]:

@@ -222,3 +222,73 @@ def test_plan_check_says_which_action_cannot_be_reached(tmp_path: Path, capsys: 
     plan.write_text(PLAN)  # an invalid plan: one line, exit 2
     assert main(["plan", "check", str(plan)]) == 2
     assert "(a2).tool: object 'spoon' is not in the scene" in capsys.readouterr().err
+
+
+@pytest.mark.sim
+def test_execute_force_keeps_the_old_recording_whole_until_the_new_one_replaces_it(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    import wecook_core.execution.executor as executor
+    from wecook_core.execution.recorder import layout_path
+    from wecook_core.execution.runs import check_recording
+
+    plan = tmp_path / "plan.yaml"
+    plan.write_text(ONE_ARM)
+    record = tmp_path / "run.mcap"
+    old = b"the user's recording, not to be lost\n"
+    record.write_bytes(old)
+    real = executor.execute_plan
+    seen: list[bytes] = []
+
+    def watched(*args: object, **kwargs: object) -> object:
+        seen.append(record.read_bytes())  # the run is about to start: the old file is untouched
+        result = real(*args, **kwargs)  # type: ignore[arg-type]
+        seen.append(record.read_bytes())  # the run is over, the recording not yet closed: still the old file
+        return result
+
+    monkeypatch.setattr(executor, "execute_plan", watched)
+    assert main(["execute", str(plan), "--record", str(record)]) == 2  # no --force: refused
+    assert record.read_bytes() == old
+    assert main(["execute", str(plan), "--record", str(record), "--force"]) in (0, 1)
+    assert seen == [old, old]
+    assert check_recording(record).ok
+    assert layout_path(record).is_file()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["plan.yaml", "run.layout.json", "run.mcap"]
+    assert "recording: " in capsys.readouterr().out
+
+
+def test_a_robot_urdf_with_missing_meshes_is_one_line_and_exit_2(tmp_path: Path,
+                                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    import pybullet_data
+
+    robot = tmp_path / "robot" / "panda.urdf"  # the Panda's URDF without its meshes folder
+    robot.parent.mkdir()
+    robot.write_text((Path(pybullet_data.getDataPath()) / "franka_panda" / "panda.urdf").read_text())
+    plan = tmp_path / "plan.yaml"
+    plan.write_text(PLAN.replace("franka_panda/panda.urdf", str(robot)).replace("tool: spoon", "tool: knife"))
+    for command in (["execute", str(plan), "--record", str(tmp_path / "run.mcap")], ["plan", "check", str(plan)]):
+        assert main(command) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and "Traceback" not in err
+        assert err.startswith(f"wecook: error: {plan}:agents[0].robot: ")
+        assert "names a mesh that is not a file: 'package://meshes/" in err
+    assert not (tmp_path / "run.mcap").exists()
+
+
+@pytest.mark.sim
+def test_a_robot_pybullet_cannot_load_is_an_input_error_not_a_traceback(tmp_path: Path) -> None:
+    import pybullet as p
+
+    from wecook_core.errors import InputError
+    from wecook_core.execution.scene import build_scene
+    from wecook_core.plan import Agent, Plan, Scene
+
+    robot = tmp_path / "robot.urdf"  # well-formed XML, every mesh there (none), yet no robot PyBullet can load
+    robot.write_text('<robot name="r"><link name="a"/><joint name="j" type="fixed"><parent link="a"/>'
+                     '<child link="missing"/></joint></robot>')
+    plan = Plan(agents=(Agent("P1", str(robot), (-0.5, 0.0, 0.0), 0.0),), scene=Scene(), actions=())
+    client = p.connect(p.DIRECT)
+    try:
+        with pytest.raises(InputError, match=r"agents \(P1\)\.robot.*PyBullet cannot load the robot URDF"):
+            build_scene(client, plan)
+    finally:
+        p.disconnect(client)

@@ -3,6 +3,7 @@ would export them (imported, analysed, laid out), run in PyBullet with recording
 
 from __future__ import annotations
 
+from functools import cache
 from pathlib import Path
 
 import pytest
@@ -18,6 +19,7 @@ pytestmark = [pytest.mark.sim, pytest.mark.slow]
 SCENARIOS = sorted(p.name for p in (shared_dir() / "data" / "scenarios").glob("s*") if (p / "objects.xml").is_file())
 
 
+@cache
 def scenario_plan(name: str) -> Plan:
     from wecook_core.workflows import inputs_plan
 
@@ -30,6 +32,22 @@ def test_the_shared_scenarios_are_there() -> None:
 
 
 @pytest.mark.parametrize("name", SCENARIOS)
+def test_a_scenario_plan_leaves_every_arm_its_reach_and_every_hand_room(name: str) -> None:
+    """What `wecook plan check` asks: each action's objects within its arm's reach, no tall object beside what a
+    tool works on, food clear of the end of a board a hand holds (a held board lies along x, between the arms)."""
+    from wecook_core.plan.reach import reach_problems
+    from wecook_core.plan.room import room_problems
+
+    plan = scenario_plan(name)
+    assert reach_problems(plan) == []
+    assert room_problems(plan) == []
+    held = {a.tool for a in plan.actions if a.verb == "holding" and a.partner is not None}
+    for obj in plan.scene.objects:
+        if obj.name in held and obj.shape == "box":
+            assert obj.yaw == 0.0
+
+
+@pytest.mark.parametrize("name", SCENARIOS)
 def test_a_scenario_plan_runs_recorded_the_arms_never_touch_and_failures_skip_only_their_dependents(
         name: str, tmp_path: Path) -> None:
     plan = scenario_plan(name)
@@ -39,7 +57,8 @@ def test_a_scenario_plan_runs_recorded_the_arms_never_touch_and_failures_skip_on
     assert check_recording(path).ok
     status = {r.action_id: r for r in result.actions}
     assert len(status) == len(plan.actions)
-    assert any(r.status == "done" for r in result.actions)
+    done = sum(r.status == "done" for r in result.actions)
+    assert done >= 0.85 * len(plan.actions), [(r.action_id, r.status, r.reason) for r in result.actions]
     by_id = {a.id: a for a in plan.actions}
     for r in result.actions:
         if r.status == "failed":

@@ -7,7 +7,8 @@ when it is blocked. Before an action starts, every ``after`` action must be done
 from the objects actions share, :func:`wecook_core.plan.object_dependencies`); if one failed or was skipped, the
 action is skipped, naming the failure it depends on (and so, transitively, everything depending on it), while
 actions that share nothing with the failure go on. ``stop_at_first_failure`` skips everything not yet started
-once one action has failed. A collaboration
+once one action has failed; :data:`FAILURES_IN_A_ROW` failures one after another (none done in between) skip
+everything not yet started, so a plan whose actions all fail ends after a few attempts. A collaboration
 starts when both agents have arrived at it; the roles then meet through a :class:`Meeting` (named signals, or
 a failure that aborts the partner). The world turns an action and a role into primitives (``world.program``).
 If every program waits for :data:`DEADLOCK_SECONDS` of simulated time, the waiting actions fail ("deadlock")
@@ -51,6 +52,9 @@ TIMEOUT_BASE = 60.0
 """Wall seconds of a run's default time limit for starting up, before any action."""
 TIMEOUT_PER_ACTION = 30.0
 """Wall seconds per action of a run's default time limit (a run goes at about 2 to 5 s per action)."""
+FAILURES_IN_A_ROW = 4
+"""Actions failing one after another, none done in between, after which a run stops (the rest skipped): a plan
+whose actions all fail ends after this many, not after trying every one (each costs seconds of goal search)."""
 
 
 def default_timeout(plan: Plan) -> float:
@@ -93,14 +97,19 @@ class RunResult:
 
 def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, *,
                  max_sim_time: float = 1800.0, timeout: float | None = None,
-                 stop_at_first_failure: bool = False) -> tuple[ActionResult, ...]:
+                 stop_at_first_failure: bool = False,
+                 failures_in_a_row: int | None = FAILURES_IN_A_ROW) -> tuple[ActionResult, ...]:
     """Run every agent's program to the end; one result per plan action, in plan order. ``timeout``: wall
-    seconds after which what is running fails and the rest is skipped (None: no limit)."""
+    seconds after which what is running fails and the rest is skipped (None: no limit); ``failures_in_a_row``:
+    that many actions failing one after another (none done in between) skip every action not yet started
+    (None: no limit)."""
     began = time.perf_counter()
     results: dict[str, ActionResult] = {}
     cause: dict[str, str] = {}
     """Skipped action -> the failed action it depends on."""
     first_failure: list[str] = []
+    streak: list[str] = []
+    """The actions that failed since the last one done."""
     started: dict[str, float] = {}
     meetings: dict[str, Meeting] = {}
     pids = sorted({a.pid for a in plan.agents} | {pid for a in plan.actions for pid in a.pids})
@@ -117,6 +126,10 @@ def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, 
                                           world.time if action.id in started else None)
         if status == "failed" and not first_failure:
             first_failure.append(action.id)
+        if status == "failed":
+            streak.append(action.id)
+        elif status == "done":
+            streak.clear()
         if status == "done":
             world.action_boundary(action, "end")
             emit("action_end", action)
@@ -146,6 +159,10 @@ def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, 
                 if stop_at_first_failure and first_failure:
                     f = first_failure[0]
                     finish(action, "skipped", f"stopped at the first failure, {f} ({by_id[f].verb})")
+                    break
+                if failures_in_a_row is not None and len(streak) >= failures_in_a_row:
+                    finish(action, "skipped", f"stopped after {len(streak)} actions failed in a row "
+                           f"({', '.join(streak[:failures_in_a_row])}): see `wecook plan check`")
                     break
                 if all(d in results for d in action.after):
                     break
@@ -214,14 +231,16 @@ def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, 
 def execute_plan(plan: Plan, observer: RunObserver, *, seed: int = 0, realtime: bool = False,
                  planner: str = "rrtconnect", planning_time: float = 1.0, images: bool = True,
                  metadata: Mapping[str, str] | None = None, timeout: float | None = None,
-                 stop_at_first_failure: bool = False) -> RunResult:
+                 stop_at_first_failure: bool = False, failures_in_a_row: int | None = FAILURES_IN_A_ROW
+                 ) -> RunResult:
     """Execute ``plan`` in PyBullet (DIRECT, headless) with two Panda arms; report through ``observer``.
 
     The same plan and seed give the same run. ``realtime`` paces the simulation to the wall clock.
     ``planning_time`` bounds every motion-planning query (seconds). ``images``: camera images at action
     boundaries (``observer.on_image``). The observer sees ``on_start`` first and ``on_end`` last. ``timeout``:
     wall seconds for the whole run (default :func:`default_timeout`); ``stop_at_first_failure``: skip every
-    action not yet started once one has failed (else only those depending on it, see :func:`run_schedule`).
+    action not yet started once one has failed (else only those depending on it, see :func:`run_schedule`);
+    ``failures_in_a_row``: stop after that many actions failed one after another (None: never).
     """
     import yaml
 
@@ -237,7 +256,7 @@ def execute_plan(plan: Plan, observer: RunObserver, *, seed: int = 0, realtime: 
         world.publish_state()
         limit = default_timeout(plan) if timeout is None else timeout
         results = run_schedule(plan, world, observer, timeout=max(limit - (time.perf_counter() - began), 1.0),
-                               stop_at_first_failure=stop_at_first_failure)
+                               stop_at_first_failure=stop_at_first_failure, failures_in_a_row=failures_in_a_row)
         done = sum(r.status == "done" for r in results)
         observer.on_event(world.time, RunEvent("run_end", detail=f"{done}/{len(results)} actions done",
                                                data={"done": done, "total": len(results),

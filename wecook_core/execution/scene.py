@@ -214,7 +214,12 @@ def _load_arm(client: int, agent: Agent, self_collision: bool) -> Arm:
                          place=f"agents ({agent.pid})")
     quat = p.getQuaternionFromEuler([0, 0, agent.base_yaw])
     flags = p.URDF_USE_SELF_COLLISION if self_collision else 0
-    body = p.loadURDF(urdf, list(agent.base_position), quat, useFixedBase=True, flags=flags, physicsClientId=client)
+    try:
+        body = p.loadURDF(urdf, list(agent.base_position), quat, useFixedBase=True, flags=flags,
+                          physicsClientId=client)
+    except p.error as error:  # a URDF PyBullet cannot load (its meshes, its joints): one line, not a traceback
+        raise InputError(None, f"PyBullet cannot load the robot URDF {urdf} ({error})",
+                         place=f"agents ({agent.pid}).robot") from None
     base = _yaw_matrix(*agent.base_position, agent.base_yaw)
     links = [p.getBodyInfo(body, physicsClientId=client)[0].decode()]
     links += [p.getJointInfo(body, j, physicsClientId=client)[12].decode()

@@ -25,7 +25,8 @@ MAX_URDF_BYTES = 16 << 20
 
 def robot_problem(robot: str) -> str | None:
     """Why the robot URDF ``robot`` (relative to ``pybullet_data`` unless absolute) cannot be an arm, or None:
-    it must be a readable ``.urdf`` file whose XML root is ``<robot>``."""
+    it must be a readable ``.urdf`` file whose XML root is ``<robot>`` and every mesh it names must be a file
+    (:func:`mesh_path`)."""
     path = Path(robot)
     if not path.is_absolute():
         import pybullet_data
@@ -33,6 +34,7 @@ def robot_problem(robot: str) -> str | None:
         path = Path(pybullet_data.getDataPath()) / path
     if path.suffix.lower() != ".urdf":
         return f"robot {robot!r} is not a .urdf file"
+    meshes: list[str] = []
     try:
         if not path.is_file():
             return f"robot URDF {robot!r} not found (looked at {path})"
@@ -42,8 +44,10 @@ def robot_problem(robot: str) -> str | None:
         parser = expat.ParserCreate()
 
         def start(name: str, attrs: dict[str, str]) -> None:
-            roots.append(name)
-            parser.StartElementHandler = None
+            if not roots:
+                roots.append(name)
+            if name == "mesh" and "filename" in attrs:
+                meshes.append(attrs["filename"])
 
         parser.StartElementHandler = start
         with path.open("rb") as handle:
@@ -52,7 +56,23 @@ def robot_problem(robot: str) -> str | None:
         return f"robot URDF {robot!r} does not read as XML ({error})"
     if roots != ["robot"]:
         return f"robot URDF {robot!r} is not a URDF (its XML root is not <robot>)"
+    for mesh in dict.fromkeys(meshes):
+        if mesh_path(path, mesh) is None:
+            return (f"robot URDF {robot!r} names a mesh that is not a file: {mesh!r} (looked at "
+                    f"{path.parent / mesh.removeprefix('package://').removeprefix('file://')})")
     return None
+
+
+def mesh_path(urdf: Path, filename: str) -> Path | None:
+    """The file a URDF's ``<mesh filename>`` names, as PyBullet finds it (``package://`` and ``file://`` dropped,
+    relative to the URDF's folder), or None when there is none."""
+    for scheme in ("package://", "file://"):
+        filename = filename.removeprefix(scheme)
+    candidate = Path(filename) if Path(filename).is_absolute() else urdf.parent / filename
+    try:
+        return candidate if candidate.is_file() else None
+    except OSError:
+        return None
 
 
 def _finite_extent(bad: Any, place: str, values: Sequence[float]) -> None:

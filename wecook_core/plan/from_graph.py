@@ -36,9 +36,10 @@ def plan_actions(graph: ActionGraph, categories: Mapping[str, Category]) -> tupl
     where the partner only holds too, are left out), in order of start frame.
 
     ``after`` (see :func:`object_dependencies`): each action comes after the latest earlier action that uses or
-    changes each of its objects, plus the graph's collaboration edges between kept actions when they point
-    forward in time. An arm still does its own actions in plan order, and a collaboration starts when both its
-    arms have come to it; but a failure skips only the actions that depend on it through their objects.
+    changes each of its objects. An arm still does its own actions in plan order, and a collaboration starts when
+    both its arms have come to it (so the graph's collaboration edges, which only say that, are not ``after``
+    edges); but a failure skips only the actions that depend on it through their objects: a failed holding does
+    not skip the partner's next action on other things.
     """
     nodes = sorted(graph.nodes, key=lambda n: (n.span.start, n.id))
     kept: list[PlanAction] = []
@@ -65,10 +66,6 @@ def plan_actions(graph: ActionGraph, categories: Mapping[str, Category]) -> tupl
                                location, source, frames=frames, tree=tree))
     order = {a.id: k for k, a in enumerate(kept)}
     after = {k: set(v) for k, v in object_dependencies(kept).items()}
-    for edge in graph.edges:
-        if edge.kind != "sequence" and edge.source in order and edge.target in order \
-                and order[edge.source] < order[edge.target]:
-            after[edge.target].add(edge.source)
     return tuple(PlanAction(a.id, a.pids, a.verb, a.tool, a.ingredients, a.location, a.source, a.partner,
                             tuple(sorted(after[a.id], key=order.__getitem__)), a.frames, a.tree) for a in kept)
 

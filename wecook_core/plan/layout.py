@@ -3,20 +3,23 @@
 Image -> table: each object's position is the centre of its median box over its first :data:`FIRST_FRAMES`
 sightings; the bounding rectangle of those boxes (at least a fifth of the image on each axis) is scaled, each
 axis on its own, onto the table's reach region (``Table.reach``): image left -> ``-x`` (P1's side), image top ->
-``+y`` (see :mod:`wecook_core.plan` for the world frame). Then nothing may overlap: push-apart inside the reach
-region, else each object to the nearest free spot.
+``+y`` (see :mod:`wecook_core.plan` for the world frame). Then nothing may overlap, and a hand keeps room where it
+works: push-apart inside the reach region, else each object to the nearest free spot. What starts in a container,
+and where on it: :mod:`wecook_core.plan.contents`.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from wecook_core.knowledge.nouns import match
-from wecook_core.model import ActionGraph, ActionKind, Category, Observations
+from wecook_core.model import ActionGraph, Category, Observations
+from wecook_core.plan.contents import containing as containing_of
+from wecook_core.plan.contents import fit_board, holders, spread, taken_from_by_hand, worked
 from wecook_core.plan.model import DEFAULT_ROBOT, DEFAULT_TABLE, Scene, SceneObject, Table, Vec3
 from wecook_core.plan.reach import MIN_REACH, WORK_REACH
 from wecook_core.trees.notation import action_of
@@ -44,14 +47,6 @@ LOW = 0.04
 HAND_DEPTH = 0.07
 """Metres: the deepest a container may be for a hand to take something out of it (a gripper's fingers reach
 about 5 cm below its palm)."""
-END_ROOM = 0.06
-"""Metres kept free at each end of a board, for a hand holding it still."""
-ITEM_GAP = 0.04
-"""Metres between neighbouring ingredients on a board (room for a knife)."""
-MAX_BOARD = 0.36
-"""Metres: the longest a board grows to fit what starts on it."""
-WALL_ROOM = 0.01
-"""Metres between the ingredients spread in a container and its walls (or a board's ends)."""
 REACH_SLACK = 0.05
 """Metres kept inside an arm's reach band when placing what it must reach (the object's own size, poses
 around it)."""
@@ -88,19 +83,22 @@ def _shape_for(name: str, category: Category, width_m: float, depth_m: float) ->
     return "box", (round(_clip(long_side, 0.04, 0.08), 3), d, 0.03), yaw
 
 
-def _gaps(objects: Sequence[SceneObject]) -> np.ndarray:
-    """``(n, n, 2)`` metres to keep free between footprints i and j along x and y: :data:`GAP`, and
-    :data:`HAND_ROOM` across a tool (perpendicular to its long axis) from an object taller than :data:`LOW`."""
+def _gaps(objects: Sequence[SceneObject], worked: Collection[str] = ()) -> np.ndarray:
+    """``(n, n, 2)`` metres to keep free between footprints i and j along x and y: :data:`GAP`; :data:`HAND_ROOM`
+    across a tool (perpendicular to its long axis) from an object taller than :data:`LOW`, and on both axes
+    around an object a held tool works on where it lies (``worked``: the hand carrying the tool comes down over
+    it, turned whichever way the tool needs) from an object taller than :data:`LOW`."""
     n = len(objects)
     gaps = np.full((n, n, 2), GAP)
     for i, tool in enumerate(objects):
-        if tool.category is not Category.TOOL:
+        if tool.category is not Category.TOOL and tool.name not in worked:
             continue
         hx, hy = tool.half_extents()
-        across = 0 if hy >= hx else 1  # its long axis lies along y: the hand spans x
+        axes = [0, 1] if tool.name in worked else [0 if hy >= hx else 1]  # a tool along y: the hand spans x
         for j, other in enumerate(objects):
             if j != i and other.size[2] > LOW:
-                gaps[i, j, across] = gaps[j, i, across] = max(gaps[i, j, across], HAND_ROOM)
+                for across in axes:
+                    gaps[i, j, across] = gaps[j, i, across] = max(gaps[i, j, across], HAND_ROOM)
     return gaps
 
 
@@ -212,51 +210,8 @@ def _users(graph: ActionGraph) -> dict[str, set[str]]:
     return users
 
 
-def _taken_from_by_hand(graph: ActionGraph) -> set[str]:
-    """Containers an ingredient is taken out of by hand (the source of a transfer without a tool)."""
-    out = set()
-    for node in graph.nodes:
-        action = action_of(node.span.tree, node.span.start, node.span.end)
-        for act in (action, action.partner):
-            if act is not None and act.kind is ActionKind.TRANSFER and act.held is None and len(act.targets) == 3:
-                out.add(act.targets[1])
-    return out
 
 
-def _containing(graph: ActionGraph, obs: Observations, first: Mapping[str, np.ndarray]) -> dict[str, str]:
-    """Ingredient -> the container it starts in: from the first action that names it with a container (a
-    transfer's source, or the container it is acted on in), else from its first box lying mostly inside a
-    container's first box."""
-    cat = obs.categories
-    out: dict[str, str] = {}
-    for node in sorted(graph.nodes, key=lambda n: (n.span.start, n.id)):
-        actions = [action_of(node.span.tree, node.span.start, node.span.end)]
-        if actions[0].partner is not None:
-            actions.append(actions[0].partner)
-        for action in actions:
-            targets = action.targets
-            if action.kind is ActionKind.TRANSFER and len(targets) == 3:
-                out.setdefault(targets[0], targets[1])
-            elif len(targets) >= 2 and cat.get(targets[0]) is Category.INGREDIENT:
-                container = next((t for t in targets[1:] if cat.get(t) is Category.CONTAINER), None)
-                if container is not None:
-                    out.setdefault(targets[0], container)
-    for name, box in first.items():
-        if cat.get(name) is not Category.INGREDIENT or name in out:
-            continue
-        area = max((box[2] - box[0]) * (box[3] - box[1]), 1e-9)
-        best, best_share = None, 0.5
-        for other, obox in first.items():
-            if cat.get(other) is not Category.CONTAINER:
-                continue
-            w = min(box[2], obox[2]) - max(box[0], obox[0])
-            h = min(box[3], obox[3]) - max(box[1], obox[1])
-            share = max(w, 0) * max(h, 0) / area
-            if share > best_share:
-                best, best_share = other, share
-        if best is not None:
-            out[name] = best
-    return {k: v for k, v in out.items() if k in first and v in first and cat.get(v) is Category.CONTAINER}
 
 
 @dataclass(frozen=True)
@@ -309,11 +264,13 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     P2): a robot arm does not reach across the table as a person does.
     Sizes come from the category (containers wide, tools long and thin, ingredients small), scaled from the
     box by the mean of the two axis scales and clipped to sane limits. Objects on the table are then pushed
-    apart until no footprints overlap, :data:`GAP` apart (:data:`HAND_ROOM` across a tool from anything tall
-    enough to meet the gripper's palm), inside the reach region and each on its arm's half; when they do not fit
-    there, each object, biggest first, goes to the free spot nearest its mapped place on the table (less
-    :data:`ARM_CLEARANCE` at the arms' ends), the rules loosening only as far as the table needs (see
-    :func:`_settle`); ingredients that start in a container sit inside it.
+    apart until no footprints overlap, :data:`GAP` apart (:data:`HAND_ROOM` across a tool, and all round what a
+    held tool works on where it lies, from anything tall enough to meet the gripper's palm), inside the reach
+    region and each on its arm's half; when they do not fit there, each object, biggest first, goes to the free
+    spot nearest its mapped place on the table (less :data:`ARM_CLEARANCE` at the arms' ends), the rules
+    loosening only as far as the table needs (see :func:`_settle`); ingredients that start in a container sit
+    inside it, a board held still lies along x with its food clear of the end the holder presses
+    (:mod:`wecook_core.plan.contents`).
     """
     first = {t.name: _first_box(t.frames, t.boxes) for t in obs.objects if len(t.frames)}
     if not first:
@@ -339,7 +296,7 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
         elif users.get(name) == {"P2"}:
             xy[k, 0] = max(xy[k, 0], 0.0)
     m_per_px = float(scale.mean())
-    containing = _containing(graph, obs, first)
+    containing = containing_of(graph, obs, first)
     objects: dict[str, SceneObject] = {}
     for k, name in enumerate(names):
         category = obs.categories.get(name, Category.INGREDIENT)
@@ -347,22 +304,21 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
         d = float(boxes[k, 3] - boxes[k, 1]) * m_per_px
         shape, size, yaw = _shape_for(name, category, w, d)
         objects[name] = SceneObject(name, category, shape, size, float(xy[k, 0]), float(xy[k, 1]), yaw)
-    for container in _taken_from_by_hand(graph):  # a hand reaches into it: no deeper than the fingers reach
+    for container in taken_from_by_hand(graph):  # a hand reaches into it: no deeper than the fingers reach
         o = objects.get(container)
         if o is not None and o.category is Category.CONTAINER and o.size[2] > HAND_DEPTH:
             objects[container] = SceneObject(o.name, o.category, o.shape, (o.size[0], o.size[1], HAND_DEPTH),
                                              o.x, o.y, o.yaw)
-    for container in set(containing.values()):  # a board long enough for what starts on it and a holding hand
-        o = objects[container]
-        if o.shape == "box":
-            items = [objects[n] for n, c in containing.items() if c == container]
-            need = sum(max(i.size[0], i.size[1]) + ITEM_GAP for i in items) + 2 * END_ROOM
-            size = (round(min(max(o.size[0], need), MAX_BOARD), 3), o.size[1], o.size[2])
-            objects[container] = SceneObject(o.name, o.category, o.shape, size, o.x, o.y, o.yaw)
+    held = holders(graph)
+    for container in set(containing.values()) | set(held):  # a board long enough for what starts on it and the
+        o = objects.get(container)  # hands holding it, held along x
+        if o is not None and o.shape == "box" and o.category is Category.CONTAINER:
+            items = [objects[n] for n, c in sorted(containing.items()) if c == container]
+            objects[container] = fit_board(o, items, held.get(container, set()))
     free = [n for n in names if n not in containing]
     centres = np.array([[objects[n].x, objects[n].y] for n in free])
     halves = np.array([objects[n].half_extents() for n in free])
-    gaps = _gaps([objects[n] for n in free])
+    gaps = _gaps([objects[n] for n in free], worked(graph, obs.categories))
     sides = np.array([{frozenset({"P1"}): -1, frozenset({"P2"}): 1}.get(frozenset(users.get(n, ())), 0)
                       for n in free])
     inner = (table.size[0] / 2 - ARM_CLEARANCE, table.size[1] / 2 - GAP)
@@ -381,19 +337,8 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     by_container: dict[str, list[str]] = {}
     for ingredient, container in sorted(containing.items()):
         by_container.setdefault(container, []).append(ingredient)
-    for container, ingredients in by_container.items():
-        c = objects[container]
-        hx, hy = c.half_extents()
-        longest = max(max(objects[n].half_extents()) for n in ingredients)
-        ends = END_ROOM if c.shape == "box" else WALL_ROOM  # a board's ends are where a holding hand presses
-        span = max(max(hx, hy) - longest - ends, 0.0)  # centres stay this far from the middle
-        for k, name in enumerate(ingredients):  # spread evenly along the container's longer axis, wall to wall
-            o = objects[name]
-            s = span * (2 * k / (len(ingredients) - 1) - 1) if len(ingredients) > 1 else 0.0
-            dx, dy = (s, 0.0) if hx >= hy else (0.0, s)
-            limit = 0.8 * min(hx, hy) * 2
-            size = (round(min(o.size[0], limit), 3), round(min(o.size[1], limit), 3), o.size[2])
-            objects[name] = SceneObject(o.name, o.category, o.shape, size,
-                                        round(c.x + dx, 4), round(c.y + dy, 4), o.yaw)
+    for container, ingredients in by_container.items():  # spread along the container's longer axis
+        for o in spread(objects[container], [objects[n] for n in ingredients], held.get(container, set())):
+            objects[o.name] = o
     return Scene(table=table, objects=tuple(objects[n] for n in names),
                  containing=tuple(sorted(containing.items())))

@@ -12,7 +12,7 @@ afterwards, a transferred ingredient in its destination.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 
 from wecook_core.plan.model import DEFAULT_ROBOT, Agent, Plan, PlanAction
@@ -72,12 +72,21 @@ def reach_band(agent: Agent) -> tuple[float, float] | None:
     return None if high is None else (MIN_REACH, high)
 
 
-def reach_problems(plan: Plan) -> list[Unreachable]:
-    """Every object an arm must work on that is out of its reach when the action comes, in plan order."""
+def positions(plan: Plan) -> Iterator[tuple[PlanAction, dict[str, tuple[float, float]]]]:
+    """Each action of the plan, in order, with where (x, y) each object lies when it comes (see the module's
+    docstring; the mapping is updated in place after each action)."""
     where: dict[str, tuple[float, float]] = {o.name: (o.x, o.y) for o in plan.scene.objects}
     agents: Mapping[str, Agent] = {a.pid: a for a in plan.agents}
-    out: list[Unreachable] = []
     for action in plan.actions:
+        yield action, where
+        _move(action, where, agents)
+
+
+def reach_problems(plan: Plan) -> list[Unreachable]:
+    """Every object an arm must work on that is out of its reach when the action comes, in plan order."""
+    agents: Mapping[str, Agent] = {a.pid: a for a in plan.agents}
+    out: list[Unreachable] = []
+    for action, where in positions(plan):
         for pid, objects in touched(action).items():
             agent = agents.get(pid)
             band = reach_band(agent) if agent is not None else None
@@ -91,7 +100,6 @@ def reach_problems(plan: Plan) -> list[Unreachable]:
                 d = math.hypot(x - bx, y - by)
                 if not band[0] <= d <= band[1]:
                     out.append(Unreachable(action.id, action.verb, pid, name, (x, y), d, *band))
-        _move(action, where, agents)
     return out
 
 

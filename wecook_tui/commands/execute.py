@@ -5,7 +5,9 @@
   ``wecook plan check`` finds out of reach, run it headless with progress per action and an ETA, within a
   wall-clock limit (default from the plan's size), record it (default
   ``runs/<plan>-<time>.mcap``: the session's ``runs/`` when the plan is in a session's ``plans/``, else beside
-  the plan), print a table of every action; exit 0 only if every action succeeded, else 1. ``--jsonl`` prints
+  the plan; ``--force`` replaces an existing ``--record`` file, but only when the run ends: it records to a
+  hidden file beside it until then), stop after 4 actions failed in a row (the rest skipped), print a table of
+  every action; exit 0 only if every action succeeded, else 1. ``--jsonl`` prints
   one JSON object per line instead (``run_start``, every plan event, then ``summary``) for programs such as the
   workbench. SIGTERM or Ctrl-C stop the run with the recording closed properly (exit 130).
 - ``--live [--port N]`` serves the run over Foxglove's WebSocket protocol on ``ws://127.0.0.1:N`` while it runs
@@ -51,7 +53,8 @@ def register(sub: Any) -> None:
     execute.add_argument("--camera-hz", type=_rate, default=2.0, metavar="HZ",
                          help="camera images per simulated second (default: %(default)s; 0: at action boundaries)")
     execute.add_argument("--timeout", type=float, metavar="SECONDS",
-                         help="wall-clock limit of the run (default: 60 s + 30 s per action of the plan)")
+                         help="wall-clock limit of the run (default: 60 s + 30 s per action of the plan; the run "
+                              "also stops after 4 actions failed in a row)")
     execute.add_argument("--stop-at-first-failure", action="store_true",
                          help="skip every action not yet started once one has failed (default: only the actions "
                               "that depend on the failure through their objects are skipped)")
@@ -81,6 +84,48 @@ def recording_path(record: Path | None, plan_path: Path, *, force: bool = False)
     if force:
         return check_output(record, replace=True, what="recording")
     return create_new(record, what="recording")
+
+
+def staging_path(target: Path) -> Path:
+    """Where a run replacing the recording ``target`` (``--force``) is written until it ends: a new hidden file
+    beside it, so that the old recording stays whole until the new one replaces it (:func:`settle_recording`)."""
+    import os
+    import tempfile
+
+    fd, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part.mcap", dir=target.parent)
+    os.close(fd)
+    return Path(name)
+
+
+def settle_recording(written: Path, target: Path, *, keep: bool) -> None:
+    """The end of a recording written to ``written`` for ``target``: with ``keep``, made durable and moved onto
+    ``target`` (replacing what was there in one step); else removed (``target`` is left as it was)."""
+    import os
+
+    from wecook_core.execution.recorder import layout_path
+    from wecook_core.files import fsync_dir
+
+    if written == target and keep:
+        return
+    if not keep:  # a new file of this run, or the hidden one beside the target
+        written.unlink(missing_ok=True)
+        layout_path(written).unlink(missing_ok=True)
+        return
+    with written.open("rb") as handle:
+        os.fsync(handle.fileno())
+    os.chmod(written, 0o666 & ~_umask())  # as a file created the ordinary way (mkstemp makes it private)
+    os.replace(written, target)
+    if layout_path(written).exists():
+        os.replace(layout_path(written), layout_path(target))
+    fsync_dir(target.parent)
+
+
+def _umask() -> int:
+    import os
+
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 @dataclass
@@ -280,11 +325,17 @@ def run_execute(args: argparse.Namespace) -> int:
     observers: list[Any] = [progress]
     recorder = None
     record_path: Path | None = None
+    written: Path | None = None
+    """Where the recording goes while the run lasts: ``record_path``, or a file beside it that replaces it at the
+    end when ``--force`` replaces an existing recording."""
     if not args.no_record:
         from wecook_core.execution.recorder import McapRecorder
 
-        record_path = recording_path(args.record, args.plan, force=getattr(args, "force", False))
-        recorder = McapRecorder(record_path)
+        force = getattr(args, "force", False)
+        replacing = force and args.record is not None and (args.record.exists() or args.record.is_symlink())
+        record_path = recording_path(args.record, args.plan, force=force)
+        written = staging_path(record_path) if replacing else record_path
+        recorder = McapRecorder(written)
         observers.insert(0, recorder)
     server = _live_server(args, console)
     if server is not None:
@@ -292,6 +343,8 @@ def run_execute(args: argparse.Namespace) -> int:
         progress.live_url = server.url
     clock = time.perf_counter()
     result = None
+    ended = unstarted = False
+    """The run ended (or was stopped) with its story told: its recording is kept; it never started: it is not."""
     _interrupt_on_sigterm()
     try:
         result = execute_plan(plan, _with_camera(FanOut(*observers), args.camera_hz), seed=args.seed,
@@ -306,14 +359,25 @@ def run_execute(args: argparse.Namespace) -> int:
                 progress.on_event(progress.sim_time, event)
         if recorder is not None:
             recorder.on_event(progress.sim_time, RunEvent("run_end", detail="interrupted"))
+        ended = True
+        raise
+    except InputError:  # the run could not start (a robot PyBullet cannot load): no recording of it is kept
+        unstarted = True
         raise
     finally:
         progress.stop()
         if server is not None:
             server.close()
-        if recorder is not None:
+        if recorder is not None and written is not None and record_path is not None:
             recorder.close()
-            console.print(f"recording: {record_path}")
+            ended = ended or result is not None
+            # a crash mid-run keeps a new recording (it can be recovered), never a half-made replacement
+            settle_recording(written, record_path, keep=ended or (written == record_path and not unstarted))
+            if ended:
+                console.print(f"recording: {record_path}")
+            elif written != record_path or unstarted:
+                console.print(f"no recording: {record_path} left as it was" if written != record_path
+                              else "no recording")
     wall = time.perf_counter() - clock
     rows = list(progress.rows.values())
     merge_result(progress.rows, result)

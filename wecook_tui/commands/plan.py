@@ -3,7 +3,8 @@
 - ``wecook plan check PLAN``: read the plan, check it against its JSON Schema (``wecook export --schema``) and
   validate it (a malformed or inconsistent plan: one line naming the
   file and place, exit 2), then say which action's objects lie out of the reach of the arm that must work on
-  them, and why (one line each, exit 1); exit 0 when every action can be reached. ``wecook execute`` runs the
+  them, or leave its hand no room to work (a pot beside the dough to roll, food at the end of a board a hand
+  holds), and why (one line each, exit 1); exit 0 when every action can be reached. ``wecook execute`` runs the
   same check first and prints what it finds before the run.
 """
 
@@ -30,11 +31,13 @@ def register(sub: Any) -> None:
 
 
 def plan_findings(plan: Plan) -> list[str]:
-    """What stops actions of a valid plan from being done, one line each: objects out of an arm's reach.
-    (The plan's form is checked when it is read: :func:`wecook_core.plan.schema.check_plan_file`.)"""
+    """What stops actions of a valid plan from being done, one line each: objects out of an arm's reach, and
+    objects leaving a hand no room to work (:mod:`wecook_core.plan.room`). (The plan's form is checked when it is
+    read: :func:`wecook_core.plan.schema.check_plan_file`.)"""
     from wecook_core.plan.reach import reach_problems
+    from wecook_core.plan.room import room_problems
 
-    return [str(problem) for problem in reach_problems(plan)]
+    return [str(problem) for problem in reach_problems(plan)] + [str(problem) for problem in room_problems(plan)]
 
 
 def run_check(args: argparse.Namespace) -> int:
@@ -48,5 +51,5 @@ def run_check(args: argparse.Namespace) -> int:
     if findings:
         print(f"{len(findings)} problems: {len(plan.actions)} actions, {arms} arms")
         return 1
-    print(f"{args.plan}: ok: {len(plan.actions)} actions, {arms} arms, every object within reach")
+    print(f"{args.plan}: ok: {len(plan.actions)} actions, {arms} arms, every object within reach and room to work")
     return 0
