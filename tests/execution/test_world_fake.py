@@ -201,9 +201,6 @@ class FakeArm:
     def ee(self):
         return self.scene.ees[self.pid].copy()
 
-    def other_ee(self):
-        return next((T.copy() for pid, T in self.scene.ees.items() if pid != self.pid), None)
-
     def set_grip(self, width):
         self.scene.hands[self.pid].grip = width
         self._log("grip", f"{width:.3f}")

@@ -12,8 +12,8 @@ tests run them against a plain-Python fake:
 
 - :mod:`.protocols`: a ``Scene`` (where things are, what the hands hold, stepping, events) and an ``Arm`` (one
   person's arm: goals, planned and straight moves, the gripper, going home);
-- :mod:`.bullet_scene` (``BulletScene``) and :mod:`.bullet_arm` (``BulletArm``, ``Traffic``: what the two arms
-  share to keep out of each other's way): them in PyBullet;
+- :mod:`.bullet_scene` (``BulletScene``) and :mod:`.bullet_arm` (``BulletArm``): them in PyBullet, the arms
+  sharing a :mod:`.traffic` (``Traffic``: the planner's budget and how they keep out of each other's way);
 - :mod:`.grasping` (grasp, release), :mod:`.actuating` (engage, actuate), :mod:`.placing` (place), gathered by
   :mod:`.primitives` (``Primitives``), all retried by one policy, :mod:`.retry`;
 - :mod:`.roles` (``RolePlayer``): actions and the roles of collaborations;

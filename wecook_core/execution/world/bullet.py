@@ -1,5 +1,5 @@
 """The PyBullet world (:mod:`wecook_core.execution.world`) put together: a :class:`~.bullet_scene.BulletScene`,
-a :class:`~.bullet_arm.BulletArm` per person sharing one :class:`~.bullet_arm.Traffic`, the
+a :class:`~.bullet_arm.BulletArm` per person sharing one :class:`~.traffic.Traffic`, the
 :class:`~.primitives.Primitives` over them and the :class:`~.roles.RolePlayer` that turns actions into them."""
 
 from __future__ import annotations
@@ -9,11 +9,12 @@ import numpy as np
 from wecook_core.execution.observer import FrameInfo, RunObserver
 from wecook_core.execution.program import Meeting, Program
 from wecook_core.execution.skills import SkillLibrary, load_skills
-from wecook_core.execution.world.bullet_arm import BulletArm, Traffic
+from wecook_core.execution.world.bullet_arm import BulletArm
 from wecook_core.execution.world.bullet_scene import BulletScene
 from wecook_core.execution.world.primitives import Primitives
 from wecook_core.execution.world.protocols import Cell
 from wecook_core.execution.world.roles import RolePlayer
+from wecook_core.execution.world.traffic import Traffic
 from wecook_core.plan import Plan, PlanAction
 
 

@@ -1,8 +1,8 @@
 """An arm of the PyBullet world (:mod:`wecook_core.execution.world`), a :class:`~.protocols.Arm`: goals (TSR
 samples through re-seeded IK, checked in the planning client, and why none was found), planned transits (the
 motion planner, time-limited), straight effector moves (IK along the line, checked against the other arm and the
-table), and sharing the table with the other arm (:class:`Traffic`): every motion reserves the region it sweeps,
-and an arm the other one blocked gets the right of way.
+table), and sharing the table with the other arm (:class:`~.traffic.Traffic`): every motion reserves the region
+it sweeps, and an arm the other one blocked gets the right of way.
 """
 
 from __future__ import annotations
@@ -11,7 +11,6 @@ import contextlib
 import itertools
 import math
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 import pybullet as p
@@ -25,6 +24,7 @@ from wecook_core.execution.scene import SIM_HZ
 from wecook_core.execution.tsr import TSR, sample, xyzrpy_to_matrix
 from wecook_core.execution.world.bullet_scene import BulletScene
 from wecook_core.execution.world.protocols import YIELD_SECONDS, Accept, Rank
+from wecook_core.execution.world.traffic import Traffic
 
 JOINT_SPEED = 0.45
 """Fraction of the joint speed limits used by planned motions."""
@@ -35,39 +35,6 @@ TURN_SPEED = 1.2
 CROWDED = 0.35
 """Metres: when the other arm's hand is this close to where a pose is sought, the poses farthest from it come
 first."""
-
-
-@dataclass
-class Traffic:
-    """What the two arms share: the random generator, the planner's settings and budget, and how they keep out
-    of each other's way (reservations, right of way, the margin kept between them)."""
-
-    pids: list[str]
-    rng: np.random.Generator
-    seed: int = 0
-    planner: str = "rrtconnect"
-    planning_time: float = 1.0
-    attempts: int = 3
-    queries: int = 0
-    arm_margin: float = ARM_MARGIN
-    """Metres kept between the arms when planning (lowered while the receiver of a handover takes)."""
-    goal_blockers: set[str] = field(default_factory=set)
-    """What blocked the goal candidates since the last failure report."""
-    other_in_the_way: bool = False
-    """The other arm blocked the last goals or straight path (the next retry waits for it to go home)."""
-    right_of_way: str | None = None
-    """An arm the other one blocked: the other waits at rest until this arm's primitive ends."""
-    reserved: dict[str, np.ndarray | None] = field(default_factory=dict)
-    """Arm -> the region its running motion swept (None: none)."""
-    moved_at: dict[str, float] = field(default_factory=dict)
-    """Simulated time each arm last moved."""
-
-    def other(self, pid: str) -> str | None:
-        return next((k for k in self.pids if k != pid), None)
-
-    def primitive_over(self, pid: str) -> None:
-        if pid == self.right_of_way:
-            self.right_of_way = None
 
 
 class BulletArm:
@@ -87,10 +54,6 @@ class BulletArm:
 
     def ee(self) -> np.ndarray:
         return self.robot.ee()
-
-    def other_ee(self) -> np.ndarray | None:
-        other = self.traffic.other(self.pid)
-        return None if other is None else self.scene.robots[other].ee()
 
     def set_grip(self, width: float) -> None:
         self.scene.set_grip(self.pid, width)

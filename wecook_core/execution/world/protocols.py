@@ -153,19 +153,24 @@ class Arm(Protocol):
 
     def ee(self) -> np.ndarray: ...
 
-    def other_ee(self) -> np.ndarray | None:
-        """The other arm's effector pose, if there is another arm."""
-        ...
-
     def set_grip(self, width: float) -> None: ...
 
     def goal_samples(self, tsrs: Sequence[TSR], T_eff_ee: np.ndarray, n: int, accept: Accept | None = None,
-                     rank: Rank | None = None, spin: bool = False) -> list[np.ndarray]: ...
+                     rank: Rank | None = None, spin: bool = False) -> list[np.ndarray]:
+        """Up to ``n`` ee poses drawn from ``tsrs`` (the effector at ``T_eff_ee`` from the ee) that ``accept``
+        takes, lowest ``rank`` first; ``spin``: each turned by a random angle about the effector's z."""
+        ...
 
     def ik_goal(self, targets: Iterable[np.ndarray], ignore: Sequence[str], check: bool = True
-                ) -> tuple[np.ndarray, np.ndarray] | None: ...
+                ) -> tuple[np.ndarray, np.ndarray] | None:
+        """The joints and pose of the first target reachable clear of everything but ``ignore`` (``check``:
+        collisions checked at all); what blocked the others is kept for :meth:`no_goal`."""
+        ...
 
-    def no_goal(self, what: str, count: int, accept: Accept | None = None) -> str: ...
+    def no_goal(self, what: str, count: int, accept: Accept | None = None) -> str:
+        """Why no goal was found among ``count`` samples, for a failure report (it also notes, for the next
+        retry, whether the other arm was in the way, and forgets what blocked the goals)."""
+        ...
 
     def clear_blockers(self) -> None:
         """Forget what blocked goals so far (a failure that was not about goals was reported)."""
@@ -173,15 +178,24 @@ class Arm(Protocol):
 
     def away_from_other(self, near: np.ndarray) -> Rank | None: ...
 
-    def transit(self, goal: np.ndarray, ignore: Sequence[str] = (), what: str = "move") -> Program: ...
+    def transit(self, goal: np.ndarray, ignore: Sequence[str] = (), what: str = "move") -> Program:
+        """A planned, collision-free move to the joints ``goal``; raises ``ActionFailed`` ("<what>: no path ...")."""
+        ...
 
     def cartesian_path(self, q: np.ndarray, poses: Sequence[np.ndarray], ignore: Sequence[str] | None, what: str,
-                       margin: float = -0.01) -> tuple[list[np.ndarray], list[float], list[int]]: ...
+                       margin: float = -0.01) -> tuple[list[np.ndarray], list[float], list[int]]:
+        """The joint path of straight effector moves from ``q`` through ``poses``, each segment's duration and the
+        index ending each move; raises ``ActionFailed`` when it is out of reach or collides (noting, for the next
+        retry, whether the other arm was in the way). Moves nothing."""
+        ...
 
     def linear(self, poses: Sequence[np.ndarray], ignore: Sequence[str] | None = None,
                holds: Sequence[float] | None = None, fingers: Sequence[float | None] | None = None,
                what: str = "straight move", margin: float = -0.01,
-               reached: Callable[[int], None] | None = None) -> Program: ...
+               reached: Callable[[int], None] | None = None) -> Program:
+        """Follow :meth:`cartesian_path` from where the arm is: at each pose ``j``, call ``reached(j)``, set the
+        fingers to ``fingers[j]``, stay ``holds[j]`` seconds."""
+        ...
 
     def let_other_move(self, limit: float = 4.0) -> Program:
         """Before a retry: give the other arm the chance to get out of the way."""
