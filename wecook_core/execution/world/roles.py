@@ -20,6 +20,9 @@ from wecook_core.execution.world.primitives import Missed, Primitives
 from wecook_core.execution.world.protocols import Cell
 from wecook_core.plan import PlanAction
 
+Role = Callable[[PlanAction, str, Meeting], Program]
+"""A collaboration's role: the action, the person playing it, where the roles meet."""
+
 ZONE_MARGIN = 0.08
 """Metres around the objects of an action that its arm may sweep over while working."""
 HAND_OVER_ROOM = 0.02
@@ -42,6 +45,9 @@ class RolePlayer:
         self.zones: dict[str, np.ndarray] = {}
         """Action id -> the table area it works in, while it runs (see :meth:`_claim_zone`)."""
         self.zone_users: dict[str, set[str]] = {}
+        self.collaborations: dict[str, tuple[Role, Role]] = {"handover": (self._giver, self._receiver),
+                                                             "holding": (self._holder, self._actor)}
+        """Verb -> the roles of its two persons, in ``action.pids`` order."""
 
     def _zone(self, action: PlanAction) -> np.ndarray:
         """The table area an action works in: ``[[x0, y0], [x1, y1]]`` around the objects it names (and the
@@ -85,15 +91,15 @@ class RolePlayer:
                 self.zones.pop(action.id, None)
 
     def _role(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
-        if action.verb == "handover":
-            giver, _receiver = action.pids
-            yield from (self._giver(action, pid, meeting) if pid == giver else self._receiver(action, pid, meeting))
-        elif action.verb == "holding":
-            holder = action.pids[0]
-            yield from (self._holder(action, pid, meeting) if pid == holder else self._actor(action, pid, meeting))
-        else:
+        """The collaboration's role of ``pid`` (the first of ``action.pids`` plays the first role), else the
+        individual action."""
+        roles = self.collaborations.get(action.verb)
+        if roles is None:
             yield from self._individual(action, pid, action.verb, action.tool, action.ingredients, action.location,
                                         action.source)
+            return
+        first, second = roles
+        yield from (first if pid == action.pids[0] else second)(action, pid, meeting)
 
     def _individual(self, action: PlanAction, pid: str, verb: str, tool: str | None, ingredients: Sequence[str],
                     location: str | None, source: str | None,
