@@ -1,6 +1,7 @@
 """The primitives of the world (:mod:`wecook_core.execution.world`) against a plain-Python scene and arms (no
 simulator; they are its :class:`~wecook_core.execution.world.protocols.Scene` and ``Arm``): what the scene says
-is held, the one retry policy, the engage goal as a query. The roles: ``test_world_fake_roles.py``."""
+is held, the one retry policy. The engage goal: ``test_world_fake_engage.py``; the roles:
+``test_world_fake_roles.py``."""
 
 from __future__ import annotations
 
@@ -15,7 +16,6 @@ from wecook_core.execution.planning_scene import Riding
 from wecook_core.execution.program import WAIT, WORK, ActionFailed, Program
 from wecook_core.execution.skills import Half, load_skills, object_kind
 from wecook_core.execution.tsr import sample
-from wecook_core.execution.world import actuating
 from wecook_core.execution.world.primitives import Primitives
 from wecook_core.execution.world.protocols import Cell, Hand
 from wecook_core.execution.world.roles import RolePlayer
@@ -219,6 +219,7 @@ class FakeArm:
         return None
 
     def no_goal(self, what, count, accept=None):
+        self._log("no goal", what)
         return f"no reachable {what} in {count} TSR samples"
 
     def clear_blockers(self):
@@ -383,19 +384,3 @@ def test_a_retry_after_a_failed_move_succeeds_and_the_budget_is_the_cells():
     with pytest.raises(ActionFailed, match="grasp knife: grasp knife: no path"):
         run(once.primitives.grasp(ACTION, "P1", "knife"))
     assert not [c for c in ops(once, "P1") if c.startswith("retry")]
-
-
-def test_the_engage_goal_is_a_query_and_engage_keeps_the_axis_it_chose():
-    w = world()
-    run(w.primitives.grasp(ACTION, "P1", "spoon"))
-    skill = SKILLS.skills["stir"]
-    engage, stir = skill.steps
-    roles = {"tool": "spoon", "ingredient": "bowl", "location": "bowl", "source": None}
-    hands = [(h.carried, [r.name for r in h.riding]) for h in w.scene.hands.values()]
-    goal = actuating.engage_goal(w.cell, "P1", engage.tsr, roles, None, None, stir)
-    assert goal.q is not None and goal.variant == 0 and goal.reason == ""
-    assert w.primitives.variants == {} and w.scene.ees["P1"] is not None
-    assert [(h.carried, [r.name for r in h.riding]) for h in w.scene.hands.values()] == hands
-    run(w.primitives.engage(ACTION, "P1", engage.tsr, roles, then=stir))
-    assert w.primitives.variants == {"P1": 0} and ops(w, "P1")[-2:] == ["transit engage",
-                                                                        "primitive_end engage facing:location"]

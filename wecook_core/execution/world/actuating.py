@@ -31,14 +31,17 @@ class Missed(ActionFailed):
 
 @dataclass(frozen=True)
 class EngageGoal:
-    """Where an engage goes: the joints (None: no pose found, ``reason`` says why) and the axis option of the
-    actuation that follows (None: no actuation was checked)."""
+    """Where an engage goes: the joints (None: no pose found) and the axis option of the actuation that follows
+    (None: no actuation was checked); else why not."""
 
     q: np.ndarray | None
     variant: int | None = None
     reason: str = ""
+    """Why no pose was found, when it is not that the samples were out of reach or blocked."""
+    unreached: int | None = None
+    """No pose as the samples, this many, were out of reach or blocked (the arm's report says by what)."""
     about_actuation: bool = False
-    """The reason is the actuation's, not the goals' (what blocked the goals is no longer news)."""
+    """``reason`` is the actuation's, not the goals' (what blocked the goals is no longer news)."""
 
 
 def engage(cell: Cell, action: PlanAction, pid: str, spec: TSRSpec, roles: Roles,
@@ -52,9 +55,11 @@ def engage(cell: Cell, action: PlanAction, pid: str, spec: TSRSpec, roles: Roles
 
     def attempt(_k: int) -> Generator[Tick, None, str | None]:
         goal = engage_goal(cell, pid, spec, roles, meet, accept, then)
-        if goal.about_actuation:
-            arm.clear_blockers()
         if goal.q is None:
+            if goal.unreached is not None:
+                return arm.no_goal(f"pose at {spec.frame}", goal.unreached)
+            if goal.about_actuation:
+                arm.clear_blockers()
             return goal.reason
         if goal.variant is not None and chose is not None:
             chose(goal.variant)
@@ -72,7 +77,8 @@ def engage_goal(cell: Cell, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[s
                 accept: Accept | None, then: Step | None) -> EngageGoal:
     """Joints of a collision-free pose of the TSR from which ``then`` is feasible (its straight path, and what it
     tips falling into the destination), with the actuation's axis option; else why not (the commonest reason
-    over the samples). Changes nothing but the arm's sampling state."""
+    over the samples). A query: it reads the scene and asks the arm for samples, IK and straight paths, and
+    reports nothing (:func:`engage` does)."""
     scene, arm = cell.scene, cell.arms[pid]
     hand = scene.hand(pid)
     T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
@@ -123,7 +129,7 @@ def engage_goal(cell: Cell, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[s
                 continue
             return EngageGoal(found[0], variant)
     if then is None or unreached >= why.total():  # most samples were unreachable or in collision
-        return EngageGoal(None, None, arm.no_goal(f"pose at {spec.frame}", len(candidates)))
+        return EngageGoal(None, unreached=len(candidates))
     text, count = why.most_common(1)[0]
     return EngageGoal(None, None, f"the {then.motion} from there: {text} ({count} of {why.total()} tries)",
                       about_actuation=True)
