@@ -9,7 +9,8 @@ import pytest
 from wecook_core.execution.executor import execute_plan, run_schedule
 from wecook_core.execution.program import ActionFailed
 from wecook_core.execution.robot import HOME, LOWER, UPPER, Panda
-from wecook_core.execution.world import BulletWorld
+from wecook_core.execution.world import BulletWorld, actuating
+from wecook_core.execution.world.primitives import Primitives
 from wecook_core.model import Category
 from wecook_core.plan import Plan, PlanAction, Scene, SceneObject, agents_for
 
@@ -75,11 +76,10 @@ def test_ik_reaches_a_tenth_of_a_millimetre():
         p.disconnect(client)
 
 
-class ContactWorld(BulletWorld):
-    """Records the knife-tomato distance at every step of the cut's actuation."""
+class SawingPrimitives(Primitives):
+    """Says whether a saw is being actuated."""
 
     actuating = False
-    distances: list[float]
 
     def actuate(self, action, pid, step, roles):
         self.actuating = step.motion == "saw"
@@ -88,11 +88,21 @@ class ContactWorld(BulletWorld):
         finally:
             self.actuating = False
 
+
+class ContactWorld(BulletWorld):
+    """Records the knife-tomato distance at every step of the cut's actuation."""
+
+    distances: list[float]
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, primitives=SawingPrimitives, **kwargs)
+
     def step(self):
         super().step()
-        if self.actuating:
-            knife, tomato = self.bodies.objects["knife"].body, self.bodies.objects["tomato"].body
-            points = p.getClosestPoints(knife, tomato, 0.05, physicsClientId=self.client)
+        if self.primitives.actuating:
+            bodies = self.scene.bodies
+            knife, tomato = bodies.objects["knife"].body, bodies.objects["tomato"].body
+            points = p.getClosestPoints(knife, tomato, 0.05, physicsClientId=self.scene.client)
             self.distances.append(min((c[8] for c in points), default=0.05))
 
 
@@ -113,51 +123,53 @@ def test_cut_keeps_the_knife_on_the_tomato_while_the_other_arm_stirs():
         assert np.all(d[first:last + 1] < 0.003)
         assert (last - first) > 0.6 * len(d)
         assert world.arm_contacts == 0
-        tomato = world.pose("tomato")[:3, 3]
+        tomato = world.scene.pose("tomato")[:3, 3]
         assert np.linalg.norm(tomato[:2] - [-0.05, -0.05]) < 0.03  # cut in place, not knocked away
     finally:
         world.close()
 
 
-class HandoverWorld(BulletWorld):
+class HandingPrimitives(Primitives):
     """Captures who holds the knife right after the giver lets go."""
 
     after_release: dict | None = None
 
     def release(self, pid, retreat=True):
-        giving = self.hands[pid].carried == "knife" and pid == "P1" and self.after_release is None
+        scene, arms = self.cell.scene, self.cell.arms
+        giving = scene.hand(pid).carried == "knife" and pid == "P1" and self.after_release is None
         yield from super().release(pid, retreat=False)
         if giving:
-            receiver = self.hands["P2"]
-            info = p.getConstraintInfo(receiver.constraint, physicsClientId=self.client)
+            receiver = scene.hand("P2")
+            info = p.getConstraintInfo(receiver.constraint, physicsClientId=scene.client)
             self.after_release = {
-                "giver_holds": self.hands["P1"].carried, "receiver_holds": receiver.carried,
+                "giver_holds": scene.hand("P1").carried, "receiver_holds": receiver.carried,
                 "parent": info[0], "child": info[2],
-                "knife_to_receiver": float(np.linalg.norm(self.pose("knife")[:3, 3] - self.arms["P2"].ee()[:3, 3])),
+                "knife_to_receiver": float(np.linalg.norm(scene.pose("knife")[:3, 3] - arms["P2"].ee()[:3, 3])),
             }
             for _ in range(60):  # the knife must stay with the receiver once the giver is gone
                 yield "work"
             self.after_release["knife_to_receiver_later"] = float(
-                np.linalg.norm(self.pose("knife")[:3, 3] - self.arms["P2"].ee()[:3, 3]))
+                np.linalg.norm(scene.pose("knife")[:3, 3] - arms["P2"].ee()[:3, 3]))
         if retreat:  # as the world's own release does: back off if the way is clear
-            back = self.arms[pid].ee()
-            back[:3, 3] -= back[:3, 2] * self.skills.approach_distance
+            back = arms[pid].ee()
+            back[:3, 3] -= back[:3, 2] * self.cell.skills.approach_distance
             with contextlib.suppress(ActionFailed):
-                yield from self.linear(pid, [back], ignore=["knife"], what="retreat")
+                yield from arms[pid].linear([back], ignore=["knife"], what="retreat")
 
 
 def test_handover_moves_the_knife_from_one_gripper_to_the_other():
     plan = make_plan(PlanAction("h", ("P1", "P2"), "handover", "knife"))
-    world = HandoverWorld(plan, Recorder(), seed=1)
+    world = BulletWorld(plan, Recorder(), seed=1, primitives=HandingPrimitives)
     try:
         results = run_schedule(plan, world)
         assert results[0].status == "done", results
-        seen = world.after_release
+        seen = world.primitives.after_release
         assert seen is not None
         assert seen["giver_holds"] is None and seen["receiver_holds"] == "knife"
-        assert seen["parent"] == world.bodies.arms["P2"].body and seen["child"] == world.bodies.objects["knife"].body
+        bodies = world.scene.bodies
+        assert seen["parent"] == bodies.arms["P2"].body and seen["child"] == bodies.objects["knife"].body
         assert seen["knife_to_receiver"] < 0.12 and seen["knife_to_receiver_later"] < 0.12
-        knife = world.pose("knife")[:3, 3]
+        knife = world.scene.pose("knife")[:3, 3]
         assert knife[0] > 0.05  # finally put down on the receiver's side
         assert world.arm_contacts == 0
     finally:
@@ -197,9 +209,9 @@ class DistanceWorld(BulletWorld):
 
     def step(self):
         super().step()
-        if self.steps % 6 == 0:
-            a, b = (self.bodies.arms[pid].body for pid in ("P1", "P2"))
-            points = p.getClosestPoints(a, b, 0.05, physicsClientId=self.client)
+        if self.scene.steps % 6 == 0:
+            a, b = (self.scene.bodies.arms[pid].body for pid in ("P1", "P2"))
+            points = p.getClosestPoints(a, b, 0.05, physicsClientId=self.scene.client)
             self.closest = min([self.closest, *(c[8] for c in points)])
 
 
@@ -263,11 +275,11 @@ def test_a_spoon_scoops_from_a_deep_cup_into_the_pot_without_shoving_the_cup():
                 actions=(PlanAction("a1", ("P1",), "transfer", "spoon", ("rice",), "pot", "cup"),))
     world = BulletWorld(plan, Recorder(), seed=0, images=False)
     try:
-        cup_before = world.pose("cup")[:3, 3]
+        cup_before = world.scene.pose("cup")[:3, 3]
         results = run_schedule(plan, world)
         assert results[0].status == "done", results
-        assert world._container_of("rice") == "pot"
-        assert np.linalg.norm(world.pose("cup")[:3, 3] - cup_before) < 0.005
+        assert world.scene.container_of("rice") == "pot"
+        assert np.linalg.norm(world.scene.pose("cup")[:3, 3] - cup_before) < 0.005
     finally:
         world.close()
 
@@ -287,24 +299,17 @@ def test_tipping_a_bowl_drops_the_onion_into_the_pot_without_moving_the_pot():
     for seed in (0, 1):
         world = BulletWorld(plan, Recorder(), seed=seed, images=False)
         try:
-            pot = world.pose("pot")[:3, 3]
+            pot = world.scene.pose("pot")[:3, 3]
             results = run_schedule(plan, world)
             assert results[0].status == "done", results
-            assert world._container_of("onion") == "pot"
-            assert np.linalg.norm(world.pose("pot")[:3, 3] - pot) < 0.005
-            assert world.pose("bowl")[2, 2] > 0.99  # put back upright
+            assert world.scene.container_of("onion") == "pot"
+            assert np.linalg.norm(world.scene.pose("pot")[:3, 3] - pot) < 0.005
+            assert world.scene.pose("bowl")[2, 2] > 0.99  # put back upright
         finally:
             world.close()
 
 
-class CarelessWorld(BulletWorld):
-    """Takes any engage pose, whether or not what it tips would fall into the destination."""
-
-    def _falls_outside(self, pid, step, roles, waypoints):
-        return None
-
-
-def test_an_ingredient_that_misses_its_destination_fails_the_transfer_saying_where_it_fell(tmp_path):
+def test_an_ingredient_that_misses_its_destination_fails_the_transfer_saying_where_it_fell(tmp_path, monkeypatch):
     """Nothing is counted done that did not happen: a bowl tipped 25 cm beside the pot drops the onion on the table."""
     from wecook_core.execution.skills import SKILLS_PATH, load_skills
 
@@ -313,12 +318,14 @@ def test_an_ingredient_that_misses_its_destination_fails_the_transfer_saying_whe
     beside = tmp_path / "skills.yaml"
     beside.write_text(text.replace(over, 'at: [0.25, 0, "f.hz + t.hz + 0.1"]'))
     plan = _tipping_plan((0.16, 0.16, 0.12))
-    world = CarelessWorld(plan, Recorder(), seed=0, images=False, skills=load_skills(beside))
+    # careless: any engage pose is taken, whether or not what it tips would fall into the destination
+    monkeypatch.setattr(actuating, "falls_outside", lambda scene, pid, step, roles, waypoints: None)
+    world = BulletWorld(plan, Recorder(), seed=0, images=False, skills=load_skills(beside))
     try:
         result = run_schedule(plan, world)[0]
         assert result.status == "failed"
         assert "the onion fell on the table" in result.reason and "not into the pot" in result.reason
-        assert world._container_of("onion") is None
+        assert world.scene.container_of("onion") is None
     finally:
         world.close()
 

@@ -15,7 +15,9 @@ If every program waits for :data:`DEADLOCK_SECONDS` of simulated time, the waiti
 instead of hanging; the whole run is bounded by ``max_sim_time`` simulated seconds and by ``timeout`` wall
 seconds (:func:`default_timeout` of the plan's size).
 
-How the arms avoid each other (the PyBullet world, :mod:`wecook_core.execution.world`), in three layers:
+How the arms avoid each other (the PyBullet world, :mod:`wecook_core.execution.world`), in three layers: the
+first kept by the roles (``world.roles``), the other two by the arms (``world.bullet_arm``, sharing one
+``world.traffic.Traffic``):
 
 1. Workspace zones. An action claims the table area around the objects it names (plus the meeting point of a
    handover), grown by a margin, before its first primitive; an action of the other arm whose zone overlaps
@@ -233,7 +235,9 @@ def execute_plan(plan: Plan, observer: RunObserver, *, seed: int = 0, realtime: 
                  metadata: Mapping[str, str] | None = None, timeout: float | None = None,
                  stop_at_first_failure: bool = False, failures_in_a_row: int | None = FAILURES_IN_A_ROW
                  ) -> RunResult:
-    """Execute ``plan`` in PyBullet (DIRECT, headless) with two Panda arms; report through ``observer``.
+    """Execute ``plan`` in PyBullet (DIRECT, headless) with two Panda arms; report through ``observer``. The
+    world (:class:`~wecook_core.execution.world.BulletWorld`) is a scene, an arm per person, the primitives over
+    them and the roles calling those.
 
     The same plan and seed give the same run. ``realtime`` paces the simulation to the wall clock.
     ``planning_time`` bounds every motion-planning query (seconds). ``images``: camera images at action

@@ -7,15 +7,19 @@ Goals come from TSR samples through re-seeded IK, checked for collisions in the 
 the motion planner (every query time-limited). A goal that fails is retried with new samples, up to
 ``attempts`` rounds of ``samples`` samples; then the primitive fails with its reason.
 
-Layers, each a class built on the one below:
+Composed, not layered: primitives and roles are written against two small protocols (:mod:`.protocols`), so the
+tests run them against a plain-Python fake:
 
-- :mod:`.state` (``WorldState``): the two clients, the scene, the hands, the clock, what the observer sees;
-- :mod:`.moves` (``ArmMotion``): goals, planned and straight moves, sharing the table between the arms;
-- :mod:`.grasping` (``Grasping``): grasp and release; :mod:`.actuating` (``Actuating``): engage and actuate;
-  :mod:`.primitives` (``Primitives``): place; all retried by one policy, :mod:`.retry`;
-- :mod:`.roles` (``BulletWorld``): actions and the roles of collaborations.
+- :mod:`.protocols`: a ``Scene`` (where things are, what the hands hold, stepping, events) and an ``Arm`` (one
+  person's arm: goals, planned and straight moves, the gripper, going home);
+- :mod:`.bullet_scene` (``BulletScene``) and :mod:`.bullet_arm` (``BulletArm``): them in PyBullet, the arms
+  sharing a :mod:`.traffic` (``Traffic``: the planner's budget and how they keep out of each other's way);
+- :mod:`.grasping` (grasp, release), :mod:`.actuating` (engage, actuate), :mod:`.placing` (place), gathered by
+  :mod:`.primitives` (``Primitives``), all retried by one policy, :mod:`.retry`;
+- :mod:`.roles` (``RolePlayer``): actions and the roles of collaborations;
+- :mod:`.bullet` (``BulletWorld``): the executor's world, putting them together.
 """
 
-from wecook_core.execution.world.roles import BulletWorld
+from wecook_core.execution.world.bullet import BulletWorld
 
 __all__ = ["BulletWorld"]

@@ -1,132 +1,56 @@
-"""The primitives of the PyBullet world (:mod:`wecook_core.execution.world`): grasp and release
-(:mod:`.grasping`), engage and actuate (:mod:`.actuating`), and here place (on a given pose or region, or on the
-roomiest free spot). Every primitive is tried again with new samples by one retry policy (:mod:`.retry`): up to
-``attempts`` rounds of ``samples`` samples; then it fails with its reason.
+"""The primitives of the world (:mod:`wecook_core.execution.world`) for the roles to call: grasp and release
+(:mod:`.grasping`), engage and actuate (:mod:`.actuating`), place (:mod:`.placing`), each a program over a
+:class:`~.protocols.Cell` (a scene and its arms). Every primitive is tried again with new samples by one retry
+policy (:mod:`.retry`): up to ``attempts`` rounds of ``samples`` samples; then it fails with its reason.
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Generator
+from collections.abc import Sequence
 
 import numpy as np
-import pybullet as p
 
-from wecook_core.execution.program import ActionFailed, Program, Tick
-from wecook_core.execution.tsr import TSR, xyzrpy_to_matrix
-from wecook_core.execution.world.actuating import Actuating, Missed
-from wecook_core.execution.world.retry import retrying
+from wecook_core.execution.program import Program
+from wecook_core.execution.skills import Step, TSRSpec
+from wecook_core.execution.tsr import TSR
+from wecook_core.execution.world import actuating, grasping, placing
+from wecook_core.execution.world.actuating import Missed
+from wecook_core.execution.world.protocols import Accept, Cell, Rank, Roles
 from wecook_core.plan import PlanAction
 
 __all__ = ["Missed", "Primitives"]
 
-HAND_SPAN = 0.22
-"""Metres: the Panda hand's length along its finger axis (it lies across an object it takes from above)."""
-HAND_CLEAR_HEIGHT = 0.04
-"""Metres above the table from which an object can be in the way of a hand taking something from above."""
-FREE_MARGIN = 0.1
-"""Metres of clearance around an object put down on a free spot beyond which spots count as equally roomy
-(room for the hand to take it again)."""
 
+class Primitives:
+    """The primitives of the arms of ``cell``; remembers, per arm, the axis option the last engage chose for the
+    actuation that follows it."""
 
-class Primitives(Actuating):
-    def _free_poses(self, name: str, region: TSR) -> list[np.ndarray]:
-        """Object poses of ``region`` on a 2 cm grid (yaw in 45-degree steps within the bounds), the roomiest
-        first. Room is the smaller of two clearances: the object's footprint to every other object, and the
-        footprint of a hand taking it again (:data:`HAND_SPAN` across the object at its grasp point) to every
-        object taller than :data:`HAND_CLEAR_HEIGHT`. Clearances beyond :data:`FREE_MARGIN` count as equally
-        roomy; then the spot nearest the region's centre wins."""
-        own = {r.name for h in self.hands.values() for r in h.riding if h.carried == name}
-        half = np.array(self.bodies.objects[name].size) / 2
-        corners = np.array([[sx * half[0], sy * half[1]] for sx in (-1, 1) for sy in (-1, 1)])
-        holder = next((h for h in self.hands.values() if h.carried == name), None)
-        if holder is not None and holder.riding:  # where the hand holds it now, in the object's frame
-            T_obj_ee = np.linalg.inv(holder.riding[0].T_ee_obj)
-            centre, across, along = T_obj_ee[:2, 3], T_obj_ee[:2, 1], T_obj_ee[:2, 0]
-        else:
-            centre = np.array([-0.55 * half[0] if self._kind(name) == "tool" else 0.0, 0.0])
-            across, along = np.array([0.0, 1.0]), np.array([1.0, 0.0])
-        hand = np.array([centre + sy * HAND_SPAN / 2 * across + sx * 0.03 * along
-                         for sx in (-1, 1) for sy in (-1, 1)])
-        others = [(np.array(p.getAABB(b.body, physicsClientId=self.client)), b) for n, b in self.bodies.objects.items()
-                  if n not in own and n != name]
-        boxes = np.array([box[:, :2] for box, _ in others]).reshape(-1, 2, 2)
-        tall = np.array([box[:, :2] for box, _ in others if box[1, 2] - self.bodies.table_height > HAND_CLEAR_HEIGHT]
-                        ).reshape(-1, 2, 2)
+    def __init__(self, cell: Cell):
+        self.cell = cell
+        self.variants: dict[str, int] = {}
 
-        def clearance(pts: np.ndarray, against: np.ndarray) -> float:
-            if not len(against):
-                return 1.0
-            lo, hi = pts.min(axis=0), pts.max(axis=0)
-            sep = np.maximum(against[:, 0] - hi, lo - against[:, 1])
-            overlap = np.all(sep < 0, axis=1)
-            gap = np.maximum(sep, 0.0)
-            return float(np.min(np.where(overlap, -1.0, np.hypot(gap[:, 0], gap[:, 1]))))
+    def grasp_tsrs(self, name: str, pid: str, kinds: Sequence[str] | None = None, flip: bool = False) -> list[TSR]:
+        return grasping.grasp_tsrs(self.cell, name, pid, kinds, flip)
 
-        B = region.Bw
-        xs = np.arange(B[0, 0], B[0, 1] + 1e-9, 0.02)
-        ys = np.arange(B[1, 0], B[1, 1] + 1e-9, 0.02)
-        yaws = [y for y in np.radians([-90, -45, 0, 45, 90]) if B[5, 0] - 1e-9 <= y <= B[5, 1] + 1e-9] or [0.0]
-        scored = []
-        for yaw in yaws:
-            for x in xs:
-                for y in ys:
-                    T = region.T0_w @ xyzrpy_to_matrix([x, y, (B[2, 0] + B[2, 1]) / 2, 0, 0, yaw]) @ region.Tw_e
-                    R, t = T[:2, :2], T[:2, 3]
-                    own_room = clearance(corners @ R.T + t, boxes)
-                    room = min(own_room, clearance(hand @ R.T + t, tall))
-                    if own_room > 0.0:  # where the hand has no room either, only after every roomy spot
-                        tier = 0 if room > 0.0 else 1
-                        scored.append((tier, -min(max(room, own_room * tier), FREE_MARGIN),
-                                       math.hypot(x, y) + 0.01 * abs(yaw), T))
-        scored.sort(key=lambda item: item[:3])
-        return [item[3] for item in scored]
+    def grasp(self, action: PlanAction, pid: str, name: str, *, lift: bool = True, ignore_extra: Sequence[str] = (),
+              tsrs: list[TSR] | None = None, accept: Accept | None = None, rank: Rank | None = None,
+              primitive: str = "grasp") -> Program:
+        return grasping.grasp(self.cell, action, pid, name, lift=lift, ignore_extra=ignore_extra, tsrs=tsrs,
+                              accept=accept, rank=rank, primitive=primitive)
+
+    def release(self, pid: str, retreat: bool = True) -> Program:
+        return grasping.release(self.cell, pid, retreat)
 
     def place(self, action: PlanAction | None, pid: str, target: np.ndarray | list[TSR], free: bool = False
               ) -> Program:
-        """Put the carried object down at ``target`` (object pose, or TSRs of object poses): planned move above,
-        straight down, release. ``free``: only where it stands clear of the other objects."""
-        hand = self.hands[pid]
-        name = hand.carried
-        if name is None:
-            return
-        self._event("primitive_start", action, pid, name, "place")
-        T_obj_ee = np.linalg.inv(hand.riding[0].T_ee_obj)
-        regions = target if isinstance(target, list) else [TSR(target, np.eye(4), np.array(
-            [[-0.01, 0.01], [-0.01, 0.01], [0.002, 0.006], [0, 0], [0, 0], [-0.1, 0.1]]))]
+        return placing.place(self.cell, action, pid, target, free)
 
-        def attempt(k: int) -> Generator[Tick, None, str | None]:
-            if free:
-                spots = self._free_poses(name, regions[0])
-                goals = [T @ T_obj_ee for T in spots[k * self.samples:(k + 1) * self.samples]]
-            else:
-                goals = self._goal_samples(regions, T_obj_ee, self.samples)
-            chosen = None
-            blocked = None
-            for G in goals:
-                found = self._ik_goal(pid, [G], [], check=False)
-                if found is None:
-                    continue
-                above = G.copy()
-                above[2, 3] += self.skills.lift
-                found_above = self._ik_goal(pid, [above], [])
-                if found_above is None:
-                    continue
-                try:  # the straight way down must be feasible too
-                    self.cartesian_path(pid, found_above[0], [G], [], f"put down {name}")
-                except ActionFailed as error:
-                    blocked = str(error)
-                    continue
-                chosen = (found_above[0], G)
-                break
-            if chosen is None:
-                return blocked or self._no_goal(f"place pose for {name}", len(goals))
-            try:
-                yield from self.transit(pid, chosen[0], what=f"place {name}")
-                yield from self.linear(pid, [chosen[1]], ignore=[], what=f"put down {name}")
-            except ActionFailed as error:
-                return str(error)
-            yield from self.release(pid)
-            return None
+    def engage(self, action: PlanAction, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[str, str] | None = None,
+               accept: Accept | None = None, then: Step | None = None) -> Program:
+        def chose(variant: int) -> None:
+            self.variants[pid] = variant
 
-        yield from retrying(self, action, pid, "place", f"place {name}", name, attempt, "no reachable place pose")
+        return actuating.engage(self.cell, action, pid, spec, roles, meet, accept, then, chose)
+
+    def actuate(self, action: PlanAction, pid: str, step: Step, roles: Roles) -> Program:
+        return actuating.actuate(self.cell, action, pid, step, roles, self.variants.get(pid, 0))

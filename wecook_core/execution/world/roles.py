@@ -1,4 +1,5 @@
-"""The top layer of the PyBullet world (:mod:`wecook_core.execution.world`): an action's roles as primitives.
+"""The roles of the world (:mod:`wecook_core.execution.world`), written against its :class:`~.protocols.Scene`,
+:class:`~.protocols.Arm` and :class:`~.primitives.Primitives`: an action's roles as primitives.
 An individual action grasps its tool (or ingredient), engages and actuates through its skill's steps, and puts
 the tool back; a handover's giver and receiver, and a holding's holder and actor, meet through the action's
 :class:`~wecook_core.execution.executor.Meeting`. Each action first claims the table area it works in.
@@ -11,16 +12,16 @@ import math
 from collections.abc import Callable, Sequence
 
 import numpy as np
-import pybullet as p
 
-from wecook_core.execution.planning_scene import ARM_MARGIN
 from wecook_core.execution.program import WAIT, ActionFailed, Meeting, Program
-from wecook_core.execution.robot import REST, detach, set_arm_collisions
-from wecook_core.execution.scene import SIM_HZ
 from wecook_core.execution.skills import skill_name
 from wecook_core.execution.tsr import TSR
 from wecook_core.execution.world.primitives import Missed, Primitives
+from wecook_core.execution.world.protocols import Cell
 from wecook_core.plan import PlanAction
+
+Role = Callable[[PlanAction, str, Meeting], Program]
+"""A collaboration's role: the action, the person playing it, where the roles meet."""
 
 ZONE_MARGIN = 0.08
 """Metres around the objects of an action that its arm may sweep over while working."""
@@ -31,8 +32,22 @@ ZONE_WAIT_SECONDS = 120.0
 keep the arms apart)."""
 
 
-class BulletWorld(Primitives):
-    """The executor's :class:`~wecook_core.execution.executor.World` in PyBullet."""
+class RolePlayer:
+    """Plays the roles of actions with the arms of ``cell`` through ``primitives``; keeps the table areas the
+    running actions work in."""
+
+    def __init__(self, cell: Cell, primitives: Primitives):
+        self.cell = cell
+        self.scene = cell.scene
+        self.arms = cell.arms
+        self.skills = cell.skills
+        self.primitives = primitives
+        self.zones: dict[str, np.ndarray] = {}
+        """Action id -> the table area it works in, while it runs (see :meth:`_claim_zone`)."""
+        self.zone_users: dict[str, set[str]] = {}
+        self.collaborations: dict[str, tuple[Role, Role]] = {"handover": (self._giver, self._receiver),
+                                                             "holding": (self._holder, self._actor)}
+        """Verb -> the roles of its two persons, in ``action.pids`` order."""
 
     def _zone(self, action: PlanAction) -> np.ndarray:
         """The table area an action works in: ``[[x0, y0], [x1, y1]]`` around the objects it names (and the
@@ -41,10 +56,9 @@ class BulletWorld(Primitives):
         if action.partner is not None:
             act = action.partner
             names |= {act.tool, act.location, act.source, *act.ingredients}
-        boxes = [np.array(p.getAABB(self.bodies.objects[n].body, physicsClientId=self.client))[:, :2]
-                 for n in names if n is not None]
+        boxes = [box[:, :2] for box in self.scene.boxes([n for n in names if n is not None])]
         if action.verb == "handover":
-            meet = self._meet(*action.pids[:2])[:2, 3]
+            meet = self.scene.meet(*action.pids[:2])[:2, 3]
             boxes.append(np.array([meet - 0.1, meet + 0.1]))
         if not boxes:
             return np.zeros((2, 2))
@@ -56,7 +70,7 @@ class BulletWorld(Primitives):
         if action.id in self.zones:
             return
         zone = self._zone(action)
-        for _ in range(int(ZONE_WAIT_SECONDS * SIM_HZ)):
+        for _ in range(int(ZONE_WAIT_SECONDS * self.scene.hz)):
             busy = [z for owner, z in self.zones.items() if owner != action.id
                     and np.all(zone[0] < z[1]) and np.all(z[0] < zone[1])]
             if not busy:
@@ -77,21 +91,21 @@ class BulletWorld(Primitives):
                 self.zones.pop(action.id, None)
 
     def _role(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
-        if action.verb == "handover":
-            giver, _receiver = action.pids
-            yield from (self._giver(action, pid, meeting) if pid == giver else self._receiver(action, pid, meeting))
-        elif action.verb == "holding":
-            holder = action.pids[0]
-            yield from (self._holder(action, pid, meeting) if pid == holder else self._actor(action, pid, meeting))
-        else:
+        """The collaboration's role of ``pid`` (the first of ``action.pids`` plays the first role), else the
+        individual action."""
+        roles = self.collaborations.get(action.verb)
+        if roles is None:
             yield from self._individual(action, pid, action.verb, action.tool, action.ingredients, action.location,
                                         action.source)
+            return
+        first, second = roles
+        yield from (first if pid == action.pids[0] else second)(action, pid, meeting)
 
     def _individual(self, action: PlanAction, pid: str, verb: str, tool: str | None, ingredients: Sequence[str],
                     location: str | None, source: str | None,
                     after_grasp: Callable[[], Program] | None = None,
                     after_work: Callable[[], None] | None = None) -> Program:
-        tool_category = self.bodies.objects[tool].category if tool else None
+        tool_category = self.scene.category(tool) if tool else None
         skill = self.skills.skills.get(skill_name(verb, tool, tool_category))
         if skill is None:
             raise ActionFailed(f"no skill for {verb!r}")
@@ -102,12 +116,12 @@ class BulletWorld(Primitives):
         ingredient = ingredients[0] if ingredients else None
         if ingredient is None and carried != tool:
             ingredient = carried
-        loc = location or (self._container_of(ingredient) if ingredient else None) or ingredient
+        loc = location or (self.scene.container_of(ingredient) if ingredient else None) or ingredient
         roles: dict[str, str | None] = {"tool": carried, "ingredient": ingredient or loc, "location": loc,
-                                        "source": source or (self._container_of(ingredient) or ingredient
+                                        "source": source or (self.scene.container_of(ingredient) or ingredient
                                                              if ingredient else None)}
-        home = self.pose(carried)
-        yield from self.grasp(action, pid, carried)
+        home = self.scene.pose(carried)
+        yield from self.primitives.grasp(action, pid, carried)
         if after_grasp is not None:
             yield from after_grasp()
         k, second_tries = 0, 1
@@ -116,39 +130,40 @@ class BulletWorld(Primitives):
             if step.primitive == "engage":
                 assert step.tsr is not None
                 after = skill.steps[k + 1] if k + 1 < len(skill.steps) else None
-                yield from self.engage(action, pid, step.tsr, roles,
+                yield from self.primitives.engage(action, pid, step.tsr, roles,
                                        then=after if after is not None and after.primitive == "actuate" else None)
             else:
                 try:
-                    yield from self.actuate(action, pid, step, roles)
+                    yield from self.primitives.actuate(action, pid, step, roles)
                 except ActionFailed as error:  # it failed before moving: engage anew (a new sample), then again
                     if isinstance(error, Missed) or not (second_tries and k > 0
                                                          and skill.steps[k - 1].primitive == "engage"):
                         raise
                     second_tries -= 1
-                    self._event("retry", action, pid, f"engage again for the {step.motion} ({error})", "actuate")
-                    yield from self._let_other_move(pid)
+                    self.scene.event("retry", action, pid, f"engage again for the {step.motion} ({error})",
+                                     "actuate")
+                    yield from self.arms[pid].let_other_move()
                     k -= 1
                     continue
             k += 1
         if after_work is not None:
             after_work()
-        if self.hands[pid].carried is not None:
+        if self.scene.hand(pid).carried is not None:
             try:
-                yield from self.place(action, pid, home)
+                yield from self.primitives.place(action, pid, home)
             except ActionFailed as error:  # its spot is out of reach now: any free spot near it will do
                 near = TSR(home, np.eye(4), np.array([[-0.12, 0.12], [-0.12, 0.12], [0.004, 0.004], [0, 0], [0, 0],
                                                       [-math.pi / 2, math.pi / 2]]))
-                self._event("retry", action, pid, f"place {carried} near its spot ({error})", "place")
-                yield from self.place(action, pid, [near], free=True)
-        yield from self.go_home(pid)
+                self.scene.event("retry", action, pid, f"place {carried} near its spot ({error})", "place")
+                yield from self.primitives.place(action, pid, [near], free=True)
+        yield from self.arms[pid].home()
 
     def _mid_air(self, name: str) -> bool:
         """Whether ``name`` is handed over mid-air: a tool long enough for both hands on it, each grasping near its
         own end (:data:`HAND_OVER_ROOM` beyond the receiver's clearance between them); else on the table."""
-        if self._kind(name) != "tool":
+        if self.scene.kind(name) != "tool":
             return False
-        return 2 * 0.55 * self.half(name).hx >= self.skills.receiver_clearance + HAND_OVER_ROOM
+        return 2 * 0.55 * self.scene.half(name).hx >= self.skills.receiver_clearance + HAND_OVER_ROOM
 
     def _giver(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
         """Mid-air for long objects (tools): carry it to the meeting pose, wait until the receiver holds it, let
@@ -157,33 +172,33 @@ class BulletWorld(Primitives):
         name = action.tool
         assert name is not None
         giver, receiver = action.pids
-        yield from self.grasp(action, pid, name)
-        meet = self._meet(giver, receiver)
+        yield from self.primitives.grasp(action, pid, name)
+        meet = self.scene.meet(giver, receiver)
         if not self._mid_air(name):
             spot = meet.copy()
-            spot[2, 3] = self.bodies.table_height + self.half(name).hz
+            spot[2, 3] = self.scene.table_height + self.scene.half(name).hz
             region = TSR(spot, np.eye(4), np.array([[-0.1, 0.1], [-0.25, 0.25], [0.002, 0.006], [0, 0], [0, 0],
                                                     [-math.pi, math.pi]]))
-            yield from self.place(action, pid, [region], free=True)
+            yield from self.primitives.place(action, pid, [region], free=True)
             meeting.signal("at_meet")
-            yield from self.go_home(pid)
+            yield from self.arms[pid].home()
             meeting.signal("released")  # out of the way
             return
 
-        reach = float(np.linalg.norm(self.hands[pid].riding[0].T_ee_obj[:2, 3]))  # hand to object centre
+        reach = float(np.linalg.norm(self.scene.hand(pid).riding[0].T_ee_obj[:2, 3]))  # hand to object centre
 
         def on_giver_side(T_ee: np.ndarray) -> bool:
             """The tool along the giver-receiver line, the giver's hand on its own end."""
             local = np.linalg.inv(meet) @ T_ee
             return bool(local[0, 3] < -0.8 * reach)
 
-        yield from self.engage(action, pid, self.skills.meet, {"tool": name}, meet=(giver, receiver),
+        yield from self.primitives.engage(action, pid, self.skills.meet, {"tool": name}, meet=(giver, receiver),
                                accept=on_giver_side)
         meeting.signal("at_meet")
         yield from meeting.wait_for("taken")
-        yield from self._hold(0.2)
-        yield from self.release(pid)
-        yield from self.go_home(pid)
+        yield from self.scene.hold(0.2)
+        yield from self.primitives.release(pid)
+        yield from self.arms[pid].home()
         meeting.signal("released")  # and out of the way
 
     def _receiver(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
@@ -193,42 +208,39 @@ class BulletWorld(Primitives):
         yield from meeting.wait_for("at_meet")
         if not self._mid_air(name):  # on the table: an ordinary grasp once the giver has let go
             yield from meeting.wait_for("released")
-            yield from self.grasp(action, pid, name, primitive="take")
+            yield from self.primitives.grasp(action, pid, name, primitive="take")
         else:
             giver_ee = self.arms[giver].ee()
             clearance = self.skills.receiver_clearance
-            regions = self._grasp_tsrs(name, pid, flip=True)
+            regions = self.primitives.grasp_tsrs(name, pid, flip=True)
 
             def clear_of_giver(T: np.ndarray) -> bool:
                 """clear of the giver's hand"""
                 return bool(np.linalg.norm(T[:3, 3] - giver_ee[:3, 3]) >= clearance)
 
-            self.arm_margin = 0.0
-            try:
-                yield from self.grasp(action, pid, name, lift=False, tsrs=regions, accept=clear_of_giver,
-                                      primitive="take")
-            finally:
-                self.arm_margin = ARM_MARGIN
-            self.hands[giver].riding = []
+            with self.arms[pid].margin_to_other(0.0):
+                yield from self.primitives.grasp(action, pid, name, lift=False, tsrs=regions, accept=clear_of_giver,
+                                                 primitive="take")
+            self.scene.drop_riding(giver, [r.name for r in self.scene.hand(giver).riding])
             meeting.signal("taken")
             yield from meeting.wait_for("released")
         drop = self.skills.drop
-        T0_w, sizes = self.frame(drop, {"tool": name}, pid)
-        yield from self.place(action, pid, [drop.tsr(T0_w, sizes)], free=True)
-        yield from self.go_home(pid)
+        T0_w, sizes = self.scene.frame(drop, {"tool": name}, pid)
+        yield from self.primitives.place(action, pid, [drop.tsr(T0_w, sizes)], free=True)
+        yield from self.arms[pid].home()
 
     def _holder(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
         name = action.tool
         assert name is not None
         yield from meeting.wait_for("tool_ready")  # the actor first takes its tool, then the container is held
-        kind = self._kind(name)
+        kind = self.scene.kind(name)
         hold = {"open_container": "hold_rim", "flat_container": "hold_flat"}.get(kind)
-        regions = self._grasp_tsrs(name, pid, kinds=[hold] if hold else None)
+        regions = self.primitives.grasp_tsrs(name, pid, kinds=[hold] if hold else None)
         # rims: each grasp in the library's order; boards: either end, sampled together
         groups = [regions] if kind == "flat_container" else [[r] for r in regions]
-        centre = self.pose(name)[:2, 3]
+        centre = self.scene.pose(name)[:2, 3]
         actor = next(k for k in action.pids if k != pid)
-        toward = self.bodies.arms[actor].base[:2, 3] - centre
+        toward = self.scene.base(actor)[:2, 3] - centre
         toward /= max(float(np.linalg.norm(toward)), 1e-9)
 
         def far_side(T: np.ndarray) -> float:
@@ -239,17 +251,18 @@ class BulletWorld(Primitives):
 
         for k, group in enumerate(groups):
             try:
-                yield from self.grasp(action, pid, name, lift=False, primitive="hold", tsrs=group, rank=far_side)
+                yield from self.primitives.grasp(action, pid, name, lift=False, primitive="hold", tsrs=group,
+                                                 rank=far_side)
                 break
             except ActionFailed:
                 if k == len(groups) - 1:
                     raise
-        yield from self._hold(self.skills.hold_time)
+        yield from self.scene.hold(self.skills.hold_time)
         meeting.signal("held")
         yield from meeting.wait_for("acted")
-        yield from self._hold(self.skills.hold_time)
-        yield from self.release(pid)
-        yield from self.go_home(pid)
+        yield from self.scene.hold(self.skills.hold_time)
+        yield from self.primitives.release(pid)
+        yield from self.arms[pid].home()
 
     def _actor(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
         act = action.partner
@@ -257,7 +270,7 @@ class BulletWorld(Primitives):
             raise ActionFailed("holding without the partner's action")
         def ready() -> Program:  # tool in hand, wait out of the holder's way
             with contextlib.suppress(ActionFailed):
-                yield from self.transit(pid, REST.copy(), what="wait at rest")
+                yield from self.arms[pid].park(what="wait at rest")
             meeting.signal("tool_ready")
             yield from meeting.wait_for("held")
 
@@ -268,25 +281,22 @@ class BulletWorld(Primitives):
     def recover(self, pid: str) -> Program:
         """After a failure: put what the hand carries down on a free spot near where it was picked up (else let
         it go where it is), then go home."""
-        self.reserved[pid] = None
-        carried = self.hands[pid].carried
-        if carried is not None and self.hands[pid].constraint is not None and carried in self.picked_from:
-            near = TSR(self.picked_from[carried], np.eye(4), np.array(
+        arm, hand = self.arms[pid], self.scene.hand(pid)
+        arm.forget_motion()
+        carried = hand.carried
+        picked = self.scene.picked_from(carried) if carried is not None else None
+        if carried is not None and hand.constraint is not None and picked is not None:
+            near = TSR(picked, np.eye(4), np.array(
                 [[-0.12, 0.12], [-0.12, 0.12], [0.004, 0.004], [0, 0], [0, 0], [-math.pi / 2, math.pi / 2]]))
             with contextlib.suppress(ActionFailed):
-                yield from self.place(None, pid, [near], free=True)
-        if self.hands[pid].carried is not None or self.hands[pid].riding:
-            hand = self.hands[pid]
+                yield from self.primitives.place(None, pid, [near], free=True)
+        if hand.carried is not None or hand.riding:
             for r in hand.riding:
-                set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[r.name].body,
-                                   enabled=True)
-            if hand.constraint is not None:
-                detach(self.client, hand.constraint)
-            hand.carried, hand.constraint, hand.riding = None, None, []
-            self._set_grip(pid, 0.04)
+                self.scene.collide_with_arm(pid, r.name, enabled=True)
+            self.scene.detach(pid)
+            arm.set_grip(0.04)
         try:
-            yield from self.go_home(pid)
+            yield from arm.home()
         except ActionFailed as error:
-            if self.observer is not None:
-                self.observer.on_log(self.time, "warning", f"{pid} could not return home: {error}")
-        self.reserved[pid] = None
+            self.scene.log("warning", f"{pid} could not return home: {error}")
+        arm.forget_motion()

@@ -1,24 +1,26 @@
-"""The first layer of the PyBullet world (:mod:`wecook_core.execution.world`): the simulating and the planning
-client with the plan's scene, what each hand holds, the clock and its steps, what the observer is told (states
-at 30 Hz, arm contacts, events, camera images at action boundaries), and where things are (object poses, the
-frames TSRs are expressed in)."""
+"""The scene of the PyBullet world (:mod:`wecook_core.execution.world`), a :class:`~.protocols.Scene`: the
+simulating and the planning client with the plan's scene, what each hand holds, the clock and its steps, what the
+observer is told (states at 30 Hz, arm contacts, events, camera images at action boundaries), and where things are
+(object poses, the frames TSRs are expressed in)."""
 
 from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from collections.abc import Callable, Iterable, Sequence
+from typing import Literal
 
 import numpy as np
 import pybullet as p
 
 from wecook_core.execution.observer import FrameInfo, RunEvent, RunObserver
-from wecook_core.execution.planning_scene import ARM_MARGIN, PlanningScene, Riding
-from wecook_core.execution.program import ActionFailed
-from wecook_core.execution.robot import EE_LINK, REST, Panda, set_arm_collisions
+from wecook_core.execution.planning_scene import PlanningScene, Riding
+from wecook_core.execution.program import WORK, ActionFailed, Program
+from wecook_core.execution.robot import EE_LINK, REST, Panda, attach, detach, set_arm_collisions
 from wecook_core.execution.scene import SIM_HZ, SceneBodies, build_scene, link_frames, world_poses
-from wecook_core.execution.skills import Half, SkillLibrary, TSRSpec, load_skills, object_kind
+from wecook_core.execution.skills import Half, SkillLibrary, TSRSpec, object_kind
 from wecook_core.execution.tsr import pose_to_matrix
+from wecook_core.execution.world.protocols import Hand, Roles
 from wecook_core.model import Category
 from wecook_core.plan import Plan, PlanAction
 
@@ -33,65 +35,35 @@ IMAGE_SIZE = (320, 240)
 """Pixels of the camera images taken at action boundaries."""
 
 
-@dataclass
-class Hand:
-    """What one arm holds now."""
+class BulletScene:
+    """The scene in two PyBullet clients: the simulation stepped with the arms where they are commanded, and the
+    planning copy the arms plan in."""
 
-    carried: str | None = None
-    constraint: int | None = None
-    riding: list[Riding] = field(default_factory=list)
-    grip: float = 0.04
-
-
-class WorldState:
-    """The scene in two PyBullet clients and the run's state; the layers above add motion, primitives, roles."""
-
-    def __init__(self, plan: Plan, observer: RunObserver | None, *, seed: int = 0, realtime: bool = False,
-                 planner: str = "rrtconnect", planning_time: float = 1.0, images: bool = True,
-                 skills: SkillLibrary | None = None, attempts: int = 3, samples: int = 12):
+    def __init__(self, plan: Plan, observer: RunObserver | None, skills: SkillLibrary, *, realtime: bool = False,
+                 images: bool = True):
         self.plan = plan
         self.observer = observer
+        self.skills = skills
         self.client = p.connect(p.DIRECT)
         self.bodies: SceneBodies = build_scene(self.client, plan)
         self.planning = PlanningScene(plan)
-        self.arms = {pid: Panda(self.client, arm.body) for pid, arm in self.bodies.arms.items()}
-        self.skills = skills or load_skills()
-        self.rng = np.random.default_rng(seed)
-        self.seed = seed
+        self.robots = {pid: Panda(self.client, arm.body) for pid, arm in self.bodies.arms.items()}
         self.realtime = realtime
-        self.planner = planner
-        self.planning_time = planning_time
         self.images = images
-        self.attempts = attempts
-        self.samples = samples
         self.steps = 0
-        self.queries = 0
         self.wall_start = time.perf_counter()
-        self.hands = {pid: Hand() for pid in self.arms}
+        self.hands = {pid: Hand() for pid in self.robots}
         self.commands: dict[str, np.ndarray] = {}
-        self.reserved: dict[str, np.ndarray | None] = {pid: None for pid in self.arms}
+        """Arm -> the joints it is commanded to (where it is at the next step)."""
         self.arm_contacts = 0
-        self.arm_margin = ARM_MARGIN
-        """Metres kept between the arms when planning (lowered while the receiver of a handover takes)."""
-        self.goal_blockers: set[str] = set()
-        """What blocked the goal candidates since the last failure report."""
-        self.other_in_the_way = False
-        """The other arm blocked the last goals or straight path (the next retry waits for it to go home)."""
-        self.right_of_way: str | None = None
-        """An arm the other one blocked: the other waits at rest until this arm's primitive ends."""
-        self.zones: dict[str, np.ndarray] = {}
-        """Action id -> the table area it works in, while it runs (see :meth:`_claim_zone`)."""
-        self.zone_users: dict[str, set[str]] = {}
-        self.picked_from: dict[str, np.ndarray] = {}
+        self.ended: list[Callable[[str], None]] = []
+        """Called with the arm whose primitive ended or failed."""
+        self._picked_from: dict[str, np.ndarray] = {}
         """Object -> its pose when last grasped (where a failed action puts it back)."""
-        self.variants: dict[str, int] = {}
-        """Arm -> the axis option of its next actuation, chosen when engaging."""
-        self.moved_at = {pid: 0.0 for pid in self.arms}
-        """Simulated time each arm last moved."""
         self._touching = False
         self._riding: set[str] = set()
         """Objects riding on a hand at the last step."""
-        for pid, arm in self.arms.items():
+        for pid, arm in self.robots.items():
             arm.set_q(REST, 0.04)
             self.commands[pid] = REST.copy()
         for _ in range(60):  # let the objects settle before the clock starts
@@ -108,6 +80,14 @@ class WorldState:
     def dt(self) -> float:
         return 1 / SIM_HZ
 
+    @property
+    def hz(self) -> int:
+        return SIM_HZ
+
+    @property
+    def table_height(self) -> float:
+        return self.bodies.table_height
+
     def close(self) -> None:
         self.planning.close()
         if p.isConnected(self.client):
@@ -116,9 +96,20 @@ class WorldState:
     def frames(self) -> list[FrameInfo]:
         return self._frames
 
+    def hold(self, seconds: float) -> Program:
+        for _ in range(max(int(seconds * SIM_HZ), 1)):
+            yield WORK
+
+    def sync(self) -> None:
+        self.planning.sync(self.bodies, {pid: h.riding for pid, h in self.hands.items()})
+
+    def log(self, level: Literal["debug", "info", "warning", "error"], text: str) -> None:
+        if self.observer is not None:
+            self.observer.on_log(self.time, level, text)
+
     def step(self) -> None:
         c = self.client
-        for pid, arm in self.arms.items():  # kinematic arms: exactly where commanded, every step
+        for pid, arm in self.robots.items():  # kinematic arms: exactly where commanded, every step
             arm.set_q(self.commands[pid])
         for pid, hand in self.hands.items():
             if hand.riding:
@@ -149,13 +140,13 @@ class WorldState:
     def publish_state(self) -> None:
         if self.observer is None:
             return
-        joints = {pid: (JOINT_NAMES, [*arm.q(), arm.fingers(), arm.fingers()]) for pid, arm in self.arms.items()}
+        joints = {pid: (JOINT_NAMES, [*arm.q(), arm.fingers(), arm.fingers()]) for pid, arm in self.robots.items()}
         self.observer.on_state(self.time, world_poses(self.bodies), joints)
 
     def _check_arm_contact(self) -> None:
         """Count each new touch (penetration deeper than :data:`TOUCH_DEPTH`) between the two arms' links."""
         c = self.client
-        pids = sorted(self.arms)
+        pids = sorted(self.robots)
         if len(pids) < 2:
             return
         a, b = (self.bodies.arms[pid].body for pid in pids[:2])
@@ -167,15 +158,16 @@ class WorldState:
             x = min(points, key=lambda q: q[8])
             detail = (f"the two arms touched: {pids[0]} {names_a[x[3] + 1]} and {pids[1]} {names_b[x[4] + 1]} "
                       f"({-x[8] * 1000:.1f} mm deep)")
-            self._event("primitive_failed", None, None, detail)
+            self.event("primitive_failed", None, None, detail)
             if self.observer is not None:
                 self.observer.on_log(self.time, "error", detail)
         self._touching = touching
 
-    def _event(self, kind: str, action: PlanAction | None, pid: str | None, detail: str = "",
-               primitive: str | None = None) -> None:
-        if kind in ("primitive_end", "primitive_failed") and pid is not None and pid == self.right_of_way:
-            self.right_of_way = None
+    def event(self, kind: str, action: PlanAction | None, pid: str | None, detail: str = "",
+              primitive: str | None = None) -> None:
+        if kind in ("primitive_end", "primitive_failed") and pid is not None:
+            for call in self.ended:
+                call(pid)
         if self.observer is not None:
             self.observer.on_event(self.time, RunEvent(kind, action.id if action else None, primitive, pid, detail))  # type: ignore[arg-type]
 
@@ -205,7 +197,7 @@ class WorldState:
         s = self.bodies.objects[name].size
         return Half(s[0] / 2, s[1] / 2, s[2] / 2)
 
-    def _facing(self, name: str, pid: str) -> np.ndarray:
+    def facing(self, name: str, pid: str) -> np.ndarray:
         T = self.pose(name)
         base = self.bodies.arms[pid].base[:3, 3]
         yaw = math.atan2(base[1] - T[1, 3], base[0] - T[0, 3])
@@ -214,7 +206,7 @@ class WorldState:
         out[:3, 3] = T[:3, 3]
         return out
 
-    def _meet(self, giver: str, receiver: str) -> np.ndarray:
+    def meet(self, giver: str, receiver: str) -> np.ndarray:
         a, b = self.bodies.arms[giver].base[:3, 3], self.bodies.arms[receiver].base[:3, 3]
         yaw = math.atan2(b[1] - a[1], b[0] - a[0])
         out = np.eye(4)
@@ -230,14 +222,14 @@ class WorldState:
         out[:3, :3] = base[:3, :3] @ np.diag([-1.0, -1.0, 1.0])  # x toward the arm
         return out
 
-    def frame(self, spec: TSRSpec, roles: dict[str, str | None], pid: str, meet: tuple[str, str] | None = None
+    def frame(self, spec: TSRSpec, roles: Roles, pid: str, meet: tuple[str, str] | None = None
               ) -> tuple[np.ndarray, dict[str, Half]]:
         """The TSR frame (4x4) and the half-extent table for expressions."""
         sizes = {"t": self.half(roles.get("tool")), "i": self.half(roles.get("ingredient")),
                  "l": self.half(roles.get("location"))}
         if spec.frame == "meet":
             assert meet is not None
-            return self._meet(*meet), sizes
+            return self.meet(*meet), sizes
         if spec.frame == "drop":
             return self._drop(pid), sizes
         kind, role = spec.frame.split(":", 1)
@@ -245,7 +237,7 @@ class WorldState:
         if name is None:
             raise ActionFailed(f"the skill needs a {role} and the action names none")
         sizes["f"] = self.half(name)
-        return (self._upright(name) if kind == "object" else self._facing(name, pid)), sizes
+        return (self._upright(name) if kind == "object" else self.facing(name, pid)), sizes
 
     def _upright(self, name: str) -> np.ndarray:
         """The object's pose as a frame for TSRs; a sphere's only by its position (it turns as it rolls, so its
@@ -255,11 +247,11 @@ class WorldState:
             T[:3, :3] = np.eye(3)
         return T
 
-    def _kind(self, name: str) -> str:
+    def kind(self, name: str) -> str:
         b = self.bodies.objects[name]
         return object_kind(b.category, b.size, b.open_top)
 
-    def _container_of(self, name: str) -> str | None:
+    def container_of(self, name: str) -> str | None:
         """The container an object is in now: the one whose footprint holds its centre, above its floor."""
         T = self.pose(name)
         for other, body in self.bodies.objects.items():
@@ -271,33 +263,79 @@ class WorldState:
                 return other
         return None
 
-    def _contents(self, name: str) -> list[str]:
+    def contents(self, name: str) -> list[str]:
         if self.bodies.objects[name].category is not Category.CONTAINER:
             return []
         return [n for n, b in self.bodies.objects.items()
-                if b.category is Category.INGREDIENT and n != name and self._container_of(n) == name]
+                if b.category is Category.INGREDIENT and n != name and self.container_of(n) == name]
 
-    def _other(self, pid: str) -> str | None:
-        return next((k for k in self.arms if k != pid), None)
+    def names(self) -> list[str]:
+        return list(self.bodies.objects)
+
+    def category(self, name: str) -> Category:
+        return self.bodies.objects[name].category
+
+    def shape(self, name: str) -> str:
+        return self.plan.scene.object(name).shape
+
+    def size(self, name: str) -> tuple[float, float, float]:
+        s = self.bodies.objects[name].size
+        return (s[0], s[1], s[2])
+
+    def supports(self, name: str) -> list[str]:
+        return [c for n, c in self.plan.scene.containing if n == name]
+
+    def boxes(self, names: Iterable[str]) -> list[np.ndarray]:
+        return [np.array(p.getAABB(self.bodies.objects[n].body, physicsClientId=self.client)) for n in names]
+
+    def base(self, pid: str) -> np.ndarray:
+        return self.bodies.arms[pid].base
 
     # ------------------------------------------------------------------------------- hands
 
-    def _ride(self, pid: str, name: str, T_ee_obj: np.ndarray | None = None) -> None:
-        """``name`` moves with ``pid``'s hand from now on (and with no other hand)."""
+    def hand(self, pid: str) -> Hand:
+        return self.hands[pid]
+
+    def picked_from(self, name: str) -> np.ndarray | None:
+        return self._picked_from.get(name)
+
+    def attach(self, pid: str, name: str) -> None:
+        self._picked_from[name] = self.pose(name)
+        constraint, T_ee_obj = attach(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body)
+        hand = self.hands[pid]
+        hand.carried, hand.constraint = name, constraint
+        hand.riding = [Riding(name, T_ee_obj)]
+
+    def detach(self, pid: str) -> None:
+        hand = self.hands[pid]
+        if hand.constraint is not None:
+            detach(self.client, hand.constraint)
+        hand.carried, hand.constraint, hand.riding = None, None, []
+
+    def ride(self, pid: str, name: str, T_ee_obj: np.ndarray | None = None) -> None:
         for other, hand in self.hands.items():
             if other != pid:
                 hand.riding = [r for r in hand.riding if r.name != name]
-        T = np.linalg.inv(self.arms[pid].ee()) @ self.pose(name) if T_ee_obj is None else T_ee_obj
+        T = np.linalg.inv(self.robots[pid].ee()) @ self.pose(name) if T_ee_obj is None else T_ee_obj
         self.hands[pid].riding.append(Riding(name, T))
-        self._collide_with_arm(pid, name, enabled=False)
+        self.collide_with_arm(pid, name, enabled=False)
 
-    def _holder_of(self, name: str, pid: str) -> str | None:
-        """The other arm whose hand carries ``name`` (or has it riding), if any."""
+    def drop_riding(self, pid: str, names: Iterable[str]) -> None:
+        gone = set(names)
+        hand = self.hands[pid]
+        hand.riding = [r for r in hand.riding if r.name not in gone]
+
+    def holder_of(self, name: str, pid: str) -> str | None:
         return next((k for k, h in self.hands.items() if k != pid and any(r.name == name for r in h.riding)), None)
 
-    def _collide_with_arm(self, pid: str, name: str, *, enabled: bool) -> None:
+    def collide_with_arm(self, pid: str, name: str, *, enabled: bool) -> None:
         set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body, enabled=enabled)
 
-    def _set_grip(self, pid: str, width: float) -> None:
+    def set_collisions(self, pairs: Sequence[tuple[str, str]], *, enabled: bool) -> None:
+        for a, b in pairs:
+            p.setCollisionFilterPair(self.bodies.objects[a].body, self.bodies.objects[b].body, -1, -1, int(enabled),
+                                     physicsClientId=self.client)
+
+    def set_grip(self, pid: str, width: float) -> None:
         self.hands[pid].grip = width
-        self.arms[pid].set_fingers(width)
+        self.robots[pid].set_fingers(width)
