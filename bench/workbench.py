@@ -6,7 +6,8 @@
   (seek, decode, resize, draw, half-blocks), as an app without the cache and prefetch would pay on every key.
 - playback: distinct frames painted per second over 3 s of play, against the video's frame rate.
 - `wecook open` -> first frame shown: a real `wecook open` process on a pseudo-terminal, from spawning it to
-  the frame view's first paint of a decoded frame (the app writes that moment to ``$WECOOK_FIRST_FRAME``).
+  the frame view's first paint of a decoded frame, and to the screen with the session's boxes and hands (the
+  app writes both moments to ``$WECOOK_FIRST_FRAME``).
   Baseline: `wecook --help` in the same run (interpreter start and the command line).
 
   Measured on this video, on the bundled demo, and on a 90-second two-person scenario with OpenPose hands.
@@ -176,8 +177,9 @@ def _spawn_on_pty(argv: list[str], env: dict[str, str]) -> tuple[subprocess.Pope
     return process, master
 
 
-def open_seconds(session: Path) -> float:
-    """From spawning `wecook open` on a pseudo-terminal to its first painted video frame."""
+def open_seconds(session: Path) -> tuple[float, float]:
+    """From spawning `wecook open` on a pseudo-terminal to its first painted video frame, and to the screen
+    with the session's boxes and hands (the video is shown first, while they load)."""
     marker = session.parent / "first-frame.txt"
     marker.unlink(missing_ok=True)
     env = {**os.environ, "WECOOK_FIRST_FRAME": str(marker), "TERM": "xterm-256color",
@@ -189,11 +191,13 @@ def open_seconds(session: Path) -> float:
     process, master = _spawn_on_pty([wecook, "open", session.name, "--root", str(session.parent)], env)
     try:
         deadline = time.monotonic() + 30
-        while not marker.exists() or not marker.read_text().strip():
+        while True:
+            moments = dict(line.split() for line in marker.read_text().splitlines()) if marker.exists() else {}
+            if "frame" in moments and "session" in moments:
+                return float(moments["frame"]) - started, float(moments["session"]) - started
             if time.monotonic() > deadline or process.poll() is not None:
-                raise RuntimeError("wecook open never showed a frame")
+                raise RuntimeError("wecook open never showed a frame and the session")
             time.sleep(0.005)
-        return float(marker.read_text()) - started
     finally:
         process.kill()
         process.wait()
@@ -241,16 +245,18 @@ def run() -> list[dict]:
                  "ratio_vs_baseline": painted_fps / video_fps,
                  "note": f"{PLAY_SECONDS:.0f} s of play; baseline: the video's {video_fps:.0f} fps; the cursor "
                          f"advanced at {advanced_fps:.1f} frames/s (the video's clock)"})
-    best_open, best_help = min(opens), min(helps)
-    rows.append({"benchmark": "wecook open -> first frame shown", "value": best_open, "unit": "s",
-                 "ratio_vs_baseline": best_open / best_help,
-                 "note": f"best of 3 (all: {', '.join(f'{o:.2f}' for o in opens)}); target < 1 s; "
-                         f"baseline: wecook --help {best_help:.2f} s"})
-    for name, times in other_opens.items():
-        rows.append({"benchmark": f"wecook open -> first frame shown, {name}", "value": min(times), "unit": "s",
-                     "ratio_vs_baseline": min(times) / best_help,
-                     "note": f"best of 3 (all: {', '.join(f'{o:.2f}' for o in times)}); target < 1 s; "
+    best_help = min(helps)
+    for name, times in {"": opens, **other_opens}.items():
+        where = f", {name}" if name else ""
+        frames, sessions = [t[0] for t in times], [t[1] for t in times]
+        rows.append({"benchmark": f"wecook open -> first frame shown{where}", "value": min(frames), "unit": "s",
+                     "ratio_vs_baseline": min(frames) / best_help,
+                     "note": f"best of 3 (all: {', '.join(f'{o:.2f}' for o in frames)}); target < 1 s; "
                              f"baseline: wecook --help {best_help:.2f} s"})
+        rows.append({"benchmark": f"wecook open -> boxes and hands shown{where}", "value": min(sessions),
+                     "unit": "s", "ratio_vs_baseline": min(sessions) / best_help,
+                     "note": f"best of 3 (all: {', '.join(f'{o:.2f}' for o in sessions)}); the session's "
+                             f"observations drawn on the frame; baseline: wecook --help {best_help:.2f} s"})
     return rows
 
 

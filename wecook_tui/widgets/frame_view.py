@@ -10,7 +10,6 @@ from __future__ import annotations
 import contextlib
 import os
 import time
-from pathlib import Path
 
 import numpy as np
 from textual import work
@@ -26,12 +25,13 @@ PREFETCH = 120
 """Frames decoded ahead of the cursor."""
 
 
-def _report_first_frame() -> None:
-    """Write the wall time of the first painted video frame to ``$WECOOK_FIRST_FRAME`` (for bench.workbench)."""
+def report_moment(name: str) -> None:
+    """Append ``name`` and the wall time to ``$WECOOK_FIRST_FRAME`` (for bench.workbench): ``frame`` when the
+    first video frame is painted, ``session`` when the boxes and hands are on screen."""
     path = os.environ.get("WECOOK_FIRST_FRAME")
     if path:
-        with contextlib.suppress(OSError):
-            Path(path).write_text(f"{time.time():.6f}")
+        with contextlib.suppress(OSError), open(path, "a") as out:
+            out.write(f"{name} {time.time():.6f}\n")
 
 
 class FrameView(Widget):
@@ -58,7 +58,8 @@ class FrameView(Widget):
         self._image: np.ndarray | None = None
         self._direction = 1
         self._prefetch_until: int | None = None
-        self._first_reported = False
+        self.first_painted = False
+        """A decoded video frame has been painted."""
         self.misses = 0
         """Frames asked for that were not in the cache yet (the benchmark reports it)."""
         self.painted: tuple[int, float] | None = None
@@ -184,8 +185,8 @@ class FrameView(Widget):
         line = Strip.join([Strip.blank(pad), strip]) if pad else strip
         if y == len(strips) - 1:
             self.painted = (self.shown if self.shown is not None else -1, time.perf_counter())
-            if self._image is not None and not self._first_reported:
-                self._first_reported = True
-                _report_first_frame()
+            if self._image is not None and not self.first_painted:
+                self.first_painted = True
+                report_moment("frame")
                 self.post_message(FirstFramePainted())
         return line.crop_extend(0, width, None)
