@@ -365,10 +365,15 @@ def _pack(rgb: tuple[int, int, int]) -> int:
     return ((rgb[0] & _QUANT) << 16) | ((rgb[1] & _QUANT) << 8) | (rgb[2] & _QUANT)
 
 
+_RUNS: dict[int, Segment] = {}
+"""Half-block runs by ``(top << 24 | bottom) << 10 | length``: a frame step reuses most of them."""
+
+
 def to_strips(canvas: Canvas) -> list[Strip]:
     """One :class:`Strip` per pair of pixel rows; labels overwrite cells with text on the bottom colour.
 
-    Runs of equal cells are found with numpy; Python only loops over the runs.
+    Runs of equal cells are found with numpy over the whole picture at once; Python only looks each run's
+    segment up (built once, reused by later frames). Rows with labels are spliced cell by cell.
     """
     image = canvas.image
     if image.shape[0] % 2:
@@ -382,26 +387,49 @@ def to_strips(canvas: Canvas) -> list[Strip]:
         labels_by_row.setdefault(label.y, []).append(label)
     change = np.ones((rows, width), dtype=bool)
     change[:, 1:] = keys[:, 1:] != keys[:, :-1]
+    flat_keys = keys.ravel()
+    starts = np.flatnonzero(change.ravel())
+    lengths = np.diff(np.append(starts, rows * width)).astype(np.uint64)  # every row starts a run
+    # a run's key and length packed in one int; a picture too wide to pack the length takes the slow path
+    runs = ((flat_keys[starts] << np.uint64(10)) | lengths).tolist() if width < 1024 else []
+    row_starts = np.searchsorted(starts, np.arange(rows + 1) * width).tolist()
+    if len(_RUNS) > 300_000:
+        _RUNS.clear()
     strips: list[Strip] = []
     for row in range(rows):
-        row_keys = keys[row]
-        starts = np.flatnonzero(change[row]).tolist()
         labels = labels_by_row.get(row)
-        cells = _label_cells(labels, (packed[2 * row + 1]).tolist(), width) if labels else None
-        if cells:
-            starts = sorted(set(starts) | set(cells) | {x + 1 for x in cells if x + 1 < width})
-        run_keys = row_keys[starts].tolist()
-        ends = [*starts[1:], width]
+        if labels or not runs:
+            strips.append(_row_strip(keys[row], change[row], packed[2 * row + 1], labels, width))
+            continue
         segments: list[Segment] = []
-        for start, end, key in zip(starts, ends, run_keys, strict=True):
-            if cells is not None and start in cells:
-                segments.append(cells[start])
-                if end - start > 1:
-                    segments.append(Segment(HALF_BLOCK * (end - start - 1), _pair_style(key)))
-            else:
-                segments.append(Segment(HALF_BLOCK * (end - start), _pair_style(key)))
+        append = segments.append
+        for run in runs[row_starts[row]:row_starts[row + 1]]:
+            segment = _RUNS.get(run)
+            if segment is None:
+                segment = _RUNS[run] = Segment(HALF_BLOCK * (run & 1023), _pair_style(run >> 10))
+            append(segment)
         strips.append(Strip(segments, width))
     return strips
+
+
+def _row_strip(row_keys: np.ndarray, change: np.ndarray, bottom: np.ndarray, labels: list[Label] | None,
+               width: int) -> Strip:
+    """One row's strip, with its labels' cells."""
+    starts = np.flatnonzero(change).tolist()
+    cells = _label_cells(labels, bottom.tolist(), width) if labels else None
+    if cells:
+        starts = sorted(set(starts) | set(cells) | {x + 1 for x in cells if x + 1 < width})
+    run_keys = row_keys[starts].tolist()
+    ends = [*starts[1:], width]
+    segments: list[Segment] = []
+    for start, end, key in zip(starts, ends, run_keys, strict=True):
+        if cells is not None and start in cells:
+            segments.append(cells[start])
+            if end - start > 1:
+                segments.append(Segment(HALF_BLOCK * (end - start - 1), _pair_style(key)))
+        else:
+            segments.append(Segment(HALF_BLOCK * (end - start), _pair_style(key)))
+    return Strip(segments, width)
 
 
 def fit(video_size: tuple[int, int], cells: tuple[int, int]) -> tuple[int, int]:

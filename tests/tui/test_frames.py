@@ -181,3 +181,28 @@ def test_action_colours_are_distinct() -> None:
     rgb = {verb: tuple(int(code[i:i + 2], 16) for i in (1, 3, 5)) for verb, code in ACTION_COLOURS.items()}
     for (a, ca), (b, cb) in itertools.combinations(rgb.items(), 2):
         assert sum((x - y) ** 2 for x, y in zip(ca, cb, strict=True)) ** 0.5 > 60, (a, b)
+
+
+def _cells(strip) -> list[tuple[str, tuple[int, int, int], tuple[int, int, int]]]:  # type: ignore[no-untyped-def]
+    return [(char, segment.style.color.triplet, segment.style.bgcolor.triplet)
+            for segment in strip for char in segment.text]
+
+
+def test_half_blocks_show_each_cell_s_two_pixels_frame_after_frame() -> None:
+    """Every cell is ``▀`` with its top pixel as foreground and its bottom pixel as background (5 bits a
+    channel), on pictures with long runs and on noise, one after the other (runs are reused between frames)."""
+    rng = np.random.default_rng(3)
+    blocky = np.repeat(np.repeat(rng.integers(0, 256, (5, 8, 3), dtype=np.uint8), 7, axis=0), 9, axis=1)
+    noise = rng.integers(0, 256, (35, 72, 3), dtype=np.uint8)  # an odd number of rows: the last is doubled
+    for image in (blocky, noise, blocky[::-1].copy()):
+        strips = to_strips(Canvas(image))
+        padded = np.vstack([image, image[-1:]]) if image.shape[0] % 2 else image
+        assert len(strips) == padded.shape[0] // 2
+        for row, strip in enumerate(strips):
+            expected = [(HALF_BLOCK, tuple(int(v) & 0xF8 for v in padded[2 * row, x, ::-1]),
+                         tuple(int(v) & 0xF8 for v in padded[2 * row + 1, x, ::-1])) for x in range(image.shape[1])]
+            assert _cells(strip) == expected, row
+            assert strip.cell_length == image.shape[1]
+    labelled = to_strips(Canvas(blocky, [Label(3, 2, "bowl", (0, 0, 0), (240, 240, 90))]))
+    assert "".join(char for char, _, _ in _cells(labelled[2]))[3:7] == "bowl"
+    assert _cells(labelled[3]) == _cells(to_strips(Canvas(blocky))[3])  # only the label's row changes
