@@ -204,6 +204,8 @@ class BoxMark:
     """RGB."""
     held: bool = False
     """Drawn thicker: a hand holds it in the current segment."""
+    selected: bool = False
+    """Drawn in white, thicker: the user clicked it."""
 
 
 @dataclass(frozen=True)
@@ -285,11 +287,12 @@ def draw(image: np.ndarray, overlay: Overlay, video_size: tuple[int, int]) -> Ca
     labels: list[Label] = []
     for mark in overlay.boxes:
         x1, y1, x2, y2 = mark.box
-        cv2.rectangle(out, pt((x1, y1)), pt((x2, y2)), _bgr(mark.colour), 2 if mark.held else 1)
+        colour = (255, 255, 255) if mark.selected else mark.colour
+        cv2.rectangle(out, pt((x1, y1)), pt((x2, y2)), _bgr(colour), 2 if mark.held or mark.selected else 1)
         if overlay.labels:  # a tag in the box colour, outside the box: above it, or below at the top edge
             cx, cy = pt((x1, y1))
             row = cy // 2 - 1 if cy // 2 >= 1 else pt((x2, y2))[1] // 2 + 1
-            labels.append(Label(max(0, cx), max(0, row), mark.name, contrasting(mark.colour), mark.colour))
+            labels.append(Label(max(0, cx), max(0, row), mark.name, contrasting(colour), colour))
     for link in overlay.links:
         cv2.line(out, pt(link.a), pt(link.b), _bgr(link.colour), 1)
     for hand in overlay.hands:

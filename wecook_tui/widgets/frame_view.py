@@ -8,14 +8,18 @@ the cursor (behind it, when stepping back) in the cache.
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import time
 from collections.abc import Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 from textual import work
+from textual.events import Click
 from textual.filter import ANSIToTruecolor, LineFilter
 from textual.geometry import Size
+from textual.message import Message
 from textual.strip import Strip
 from textual.widget import Widget
 from textual.worker import get_current_worker
@@ -37,7 +41,18 @@ def report_moment(name: str) -> None:
 
 
 class FrameView(Widget):
-    """Shows frame ``index`` of ``source`` with ``overlay`` on top."""
+    """Shows frame ``index`` of ``source`` with ``overlay`` on top; a click says which box or hand it hit."""
+
+    @dataclass
+    class Clicked(Message):
+        """The user clicked the picture of frame ``frame`` at video pixel ``pixel``."""
+
+        frame: int
+        pixel: tuple[float, float]
+        box: str | None
+        """The object whose box (the smallest, where boxes overlap) or label is under the click."""
+        hand: str | None
+        """The hand whose marker or label is under the click (it wins over a box)."""
 
     DEFAULT_CSS = """
     FrameView { height: 1fr; min-height: 6; }
@@ -53,6 +68,10 @@ class FrameView(Widget):
         self.shown: int | None = None
         """The frame whose picture is on screen (lags ``index`` while decoding)."""
         self.overlay = Overlay()
+        self.selected_box: str | None = None
+        """The object drawn as selected (white, thicker): the last box clicked."""
+        self._labels: list[Label] = []
+        """The labels of the picture on screen, in the picture's cells."""
         self.message: str | None = None
         """Printed over the picture when frames cannot be shown (missing or corrupt video)."""
         self._strips: list[Strip] = []
@@ -167,10 +186,70 @@ class FrameView(Widget):
         image = self._image
         if image is None or image.shape[1] != width or image.shape[0] != height:
             image = blank(width, height)
-        canvas: Canvas = draw(image, self.overlay, self.video_size)
+        overlay = self.overlay
+        if self.selected_box is not None:
+            overlay = replace(overlay, boxes=tuple(replace(mark, selected=mark.name == self.selected_box)
+                                                   for mark in overlay.boxes))
+        canvas: Canvas = draw(image, overlay, self.video_size)
+        self._labels = list(canvas.labels)
         if self.message:
             canvas.labels.append(Label(1, 0, self.message[: max(0, width - 2)], (255, 200, 80)))
         self._strips = to_strips(canvas)
+
+    def select_box(self, name: str | None) -> None:
+        """Draw the box of ``name`` as selected (None: none)."""
+        if name != self.selected_box:
+            self.selected_box = name
+            self._paint()
+
+    # ---------------------------------------------------------------------------------- mouse
+
+    def pixel_at(self, x: int, y: int) -> tuple[float, float] | None:
+        """The video pixel at the centre of cell (x, y) of this view, or None outside the picture."""
+        vw, vh = self.video_size
+        width, height = fit(self.video_size, (self.size.width, self.size.height))
+        pad = max(0, (self.size.width - width) // 2)
+        column, row = x - pad, y
+        if vw <= 0 or vh <= 0 or not (0 <= column < width and 0 <= 2 * row < height):
+            return None
+        return ((column + 0.5) / width * vw, (2 * row + 1) / height * vh)
+
+    def hit(self, x: int, y: int) -> tuple[str | None, str | None]:
+        """(box, hand) under cell (x, y): a label names its box or hand; else the hand marker within a cell and
+        a half, else the smallest box holding the point (its edge within half a cell)."""
+        width, _ = fit(self.video_size, (self.size.width, self.size.height))
+        pad = max(0, (self.size.width - width) // 2)
+        boxes = {mark.name for mark in self.overlay.boxes}
+        hands = {mark.hand for mark in self.overlay.hands}
+        for label in self._labels:
+            if label.y == y and label.x <= x - pad < label.x + len(label.text):
+                if label.text in hands:
+                    return None, label.text
+                if label.text in boxes:
+                    return label.text, None
+        point = self.pixel_at(x, y)
+        if point is None:
+            return None, None
+        cell = self.video_size[0] / max(1, width)  # video pixels per cell column
+        near = [(math.hypot(mark.xy[0] - point[0], mark.xy[1] - point[1]), mark.hand) for mark in self.overlay.hands]
+        near = [item for item in near if item[0] <= 1.5 * cell]
+        if near:
+            return None, min(near)[1]
+        slack = cell / 2
+        inside = [((x2 - x1) * (y2 - y1), mark.name) for mark in self.overlay.boxes
+                  for x1, y1, x2, y2 in [mark.box]
+                  if x1 - slack <= point[0] <= x2 + slack and y1 - slack <= point[1] <= y2 + slack]
+        return (min(inside)[1] if inside else None), None
+
+    def on_click(self, event: Click) -> None:
+        offset = event.get_content_offset(self)
+        if offset is None:
+            return
+        point = self.pixel_at(offset.x, offset.y)
+        if point is None:
+            return
+        box, hand = self.hit(offset.x, offset.y)
+        self.post_message(self.Clicked(self.index, point, box, hand))
 
     def get_line_filters(self) -> Sequence[LineFilter]:
         """The app's filters but the ANSI-to-truecolour one: every colour here is a truecolour triplet already,
