@@ -206,3 +206,13 @@ def test_half_blocks_show_each_cell_s_two_pixels_frame_after_frame() -> None:
     labelled = to_strips(Canvas(blocky, [Label(3, 2, "bowl", (0, 0, 0), (240, 240, 90))]))
     assert "".join(char for char, _, _ in _cells(labelled[2]))[3:7] == "bowl"
     assert _cells(labelled[3]) == _cells(to_strips(Canvas(blocky))[3])  # only the label's row changes
+
+
+def test_a_selected_box_is_drawn_white_and_thicker() -> None:
+    image = np.zeros((18, 32, 3), np.uint8)
+    plain = draw(image, Overlay(boxes=(BoxMark("bowl", (100, 40, 200, 140), (0, 255, 0)),)), (320, 180))
+    chosen = draw(image, Overlay(boxes=(BoxMark("bowl", (100, 40, 200, 140), (0, 255, 0), selected=True),)),
+                  (320, 180))
+    assert tuple(plain.image[4, 15]) == (0, 255, 0) and not plain.image[5, 15].any()
+    assert tuple(chosen.image[4, 15]) == (255, 255, 255) and chosen.image[5, 15].all()
+    assert chosen.labels[0].background == (255, 255, 255) and chosen.labels[0].colour == (0, 0, 0)
