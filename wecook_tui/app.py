@@ -7,6 +7,7 @@ Screens show; this class wires. Every stage is a core function called in a worke
 from __future__ import annotations
 
 import gc
+import os
 import time
 from collections.abc import Callable, Iterable, Sequence
 from functools import partial
@@ -21,6 +22,7 @@ from textual.screen import Screen
 
 from wecook_core.errors import InputError
 from wecook_core.session.journal import JournalChangedError
+from wecook_tui import graphics
 from wecook_tui.keymap import LoadedKeymap, load_keymap
 from wecook_tui.messages import (
     AnalysisFailed,
@@ -67,6 +69,10 @@ class WecookApp(App[None]):
         self.video_opener = video_opener if video_opener is not None or opener is not open_workspace else open_video
         self.analyzer = analyzer
         self.keys = keys if keys is not None else load_keymap(known_ids=binding_ids())
+        protocol = graphics.choose(os.environ)
+        self.graphics = graphics.load(protocol) if protocol is not None else None
+        """The terminal's graphics protocol the frame view draws with (None: half-blocks); chosen before the
+        app starts, while the terminal can still be asked its cell size."""
         self.opened: Opened | None = None
         self.analysis: Analysis | None = None
         self.last_message = ""

@@ -25,6 +25,7 @@ from textual.widget import Widget
 from textual.worker import get_current_worker
 
 from wecook_tui.frames import Canvas, FrameSource, Label, Overlay, blank, draw, fit, to_strips
+from wecook_tui.graphics import Graphics, picture, to_pil
 from wecook_tui.messages import FirstFramePainted, FrameDecoded
 
 PREFETCH = 120
@@ -58,8 +59,14 @@ class FrameView(Widget):
     FrameView { height: 1fr; min-height: 6; }
     """
 
-    def __init__(self, *, id: str | None = None) -> None:
+    def __init__(self, *, id: str | None = None, graphics: bool = False) -> None:
+        """``graphics``: draw through the terminal's graphics protocol when the app chose one
+        (``app.graphics``, :mod:`wecook_tui.graphics`); half-blocks otherwise."""
         super().__init__(id=id)
+        self.want_graphics = graphics
+        self.graphics: Graphics | None = None
+        """The protocol in use (set on mount); None: half-blocks."""
+        self._graphic: Widget | None = None
         self.source: FrameSource | None = None
         self.video_size: tuple[int, int] = (0, 0)
         """Pixels of the video that overlay coordinates refer to."""
@@ -164,9 +171,34 @@ class FrameView(Widget):
 
     # ------------------------------------------------------------------------------- painting
 
+    def on_mount(self) -> None:
+        graphics = getattr(self.app, "graphics", None) if self.want_graphics else None
+        if graphics is not None:
+            self.graphics = graphics
+            self._graphic = graphics.widget()
+            self._graphic.display = False
+            self.mount(self._graphic)
+
+    def _picture_size(self) -> tuple[int, int]:
+        """Pixels of the picture: two per cell row for half-blocks, the terminal's cell size with graphics."""
+        if self.graphics is not None:
+            return self.graphics.picture_size((self.size.width, self.size.height), self.video_size)
+        return fit(self.video_size, (self.size.width, self.size.height))
+
+    def _layout(self) -> tuple[int, float, float]:
+        """(left pad in cells, the picture's width and height in cells)."""
+        width, height = self._picture_size()
+        if self.graphics is not None:
+            columns, rows = width / self.graphics.cell[0], height / self.graphics.cell[1]
+        else:
+            columns, rows = float(width), height / 2
+        return max(0, (self.size.width - math.ceil(columns)) // 2), columns, rows
+
     def _resize_source(self) -> None:
-        width, height = fit(self.video_size, (self.size.width, self.size.height))
+        width, height = self._picture_size()
         if self.source is not None:
+            if self.graphics is not None:
+                self.source.cache_size = min(self.source.cache_size, 120)  # full-size pictures
             self.source.set_size(width, height)
         self._image = None
 
@@ -179,18 +211,41 @@ class FrameView(Widget):
         faster than the screen refreshes cost no conversions for frames nobody sees."""
         self._dirty = True
         self.refresh()
+        if self._graphic is not None:
+            self._show_graphic()
+
+    def _show_graphic(self) -> None:
+        """Hand the picture with its overlay to the graphics widget (half-blocks show a missing frame)."""
+        assert self._graphic is not None and self.graphics is not None
+        width, height = self._picture_size()
+        image = self._image
+        if image is None or image.shape[1] != width or image.shape[0] != height or self.message:
+            self._graphic.display = False
+            return
+        columns, rows = self.graphics.cells_of((width, height))
+        self._graphic.styles.width = columns
+        self._graphic.styles.height = rows
+        self._graphic.styles.margin = (0, 0, 0, max(0, (self.size.width - columns) // 2))
+        self._graphic.image = to_pil(picture(image, self._selected_overlay(), self.video_size))  # type: ignore[attr-defined]
+        self._graphic.display = True
+        self._labels = []
+
+    def _selected_overlay(self) -> Overlay:
+        if self.selected_box is None:
+            return self.overlay
+        return replace(self.overlay, boxes=tuple(replace(mark, selected=mark.name == self.selected_box)
+                                                 for mark in self.overlay.boxes))
 
     def _build(self) -> None:
         self._dirty = False
         width, height = fit(self.video_size, (self.size.width, self.size.height))
+        if self._graphic is not None and self._graphic.display:  # the graphics widget shows the picture
+            self._strips = [Strip.blank(width)] * (height // 2)
+            return
         image = self._image
         if image is None or image.shape[1] != width or image.shape[0] != height:
             image = blank(width, height)
-        overlay = self.overlay
-        if self.selected_box is not None:
-            overlay = replace(overlay, boxes=tuple(replace(mark, selected=mark.name == self.selected_box)
-                                                   for mark in overlay.boxes))
-        canvas: Canvas = draw(image, overlay, self.video_size)
+        canvas: Canvas = draw(image, self._selected_overlay(), self.video_size)
         self._labels = list(canvas.labels)
         if self.message:
             canvas.labels.append(Label(1, 0, self.message[: max(0, width - 2)], (255, 200, 80)))
@@ -207,18 +262,16 @@ class FrameView(Widget):
     def pixel_at(self, x: int, y: int) -> tuple[float, float] | None:
         """The video pixel at the centre of cell (x, y) of this view, or None outside the picture."""
         vw, vh = self.video_size
-        width, height = fit(self.video_size, (self.size.width, self.size.height))
-        pad = max(0, (self.size.width - width) // 2)
-        column, row = x - pad, y
-        if vw <= 0 or vh <= 0 or not (0 <= column < width and 0 <= 2 * row < height):
+        pad, columns, rows = self._layout()
+        column = x - pad
+        if vw <= 0 or vh <= 0 or not (0 <= column < columns and 0 <= y < rows):
             return None
-        return ((column + 0.5) / width * vw, (2 * row + 1) / height * vh)
+        return (min(vw, (column + 0.5) / columns * vw), min(vh, (y + 0.5) / rows * vh))
 
     def hit(self, x: int, y: int) -> tuple[str | None, str | None]:
         """(box, hand) under cell (x, y): a label names its box or hand; else the hand marker within a cell and
         a half, else the smallest box holding the point (its edge within half a cell)."""
-        width, _ = fit(self.video_size, (self.size.width, self.size.height))
-        pad = max(0, (self.size.width - width) // 2)
+        pad, columns, _ = self._layout()
         boxes = {mark.name for mark in self.overlay.boxes}
         hands = {mark.hand for mark in self.overlay.hands}
         for label in self._labels:
@@ -230,7 +283,7 @@ class FrameView(Widget):
         point = self.pixel_at(x, y)
         if point is None:
             return None, None
-        cell = self.video_size[0] / max(1, width)  # video pixels per cell column
+        cell = self.video_size[0] / max(1.0, columns)  # video pixels per cell column
         near = [(math.hypot(mark.xy[0] - point[0], mark.xy[1] - point[1]), mark.hand) for mark in self.overlay.hands]
         near = [item for item in near if item[0] <= 1.5 * cell]
         if near:
