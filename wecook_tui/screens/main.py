@@ -81,7 +81,7 @@ class MainScreen(Screen[None]):
 
     def compose(self) -> ComposeResult:
         with Horizontal(id="top"):
-            yield FrameView(id="frame")
+            yield FrameView(id="frame", graphics=True)
             yield Inspector(id="inspector")
         yield Timeline(id="timeline")
         yield StatusLine(id="status")
