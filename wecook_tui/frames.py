@@ -390,27 +390,40 @@ def to_strips(canvas: Canvas) -> list[Strip]:
         labels_by_row.setdefault(label.y, []).append(label)
     change = np.ones((rows, width), dtype=bool)
     change[:, 1:] = keys[:, 1:] != keys[:, :-1]
+    if width >= 1024:  # too wide to pack a run's length in 10 bits: cell by cell
+        return [_row_strip(keys[row], change[row], packed[2 * row + 1], labels_by_row.get(row), width)
+                for row in range(rows)]
+    cells_by_row: dict[int, dict[int, Segment]] = {}
+    for row, labels in labels_by_row.items():
+        if 0 <= row < rows:
+            cells = cells_by_row[row] = _label_cells(labels, packed[2 * row + 1].tolist(), width)
+            for x in cells:  # a label's cell starts a run of its own, and the cell after it another
+                change[row, x] = True
+                if x + 1 < width:
+                    change[row, x + 1] = True
     flat_keys = keys.ravel()
     starts = np.flatnonzero(change.ravel())
     lengths = np.diff(np.append(starts, rows * width)).astype(np.uint64)  # every row starts a run
-    # a run's key and length packed in one int; a picture too wide to pack the length takes the slow path
-    runs = ((flat_keys[starts] << np.uint64(10)) | lengths).tolist() if width < 1024 else []
+    runs = ((flat_keys[starts] << np.uint64(10)) | lengths).tolist()  # a run's key and length in one int
     row_starts = np.searchsorted(starts, np.arange(rows + 1) * width).tolist()
     if len(_RUNS) > 300_000:
         _RUNS.clear()
     strips: list[Strip] = []
     for row in range(rows):
-        labels = labels_by_row.get(row)
-        if labels or not runs:
-            strips.append(_row_strip(keys[row], change[row], packed[2 * row + 1], labels, width))
-            continue
         segments: list[Segment] = []
         append = segments.append
+        cells = cells_by_row.get(row)
+        x = 0
         for run in runs[row_starts[row]:row_starts[row + 1]]:
+            if cells is not None and x in cells:
+                append(cells[x])  # a label's cell: the run (one cell long) is the label's character
+                x += 1
+                continue
             segment = _RUNS.get(run)
             if segment is None:
                 segment = _RUNS[run] = Segment(HALF_BLOCK * (run & 1023), _pair_style(run >> 10))
             append(segment)
+            x += run & 1023
         strips.append(Strip(segments, width))
     return strips
 
