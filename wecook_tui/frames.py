@@ -168,18 +168,20 @@ class FrameSource:
                 return None
             return self._store(index, raw)
 
-    def prefetch(self, start: int, stop: int, cancelled: Callable[[], bool] = lambda: False) -> int:
+    def prefetch(self, start: int, stop: int, cancelled: Callable[[], bool] = lambda: False, step: int = 1) -> int:
         """Decode frames ``[start, stop)`` into the cache in increasing order; returns how many were decoded.
 
         Stops early when ``cancelled()`` turns true (a newer request replaced this one). Going backwards,
         callers pass the window below the cursor: reading it forwards costs one seek instead of one per frame.
+        ``step`` > 1 keeps every step-th frame from ``start`` only (playback that cannot paint every frame):
+        the others are grabbed, not converted, resized or stored.
         """
         count = 0
         last = self.facts.frame_count or stop
         for index in range(max(0, start), min(stop, last)):
             if cancelled():
                 break
-            if index in self._cache:
+            if index in self._cache or (step > 1 and (index - start) % step):
                 continue
             with self._lock:
                 raw = self._read(index)
@@ -412,11 +414,11 @@ def to_strips(canvas: Canvas) -> list[Strip]:
     for row in range(rows):
         segments: list[Segment] = []
         append = segments.append
-        cells = cells_by_row.get(row)
+        row_cells = cells_by_row.get(row)
         x = 0
         for run in runs[row_starts[row]:row_starts[row + 1]]:
-            if cells is not None and x in cells:
-                append(cells[x])  # a label's cell: the run (one cell long) is the label's character
+            if row_cells is not None and x in row_cells:
+                append(row_cells[x])  # a label's cell: the run (one cell long) is the label's character
                 x += 1
                 continue
             segment = _RUNS.get(run)

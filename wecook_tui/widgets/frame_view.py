@@ -85,6 +85,8 @@ class FrameView(Widget):
         self._dirty = False
         self._image: np.ndarray | None = None
         self._direction = 1
+        self._moves: list[int] = []
+        """The last four moves of the cursor (frames)."""
         self._prefetch_until: int | None = None
         self.first_painted = False
         """A decoded video frame has been painted."""
@@ -107,6 +109,7 @@ class FrameView(Widget):
     def show(self, index: int, overlay: Overlay) -> None:
         """Move to frame ``index``: paint now if cached, else ask a worker and keep the old picture."""
         self._direction = 1 if index >= self.index else -1
+        self._moves = [*self._moves[-3:], index - self.index]
         self.index = index
         self.overlay = overlay
         source = self.source
@@ -114,10 +117,14 @@ class FrameView(Widget):
             self._image = None
             self._paint()
             return
-        frame = source.cached(index)
+        frame, at = source.cached(index), index
+        stride = self.stride
+        if frame is None and stride > 1:  # playback skipping frames: the latest kept frame before this one
+            at = next((i for i in range(index - 1, index - stride, -1) if source.cached(i) is not None), index)
+            frame = source.cached(at) if at != index else None
         if frame is not None:
             self._image = frame
-            self.shown = index
+            self.shown = at
             self._paint()
         else:
             self.misses += 1
@@ -137,10 +144,19 @@ class FrameView(Widget):
         self.post_message(FrameDecoded(index, frame is not None))
 
     @work(thread=True, exclusive=True, group="prefetch", exit_on_error=False)
-    def _prefetch(self, start: int, stop: int) -> None:
+    def _prefetch(self, start: int, stop: int, step: int = 1) -> None:
         worker = get_current_worker()
         if self.source is not None:
-            self.source.prefetch(start, stop, cancelled=lambda: worker.is_cancelled)
+            self.source.prefetch(start, stop, cancelled=lambda: worker.is_cancelled, step=step)
+
+    @property
+    def stride(self) -> int:
+        """Frames between the pictures kept ahead: 1, or while the last four moves all went forward by two or
+        more (playback that cannot paint every frame, or repeated jumps), the smallest of them (at most 8)."""
+        moves = self._moves
+        if len(moves) < 4 or min(moves) < 2:
+            return 1
+        return min(8, min(moves))
 
     def _keep_ahead(self, index: int) -> None:
         source = self.source
@@ -151,9 +167,11 @@ class FrameView(Widget):
         else:
             probe, start, stop = index - PREFETCH // 2, index - PREFETCH, index
         probe = max(0, probe)
-        if source.cached(probe) is None and self._prefetch_until != stop:
+        stride = self.stride if self._direction > 0 else 1
+        ahead = any(source.cached(i) is not None for i in range(probe, probe + stride))
+        if not ahead and self._prefetch_until != stop:
             self._prefetch_until = stop
-            self._prefetch(start, stop)
+            self._prefetch(start, stop, stride)
 
     def on_frame_decoded(self, message: FrameDecoded) -> None:
         message.stop()
