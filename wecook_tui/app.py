@@ -179,13 +179,16 @@ class WecookApp(App[None]):
         if self.opened is not None:
             return
         frames = message.frames
-        self.main.query_one(FrameView).set_source(frames, (frames.facts.width, frames.facts.height))
+        view = self.main.query_one(FrameView)
+        view.hold_prefetch = True  # decoding ahead would slow the import of the boxes and hands down
+        view.set_source(frames, (frames.facts.width, frames.facts.height))
         resume = load_position(self.session_path)
         if resume is not None and frames.facts.frame_count:
             self.main.frame = max(0, min(resume, frames.facts.frame_count - 1))
 
     def on_session_opened(self, message: SessionOpened) -> None:
         self.opened = message.opened
+        self.main.query_one(FrameView).hold_prefetch = False
         for warning in message.warnings:
             self.notify(warning, title="Session", severity="warning", timeout=30)
         obs = self.obs

@@ -32,9 +32,12 @@ async def test_the_video_shows_before_the_session_is_open(tmp_path: Path) -> Non
         await wait_for(pilot, lambda: view.first_painted, 200)
         assert app.opened is None and app.analysis is None  # the picture came first
         assert view.shown == 0 and given and given[0] is view.source  # and the opener is handed the same video
+        assert view.source is not None and view.source.cached(5) is None  # nothing decoded ahead meanwhile
         gate.set()
         await wait_for(pilot, lambda: app.analysis is not None, 400)
         assert app.opened is not None and view.overlay.boxes  # then the boxes, then the analysis
+        await wait_for(pilot, lambda: view.source is not None and view.source.cached(5) is not None, 200)
+        assert view.source.cached(5) is not None  # and decoding ahead
 
 
 def test_open_video_reads_the_session_yaml_only(tmp_path: Path) -> None:

@@ -85,6 +85,8 @@ class FrameView(Widget):
         self._dirty = False
         self._image: np.ndarray | None = None
         self._direction = 1
+        self.hold_prefetch = False
+        """No decoding ahead (while the session's boxes and hands load, which it would slow down)."""
         self._moves: list[int] = []
         """The last four moves of the cursor (frames)."""
         self._prefetch_until: int | None = None
@@ -160,7 +162,7 @@ class FrameView(Widget):
 
     def _keep_ahead(self, index: int) -> None:
         source = self.source
-        if source is None or not source.ok:
+        if source is None or not source.ok or self.hold_prefetch:
             return
         if self._direction > 0:
             probe, start, stop = index + PREFETCH // 2, index + 1, index + PREFETCH
