@@ -13,8 +13,9 @@ from __future__ import annotations
 import contextlib
 import os
 import threading
+import time
 from collections import OrderedDict
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -59,6 +60,9 @@ class FrameSource:
         self.path = Path(path) if path is not None else None
         self.cache_size = cache_size
         self._lock = threading.Lock()
+        self._wanted = threading.Event()
+        """Set while a caller other than the prefetch waits for the lock: the prefetch lets it in between two
+        frames (a plain lock is not fair: the loop would take it again at once, for many frames)."""
         self._cache: OrderedDict[int, np.ndarray] = OrderedDict()
         self._capture: cv2.VideoCapture | None = None
         self._next = 0
@@ -95,8 +99,16 @@ class FrameSource:
     def ok(self) -> bool:
         return self.facts.error is None
 
-    def close(self) -> None:
+    @contextlib.contextmanager
+    def _take(self) -> Iterator[None]:
+        """Hold the lock, for everyone but the prefetch loop: the loop steps aside for the taker."""
+        self._wanted.set()
         with self._lock:
+            self._wanted.clear()
+            yield
+
+    def close(self) -> None:
+        with self._take():
             if self._capture is not None:
                 self._capture.release()
                 self._capture = None
@@ -105,7 +117,7 @@ class FrameSource:
 
     def set_size(self, width: int, height: int) -> None:
         """Resize future frames to ``width x height`` pixels; drops the cache when the size changes."""
-        with self._lock:
+        with self._take():
             if (width, height) != self._size:
                 self._size = (width, height)
                 self._cache.clear()
@@ -158,7 +170,7 @@ class FrameSource:
         """The frame at ``index`` (from the cache, else decoded); None if it does not decode."""
         if index < 0 or (self.facts.frame_count and index >= self.facts.frame_count):
             return None
-        with self._lock:
+        with self._take():
             frame = self._cache.get(index)
             if frame is not None:
                 return frame
@@ -190,6 +202,8 @@ class FrameSource:
                     continue
                 self._store(index, raw)
             count += 1
+            if self._wanted.is_set():
+                time.sleep(0.0005)  # let the waiting caller take the lock first
         return count
 
 
