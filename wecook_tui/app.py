@@ -7,6 +7,7 @@ Screens show; this class wires. Every stage is a core function called in a worke
 from __future__ import annotations
 
 import gc
+import os
 import time
 from collections.abc import Callable, Iterable, Sequence
 from functools import partial
@@ -20,20 +21,29 @@ from textual.screen import Screen
 
 from wecook_core.errors import InputError
 from wecook_core.session.journal import JournalChangedError
+from wecook_tui import graphics
 from wecook_tui.keymap import LoadedKeymap, load_keymap
-from wecook_tui.messages import AnalysisFailed, AnalysisReady, FirstFramePainted, SessionFailed, SessionOpened
+from wecook_tui.messages import (
+    AnalysisFailed,
+    AnalysisReady,
+    FirstFramePainted,
+    SessionFailed,
+    SessionOpened,
+    VideoOpened,
+)
 from wecook_tui.review import shown_observations
 from wecook_tui.screens.catalogue import binding_ids
 from wecook_tui.screens.help import HelpScreen
 from wecook_tui.screens.main import MAIN_BINDINGS, MainScreen
 from wecook_tui.search import SearchProvider
-from wecook_tui.widgets.frame_view import FrameView
-from wecook_tui.workspace import Opened, analyze_workspace, open_workspace
+from wecook_tui.widgets.frame_view import FrameView, report_moment
+from wecook_tui.workspace import Opened, analyze_workspace, open_video, open_workspace
 
 if TYPE_CHECKING:
     from wecook_core.model import Corrections, Segment
     from wecook_core.perception.pipeline import Analysis
     from wecook_core.session.corrections import Correction
+    from wecook_tui.frames import FrameSource
 
 
 class WecookApp(App[None]):
@@ -45,14 +55,22 @@ class WecookApp(App[None]):
     """An analysis is being recomputed for the latest corrections."""
 
     def __init__(self, session_path: Path, *, keys: LoadedKeymap | None = None,
-                 opener: Callable[[Path], Opened] = open_workspace,
-                 analyzer: Callable[[Opened, Sequence[Correction]], Analysis] = analyze_workspace) -> None:
+                 opener: Callable[..., Opened] = open_workspace,
+                 analyzer: Callable[[Opened, Sequence[Correction]], Analysis] = analyze_workspace,
+                 video_opener: Callable[[Path], FrameSource | None] | None = None) -> None:
+        """``opener(path)`` opens the session; with ``video_opener`` (the default with the default opener), the
+        video is opened first and shown while ``opener(path, frames)`` loads the rest."""
         super().__init__()
         self.session_path = Path(session_path)
         self.session_name = self.session_path.name
         self.opener = opener
+        self.video_opener = video_opener if video_opener is not None or opener is not open_workspace else open_video
         self.analyzer = analyzer
         self.keys = keys if keys is not None else load_keymap(known_ids=binding_ids())
+        protocol = graphics.choose(os.environ)
+        self.graphics = graphics.load(protocol) if protocol is not None else None
+        """The terminal's graphics protocol the frame view draws with (None: half-blocks); chosen before the
+        app starts, while the terminal can still be asked its cell size."""
         self.opened: Opened | None = None
         self.analysis: Analysis | None = None
         self.last_message = ""
@@ -138,7 +156,12 @@ class WecookApp(App[None]):
     @work(thread=True, exclusive=True, group="open", exit_on_error=False)
     def _open(self) -> None:
         try:
-            opened = self.opener(self.session_path)
+            frames = self.video_opener(self.session_path) if self.video_opener is not None else None
+            if frames is not None:
+                self.post_message(VideoOpened(frames))
+                opened = self.opener(self.session_path, frames)
+            else:
+                opened = self.opener(self.session_path)
         except InputError as error:
             self.post_message(SessionFailed(str(error)))
             return
@@ -148,28 +171,48 @@ class WecookApp(App[None]):
             return
         self.post_message(SessionOpened(opened, tuple(opened.warnings)))
 
+    def on_video_opened(self, message: VideoOpened) -> None:
+        """The first picture, before the boxes and hands: the frame where the user left off."""
+        from wecook_tui.resume import load_position
+
+        if self.opened is not None:
+            return
+        frames = message.frames
+        view = self.main.query_one(FrameView)
+        view.hold_prefetch = True  # decoding ahead would slow the import of the boxes and hands down
+        view.set_source(frames, (frames.facts.width, frames.facts.height))
+        resume = load_position(self.session_path)
+        if resume is not None and frames.facts.frame_count:
+            self.main.frame = max(0, min(resume, frames.facts.frame_count - 1))
+
     def on_session_opened(self, message: SessionOpened) -> None:
         self.opened = message.opened
+        self.main.query_one(FrameView).hold_prefetch = False
         for warning in message.warnings:
             self.notify(warning, title="Session", severity="warning", timeout=30)
         obs = self.obs
         if obs is not None:
             from wecook_tui.resume import load_position
 
-            self.main.query_one(FrameView).set_source(self.opened.frames, (obs.video.width, obs.video.height))
+            view = self.main.query_one(FrameView)
+            view.set_source(self.opened.frames, (obs.video.width, obs.video.height))
             resume = load_position(self.session_path)
             if resume is not None:
                 self.main.frame = min(resume, self.frame_count - 1)
             frames = self.opened.frames if self.opened is not None else None
             self.pending = True  # recomputing from the start: the first analysis is on its way
-            if frames is not None and frames.ok:
+            self.call_after_refresh(report_moment, "session")
+            if view.first_painted:  # the video showed first: analyse once the boxes are on screen
+                self.call_after_refresh(self.recompute_once)
+            elif frames is not None and frames.ok:
                 self.set_timer(1.0, self.recompute_once)  # in case no frame ever paints
             else:
                 self.recompute_once()
         self.main.data_changed()
 
     def on_first_frame_painted(self, message: FirstFramePainted) -> None:
-        self.recompute_once()
+        if self.opened is not None:
+            self.recompute_once()
 
     def recompute_once(self) -> None:
         """The first analysis, started once the first frame is on screen (or at once without a video)."""

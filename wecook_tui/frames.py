@@ -13,8 +13,9 @@ from __future__ import annotations
 import contextlib
 import os
 import threading
+import time
 from collections import OrderedDict
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -59,6 +60,9 @@ class FrameSource:
         self.path = Path(path) if path is not None else None
         self.cache_size = cache_size
         self._lock = threading.Lock()
+        self._wanted = threading.Event()
+        """Set while a caller other than the prefetch waits for the lock: the prefetch lets it in between two
+        frames (a plain lock is not fair: the loop would take it again at once, for many frames)."""
         self._cache: OrderedDict[int, np.ndarray] = OrderedDict()
         self._capture: cv2.VideoCapture | None = None
         self._next = 0
@@ -95,8 +99,16 @@ class FrameSource:
     def ok(self) -> bool:
         return self.facts.error is None
 
-    def close(self) -> None:
+    @contextlib.contextmanager
+    def _take(self) -> Iterator[None]:
+        """Hold the lock, for everyone but the prefetch loop: the loop steps aside for the taker."""
+        self._wanted.set()
         with self._lock:
+            self._wanted.clear()
+            yield
+
+    def close(self) -> None:
+        with self._take():
             if self._capture is not None:
                 self._capture.release()
                 self._capture = None
@@ -105,7 +117,7 @@ class FrameSource:
 
     def set_size(self, width: int, height: int) -> None:
         """Resize future frames to ``width x height`` pixels; drops the cache when the size changes."""
-        with self._lock:
+        with self._take():
             if (width, height) != self._size:
                 self._size = (width, height)
                 self._cache.clear()
@@ -158,7 +170,7 @@ class FrameSource:
         """The frame at ``index`` (from the cache, else decoded); None if it does not decode."""
         if index < 0 or (self.facts.frame_count and index >= self.facts.frame_count):
             return None
-        with self._lock:
+        with self._take():
             frame = self._cache.get(index)
             if frame is not None:
                 return frame
@@ -168,18 +180,20 @@ class FrameSource:
                 return None
             return self._store(index, raw)
 
-    def prefetch(self, start: int, stop: int, cancelled: Callable[[], bool] = lambda: False) -> int:
+    def prefetch(self, start: int, stop: int, cancelled: Callable[[], bool] = lambda: False, step: int = 1) -> int:
         """Decode frames ``[start, stop)`` into the cache in increasing order; returns how many were decoded.
 
         Stops early when ``cancelled()`` turns true (a newer request replaced this one). Going backwards,
         callers pass the window below the cursor: reading it forwards costs one seek instead of one per frame.
+        ``step`` > 1 keeps every step-th frame from ``start`` only (playback that cannot paint every frame):
+        the others are grabbed, not converted, resized or stored.
         """
         count = 0
         last = self.facts.frame_count or stop
         for index in range(max(0, start), min(stop, last)):
             if cancelled():
                 break
-            if index in self._cache:
+            if index in self._cache or (step > 1 and (index - start) % step):
                 continue
             with self._lock:
                 raw = self._read(index)
@@ -188,6 +202,8 @@ class FrameSource:
                     continue
                 self._store(index, raw)
             count += 1
+            if self._wanted.is_set():
+                time.sleep(0.0005)  # let the waiting caller take the lock first
         return count
 
 
@@ -204,6 +220,8 @@ class BoxMark:
     """RGB."""
     held: bool = False
     """Drawn thicker: a hand holds it in the current segment."""
+    selected: bool = False
+    """Drawn in white, thicker: the user clicked it."""
 
 
 @dataclass(frozen=True)
@@ -285,11 +303,12 @@ def draw(image: np.ndarray, overlay: Overlay, video_size: tuple[int, int]) -> Ca
     labels: list[Label] = []
     for mark in overlay.boxes:
         x1, y1, x2, y2 = mark.box
-        cv2.rectangle(out, pt((x1, y1)), pt((x2, y2)), _bgr(mark.colour), 2 if mark.held else 1)
+        colour = (255, 255, 255) if mark.selected else mark.colour
+        cv2.rectangle(out, pt((x1, y1)), pt((x2, y2)), _bgr(colour), 2 if mark.held or mark.selected else 1)
         if overlay.labels:  # a tag in the box colour, outside the box: above it, or below at the top edge
             cx, cy = pt((x1, y1))
             row = cy // 2 - 1 if cy // 2 >= 1 else pt((x2, y2))[1] // 2 + 1
-            labels.append(Label(max(0, cx), max(0, row), mark.name, contrasting(mark.colour), mark.colour))
+            labels.append(Label(max(0, cx), max(0, row), mark.name, contrasting(colour), colour))
     for link in overlay.links:
         cv2.line(out, pt(link.a), pt(link.b), _bgr(link.colour), 1)
     for hand in overlay.hands:
@@ -365,10 +384,15 @@ def _pack(rgb: tuple[int, int, int]) -> int:
     return ((rgb[0] & _QUANT) << 16) | ((rgb[1] & _QUANT) << 8) | (rgb[2] & _QUANT)
 
 
+_RUNS: dict[int, Segment] = {}
+"""Half-block runs by ``(top << 24 | bottom) << 10 | length``: a frame step reuses most of them."""
+
+
 def to_strips(canvas: Canvas) -> list[Strip]:
     """One :class:`Strip` per pair of pixel rows; labels overwrite cells with text on the bottom colour.
 
-    Runs of equal cells are found with numpy; Python only loops over the runs.
+    Runs of equal cells are found with numpy over the whole picture at once; Python only looks each run's
+    segment up (built once, reused by later frames). Rows with labels are spliced cell by cell.
     """
     image = canvas.image
     if image.shape[0] % 2:
@@ -382,26 +406,62 @@ def to_strips(canvas: Canvas) -> list[Strip]:
         labels_by_row.setdefault(label.y, []).append(label)
     change = np.ones((rows, width), dtype=bool)
     change[:, 1:] = keys[:, 1:] != keys[:, :-1]
+    if width >= 1024:  # too wide to pack a run's length in 10 bits: cell by cell
+        return [_row_strip(keys[row], change[row], packed[2 * row + 1], labels_by_row.get(row), width)
+                for row in range(rows)]
+    cells_by_row: dict[int, dict[int, Segment]] = {}
+    for row, labels in labels_by_row.items():
+        if 0 <= row < rows:
+            cells = cells_by_row[row] = _label_cells(labels, packed[2 * row + 1].tolist(), width)
+            for x in cells:  # a label's cell starts a run of its own, and the cell after it another
+                change[row, x] = True
+                if x + 1 < width:
+                    change[row, x + 1] = True
+    flat_keys = keys.ravel()
+    starts = np.flatnonzero(change.ravel())
+    lengths = np.diff(np.append(starts, rows * width)).astype(np.uint64)  # every row starts a run
+    runs = ((flat_keys[starts] << np.uint64(10)) | lengths).tolist()  # a run's key and length in one int
+    row_starts = np.searchsorted(starts, np.arange(rows + 1) * width).tolist()
+    if len(_RUNS) > 300_000:
+        _RUNS.clear()
     strips: list[Strip] = []
     for row in range(rows):
-        row_keys = keys[row]
-        starts = np.flatnonzero(change[row]).tolist()
-        labels = labels_by_row.get(row)
-        cells = _label_cells(labels, (packed[2 * row + 1]).tolist(), width) if labels else None
-        if cells:
-            starts = sorted(set(starts) | set(cells) | {x + 1 for x in cells if x + 1 < width})
-        run_keys = row_keys[starts].tolist()
-        ends = [*starts[1:], width]
         segments: list[Segment] = []
-        for start, end, key in zip(starts, ends, run_keys, strict=True):
-            if cells is not None and start in cells:
-                segments.append(cells[start])
-                if end - start > 1:
-                    segments.append(Segment(HALF_BLOCK * (end - start - 1), _pair_style(key)))
-            else:
-                segments.append(Segment(HALF_BLOCK * (end - start), _pair_style(key)))
+        append = segments.append
+        row_cells = cells_by_row.get(row)
+        x = 0
+        for run in runs[row_starts[row]:row_starts[row + 1]]:
+            if row_cells is not None and x in row_cells:
+                append(row_cells[x])  # a label's cell: the run (one cell long) is the label's character
+                x += 1
+                continue
+            segment = _RUNS.get(run)
+            if segment is None:
+                segment = _RUNS[run] = Segment(HALF_BLOCK * (run & 1023), _pair_style(run >> 10))
+            append(segment)
+            x += run & 1023
         strips.append(Strip(segments, width))
     return strips
+
+
+def _row_strip(row_keys: np.ndarray, change: np.ndarray, bottom: np.ndarray, labels: list[Label] | None,
+               width: int) -> Strip:
+    """One row's strip, with its labels' cells."""
+    starts = np.flatnonzero(change).tolist()
+    cells = _label_cells(labels, bottom.tolist(), width) if labels else None
+    if cells:
+        starts = sorted(set(starts) | set(cells) | {x + 1 for x in cells if x + 1 < width})
+    run_keys = row_keys[starts].tolist()
+    ends = [*starts[1:], width]
+    segments: list[Segment] = []
+    for start, end, key in zip(starts, ends, run_keys, strict=True):
+        if cells is not None and start in cells:
+            segments.append(cells[start])
+            if end - start > 1:
+                segments.append(Segment(HALF_BLOCK * (end - start - 1), _pair_style(key)))
+        else:
+            segments.append(Segment(HALF_BLOCK * (end - start), _pair_style(key)))
+    return Strip(segments, width)
 
 
 def fit(video_size: tuple[int, int], cells: tuple[int, int]) -> tuple[int, int]:

@@ -23,6 +23,14 @@ class SessionOpened(Message):
 
 
 @dataclass
+class VideoOpened(Message):
+    """The session's video opened (``open`` worker, before the observations load): the first picture can show."""
+
+    frames: Any
+    """A ``wecook_tui.frames.FrameSource`` that decodes."""
+
+
+@dataclass
 class SessionFailed(Message):
     """The session could not be opened at all; ``error`` is the one line to show."""
 

@@ -49,6 +49,9 @@ class Workbench(Protocol):
     def go_to(self, frame: int) -> None:
         """Move the review's cursor to ``frame`` (clamped to the video)."""
 
+    def say(self, message: str) -> None:
+        """The one-line answer on the status line."""
+
     def undo(self) -> None: ...
 
     def redo(self) -> None: ...

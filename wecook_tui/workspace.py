@@ -34,13 +34,33 @@ class Opened:
     """GGS's own segmentation, computed by the first analysis and reused by the next ones."""
 
 
-def open_workspace(path: Path) -> Opened:
-    """Open the session for review (:func:`wecook_core.workflows.open_review`) and its video."""
+def open_video(path: Path) -> FrameSource | None:
+    """The session's video, from ``session.yaml`` alone: what the first picture needs, shown while the boxes,
+    hands and commonsense tables load (:func:`open_workspace`). None when the session does not open or its
+    video does not decode: the full open says why."""
+    from wecook_core.errors import InputError
+    from wecook_core.session.store import open_session
+
+    try:
+        video = open_session(path).inputs.get("video")
+    except (InputError, OSError, ValueError, KeyError):
+        return None
+    frames = FrameSource(video.path) if video is not None else None
+    return frames if frames is not None and frames.ok else None
+
+
+def open_workspace(path: Path, frames: FrameSource | None = None) -> Opened:
+    """Open the session for review (:func:`wecook_core.workflows.open_review`) and its video (``frames``, when
+    :func:`open_video` opened it already and it is the observations' video)."""
     from wecook_core.workflows import open_review
 
     review = open_review(path)
     obs, warnings = review.observations, review.warnings
-    frames = FrameSource(obs.video.path) if obs is not None else None
+    if frames is not None and (obs is None or frames.path != Path(obs.video.path)):
+        frames.close()
+        frames = None
+    if obs is not None and frames is None:
+        frames = FrameSource(obs.video.path)
     if obs is not None and frames is not None and frames.facts.error and not any(str(obs.video.path) in w
                                                                                   for w in warnings):
         warnings.append(f"{frames.facts.error}: boxes and hands are drawn on a blank frame")

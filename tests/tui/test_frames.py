@@ -181,3 +181,91 @@ def test_action_colours_are_distinct() -> None:
     rgb = {verb: tuple(int(code[i:i + 2], 16) for i in (1, 3, 5)) for verb, code in ACTION_COLOURS.items()}
     for (a, ca), (b, cb) in itertools.combinations(rgb.items(), 2):
         assert sum((x - y) ** 2 for x, y in zip(ca, cb, strict=True)) ** 0.5 > 60, (a, b)
+
+
+def _cells(strip) -> list[tuple[str, tuple[int, int, int], tuple[int, int, int]]]:  # type: ignore[no-untyped-def]
+    return [(char, segment.style.color.triplet, segment.style.bgcolor.triplet)
+            for segment in strip for char in segment.text]
+
+
+def test_half_blocks_show_each_cell_s_two_pixels_frame_after_frame() -> None:
+    """Every cell is ``▀`` with its top pixel as foreground and its bottom pixel as background (5 bits a
+    channel), on pictures with long runs and on noise, one after the other (runs are reused between frames)."""
+    rng = np.random.default_rng(3)
+    blocky = np.repeat(np.repeat(rng.integers(0, 256, (5, 8, 3), dtype=np.uint8), 7, axis=0), 9, axis=1)
+    noise = rng.integers(0, 256, (35, 72, 3), dtype=np.uint8)  # an odd number of rows: the last is doubled
+    for image in (blocky, noise, blocky[::-1].copy()):
+        strips = to_strips(Canvas(image))
+        padded = np.vstack([image, image[-1:]]) if image.shape[0] % 2 else image
+        assert len(strips) == padded.shape[0] // 2
+        for row, strip in enumerate(strips):
+            expected = [(HALF_BLOCK, tuple(int(v) & 0xF8 for v in padded[2 * row, x, ::-1]),
+                         tuple(int(v) & 0xF8 for v in padded[2 * row + 1, x, ::-1])) for x in range(image.shape[1])]
+            assert _cells(strip) == expected, row
+            assert strip.cell_length == image.shape[1]
+    labelled = to_strips(Canvas(blocky, [Label(3, 2, "bowl", (0, 0, 0), (240, 240, 90))]))
+    assert "".join(char for char, _, _ in _cells(labelled[2]))[3:7] == "bowl"
+    assert _cells(labelled[3]) == _cells(to_strips(Canvas(blocky))[3])  # only the label's row changes
+
+
+def test_a_selected_box_is_drawn_white_and_thicker() -> None:
+    image = np.zeros((18, 32, 3), np.uint8)
+    plain = draw(image, Overlay(boxes=(BoxMark("bowl", (100, 40, 200, 140), (0, 255, 0)),)), (320, 180))
+    chosen = draw(image, Overlay(boxes=(BoxMark("bowl", (100, 40, 200, 140), (0, 255, 0), selected=True),)),
+                  (320, 180))
+    assert tuple(plain.image[4, 15]) == (0, 255, 0) and not plain.image[5, 15].any()
+    assert tuple(chosen.image[4, 15]) == (255, 255, 255) and chosen.image[5, 15].all()
+    assert chosen.labels[0].background == (255, 255, 255) and chosen.labels[0].colour == (0, 0, 0)
+
+
+def test_prefetch_with_a_step_keeps_every_step_th_frame_with_the_right_pixels(tmp_path: Path) -> None:
+    import cv2
+
+    path = make_video(tmp_path / "v.mp4", frames=30)
+    capture = cv2.VideoCapture(str(path))
+    truth = [capture.read()[1] for _ in range(30)]
+    source = FrameSource(path)
+    assert source.prefetch(2, 20, step=3) == 6  # 2, 5, 8, 11, 14, 17
+    for index in range(2, 20):
+        frame = source.cached(index)
+        assert (frame is not None) == ((index - 2) % 3 == 0), index
+        if frame is not None:
+            assert np.array_equal(frame, truth[index]), index
+
+
+@pilot_test
+async def test_playback_that_lags_keeps_every_few_frames_and_shows_the_latest_kept(tmp_path: Path) -> None:
+    opener, analyzer = fake_workspace(tmp_path)
+    app = WecookApp(tmp_path / "kitchen", opener=opener, analyzer=analyzer)
+    async with app.run_test(size=(120, 40)) as pilot:
+        while app.analysis is None:
+            await pilot.pause(0.02)
+        view = app.main.query_one(FrameView)
+        await app.workers.wait_for_complete()
+        source = view.source
+        assert source is not None
+        width, height = source.size
+        source.set_size(width + 1, height)  # an empty cache
+        source.set_size(width, height)
+        calls: list[tuple[int, int, int]] = []
+        prefetch = source.prefetch
+
+        def recorded(start: int, stop: int, cancelled, step: int = 1) -> int:  # type: ignore[no-untyped-def]
+            calls.append((start, stop, step))
+            return prefetch(start, stop, cancelled, step) if step > 1 else 0  # only the strided one decodes
+
+        source.prefetch = recorded  # type: ignore[method-assign]
+        for frame in (3, 6, 9, 12):  # the clock moved three frames between paints, four times
+            app.main.frame = frame
+            await pilot.pause()
+        assert view.stride == 3
+        await app.workers.wait_for_complete()
+        assert calls[0][2] == 1 and calls[-1] == (13, 132, 3)
+        ahead = [i for i in range(13, 60) if source.cached(i) is not None]
+        assert ahead == list(range(13, 60, 3))  # every third frame decoded ahead
+        app.main.frame = 14  # not kept: the latest kept before it is shown, nothing decoded
+        await pilot.pause()
+        assert view.index == 14 and view.shown == 13 and source.cached(14) is None
+        app.main.frame = 15
+        await pilot.pause()
+        assert view.stride == 1  # a one-frame step: every frame again

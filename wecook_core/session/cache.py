@@ -23,7 +23,7 @@ import numpy as np
 from wecook_core import __version__
 from wecook_core.model import Category, HandTrack, ObjectTrack, Observations, VideoInfo
 from wecook_core.observations.importer import HandGap, Imported
-from wecook_core.session.inputs import InputFile
+from wecook_core.session.inputs import InputFile, folder_files
 
 CACHE_FORMAT = 1
 _CODE = ("formats", "observations", "knowledge", "assets")
@@ -37,8 +37,8 @@ def cache_key(inputs: Mapping[str, InputFile]) -> str | None:
         for role, item in sorted(inputs.items()):
             path = Path(item.path)
             if path.is_dir():
-                files = sorted(p for p in path.rglob("*") if p.is_file())
-                stats = [(str(p), p.stat().st_size, p.stat().st_mtime_ns) for p in files]
+                files = sorted(folder_files(path), key=lambda f: f[0])  # the order of sorted Paths
+                stats = [(str(path.joinpath(*parts)), stat.st_size, stat.st_mtime_ns) for parts, stat in files]
             else:
                 stat = path.stat()
                 stats = [(str(path), stat.st_size, stat.st_mtime_ns)]

@@ -86,7 +86,7 @@ class MainScreen(Screen[None]):
 
     def compose(self) -> ComposeResult:
         with Horizontal(id="top"):
-            yield FrameView(id="frame")
+            yield FrameView(id="frame", graphics=True)
             yield Inspector(id="inspector")
         yield Timeline(id="timeline")
         yield StatusLine(id="status")
@@ -225,6 +225,23 @@ class MainScreen(Screen[None]):
 
     def on_timeline_seek(self, message: Timeline.Seek) -> None:
         self.frame = max(0, min(self.frame_count - 1, message.frame))
+
+    def on_frame_view_clicked(self, message: FrameView.Clicked) -> None:
+        """A click on a hand selects it; on a box, selects that object and the hand holding it here."""
+        self.query_one(FrameView).select_box(message.box)
+        if message.hand is not None:
+            self._hand_chosen = True
+            self.selected_hand = message.hand
+            self.wb.say(f"Hand {message.hand} selected")
+        elif message.box is not None:
+            index, seg = self.current()
+            assoc = review.associations_of(self.wb.analysis, index, seg)
+            holder = next((hand for hand, name in assoc.hand_object.items() if name == message.box), None) \
+                if assoc is not None else None
+            if holder is not None:
+                self._hand_chosen = True
+                self.selected_hand = holder
+            self.wb.say(f"{message.box}: " + (f"held by {holder}" if holder else "no hand holds it in this segment"))
 
     def action_go_to(self) -> None:
         from wecook_tui.screens.goto import GoToScreen, parse_target

@@ -73,6 +73,9 @@ class Timeline(Widget):
         self._row_width = -1
         self._frames: list[int] = []
         """First frame of each track column."""
+        self._lines: dict[tuple[int, int, int, int, str | None], Strip] = {}
+        """Lane and status lines by (row, cursor column, current segment's columns, selected hand): stepping
+        a frame moves the cursor a column every few frames, so most repaints reuse every line but the ruler."""
 
     def set_data(self, frame_count: int, lanes: tuple[Lane, ...], segments: tuple[Segment, ...],
                  status: Mapping[int, SegmentStatus], unsure: Collection[int] = ()) -> None:
@@ -143,6 +146,7 @@ class Timeline(Widget):
         rows.append(status_row)
         self._rows = rows
         self._row_width = width
+        self._lines = {}
 
     def watch_cursor(self) -> None:
         self.refresh()
@@ -165,6 +169,12 @@ class Timeline(Widget):
             row = self._rows[y - 1]
             current = next((s for s in self.segments if s.start <= self.cursor < s.end), None)
             first, last = self._columns_of(current) if current else (-1, -2)
+            key = (y, cursor, first, last, self.selected_hand if y <= lanes else None)
+            cached = self._lines.get(key)
+            if cached is not None and cached.cell_length == width:
+                return cached
+            if len(self._lines) > 4096:
+                self._lines = {}
             if y <= lanes:
                 hand = self.lanes[y - 1].hand
                 marker = "▶" if hand == self.selected_hand else " "
@@ -175,7 +185,8 @@ class Timeline(Widget):
             else:
                 head = [(char, _style("#808080")) for char in f"{'status':<{LABEL_WIDTH}}"]
                 cells = [(char, _style(colour, reverse=column == cursor)) for column, (char, colour) in enumerate(row)]
-            return _strip(head + cells, width)
+            line = self._lines[key] = _strip(head + cells, width)
+            return line
         if y == lanes + 2:  # legend
             segments = [RichSegment(" " * LABEL_WIDTH)]
             for name, colour in ACTION_COLOURS.items():
