@@ -32,6 +32,8 @@ class Opened:
     warnings: list[str] = field(default_factory=list)
     segmentation: Any = None
     """GGS's own segmentation, computed by the first analysis and reused by the next ones."""
+    review: Any = None
+    """The ``wecook_core.workflows.Review`` the session was opened as: what analyses it (None in test fakes)."""
 
 
 def open_video(path: Path) -> FrameSource | None:
@@ -64,15 +66,21 @@ def open_workspace(path: Path, frames: FrameSource | None = None) -> Opened:
     if obs is not None and frames is not None and frames.facts.error and not any(str(obs.video.path) in w
                                                                                   for w in warnings):
         warnings.append(f"{frames.facts.error}: boxes and hands are drawn on a blank frame")
-    return Opened(review.session, obs, review.knowledge, frames, warnings)
+    return Opened(review.session, obs, review.knowledge, frames, warnings, review=review)
 
 
 def analyze_workspace(opened: Opened, corrections: Sequence[Correction]) -> Analysis:
-    """The analysis with the typed corrections (:func:`wecook_core.workflows.analyse`, the path `wecook analyze`
-    and `wecook export` take); GGS runs once per session (corrections never change it)."""
+    """The analysis with the typed corrections: the session's :meth:`wecook_core.workflows.Review.analyse`, the
+    path `wecook analyze` and `wecook export` take (the video's shot cuts, the session's category table); GGS
+    runs once per session (corrections never change it)."""
     from wecook_core.workflows import analyse, segment
 
-    if opened.segmentation is None:
+    review = opened.review
+    if review is not None:
+        analysis = review.analyse(corrections)
+        opened.segmentation = review.segmentation
+        return analysis
+    if opened.segmentation is None:  # a test's stand-in session, with no Review behind it
         opened.segmentation = segment(opened.observations, opened.session.params)
     return analyse(opened.observations, opened.knowledge, opened.session.params, corrections,
                    segmentation=opened.segmentation)

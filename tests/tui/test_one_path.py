@@ -32,3 +32,24 @@ def test_the_workbench_reviews_the_segments_that_are_exported(tmp_path: Path,
         assert analysis.segmentation.segments[index] == seg
         action = review.actions_of(analysis, seg, index).get("RH_P1")
         assert action is not None and action.verb == "peel"
+
+
+def test_the_workbench_analyses_with_the_videos_shot_cuts_as_wecook_analyze_does(
+        tmp_path: Path, scenario_inputs: tuple[Path, Path, Path]) -> None:
+    """The workbench's analysis used to leave out the video's shot cuts (and the session's category table), so on
+    a video with a cut it reviewed other segments than `wecook analyze` exported."""
+    import json
+
+    from wecook_core.workflows import SHOTS_FILE
+
+    video, objects, hands = scenario_inputs
+    path = create_session(tmp_path, "cut", video, objects, hands)
+    stat = video.stat()
+    cut = 40  # a cut the shots cache says the video has (the cache is keyed by the very file)
+    (path / SHOTS_FILE).write_text(json.dumps({"video": str(video.resolve()), "size": stat.st_size,
+                                               "mtime_ns": stat.st_mtime_ns, "cuts": [cut]}) + "\n")
+    exported = analyse_session(path).analysis
+    assert exported.shots == (cut,)
+    reviewed = analyze_workspace(open_workspace(path), ())
+    assert reviewed.shots == (cut,)
+    assert reviewed.segmentation.segments == exported.segmentation.segments
