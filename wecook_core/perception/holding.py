@@ -17,9 +17,15 @@ tracking-by-detection's data association over time):
     moves the same way on either side (``Params.coherent_fraction``; one side suffices, since at a grasp the
     hand will carry the object and at a release it has), 1 for one that stays behind, 0.9 for nothing (a
     hand moving over static boxes carries none of them);
-  - when the hand is still (or it came from afar, or a box is not seen at both ends of the window) motion
-    says nothing: 0 for every overlapping object and 1 for nothing (a hand that stays on an object for
-    longer than the switching cost is taken to hold it);
+  - when the hand's motion says nothing (it is still, or not detected at an end of the window: on real
+    footage the detector loses it for long stretches, and an interpolated position is not evidence) the
+    objects' own motion may: an object no bigger than the hand whose box moves by itself while the hand
+    overlaps it is carried by that hand (0), unless a hand seen moving more like it carries it, and the
+    static boxes under it are not (1; nothing 0.9): the small jar shaken over the big still pan
+    (:func:`_carried`);
+  - when neither says anything (or the hand came from afar, or a box is not seen at both ends of the
+    window): 0 for every overlapping object and 1 for nothing (a hand that stays on an object for longer
+    than the switching cost is taken to hold it);
   - a tie-break of at most :data:`TIE` per frame, too small to outweigh motion: closer box centres (over
     the two boxes' sizes), smaller boxes (a hand on a knife lying on a board holds the knife; a pan's box
     covers the whole close-up), and a container before an ingredient it contains that it overlaps too (a
@@ -90,7 +96,50 @@ def motion_coherence(hands: np.ndarray, objects: np.ndarray, overlap: np.ndarray
         moving |= side_moving
         together |= side_together
         informative |= side_informative
+        # where the hand's own motion says nothing on this side (it is not detected at an end, or its big box
+        # barely moves while it shakes a small jar), the objects' own motion may (:func:`_carried`)
+        carried, said = _carried(hand_step, object_centres, objects, overlap, a, b, moving_fraction,
+                                 side_together.any(axis=1), hand_size, shot)
+        said &= ~side_informative
+        together |= carried & said
+        informative |= said
     return moving, together, informative
+
+
+def _carried(hand_step: np.ndarray, object_centres: np.ndarray, objects: np.ndarray, overlap: np.ndarray,
+             a: np.ndarray, b: np.ndarray, moving_fraction: float, claimed: np.ndarray, hand_size: np.ndarray,
+             shot: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """``(carried, said)``, both ``(frames, hands, objects)``, from the objects' own boxes between frames ``a``
+    and ``b`` (``hand_step``: each hand's displacement there, NaN where it is not seen at both ends).
+
+    An object *moves* when its centre travels more than ``moving_fraction`` of its own diagonal (both ends
+    seen, in one shot) and no moving hand carries it along already (``claimed``, ``(frames, objects)``).
+    Something moves it: of the hands seen at both ends that overlap a moving object, the one whose
+    displacement is closest to the object's carries it (common fate: the hand shaking the jar, whose big box
+    pivots at the wrist and moves less than the jar), and the others say they do not (a still hand on the pan
+    while the other carries the jar across it); a hand not seen at an end carries it unless a seen hand does.
+    Only an object no bigger than the hand (``hand_size``, diagonals) is carried this way: what moves under
+    a still hand and is bigger than it, such as the contents poured out of a bowl, is not.
+    A hand that carries an object says, for each other object it overlaps that is seen at both ends, that
+    it does not move along (the still pan under the jar)."""
+    with np.errstate(invalid="ignore"):
+        object_step = object_centres[b] - object_centres[a]
+        travel = np.linalg.norm(object_step, axis=-1)
+        size = np.hypot(objects[..., 2] - objects[..., 0], objects[..., 3] - objects[..., 1])
+        seen = np.isfinite(travel)
+        if shot is not None:
+            seen &= (shot[a] == shot[b])[:, None]
+        moves = overlap & (seen & (travel > moving_fraction * size) & ~claimed)[:, None, :]
+        apart = np.linalg.norm(object_step[:, None, :, :] - hand_step[:, :, None, :], axis=-1)
+        hand_seen = np.isfinite(hand_step).all(axis=-1)[:, :, None]
+        judged = np.where(moves & hand_seen, apart, np.inf)
+        follows = np.isfinite(judged) & (judged == judged.min(axis=1, keepdims=True))
+        refuses = moves & hand_seen & ~follows
+        unread = moves & ~hand_seen & ~follows.any(axis=1, keepdims=True)
+        small = size[:, None, :] <= hand_size[:, :, None]
+    carried = (follows | unread) & small
+    said = (carried.any(axis=2, keepdims=True) & overlap & seen[:, None, :]) | refuses
+    return carried, said
 
 
 def emission_costs(
