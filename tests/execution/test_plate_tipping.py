@@ -44,7 +44,7 @@ def test_the_onion_slides_off_a_plate_into_the_bowl(seed: int) -> None:
     try:
         results = run_schedule(plan, world)
         assert results[0].status == "done", results
-        assert world._container_of("onion") == "bowl"
-        assert world.pose("plate")[2, 2] > 0.99  # put back upright
+        assert world.scene.container_of("onion") == "bowl"
+        assert world.scene.pose("plate")[2, 2] > 0.99  # put back upright
     finally:
         world.close()
