@@ -181,6 +181,7 @@ def analyze(
     """
     from wecook_core.perception.actions import recognize_actions
     from wecook_core.perception.associate import associate_segments
+    from wecook_core.perception.occlusion import hidden_by_hands
     from wecook_core.perception.segmentation import segment_hands
     from wecook_core.perception.unseen import unseen_holds
     from wecook_core.trees.graph import build_graph, merge_actions, tree_spans
@@ -192,6 +193,7 @@ def analyze(
     if segmentation is None:
         segmentation = segment_hands(obs, segmentation_params(obs, params))
     shots = tuple(sorted(set(shots)))
+    obs = hidden_by_hands(obs, params, shots)
     unseen = unseen_holds(obs, params, shots)
     extra = [*shots, *(f for hold in unseen for f in (hold.start, hold.end))]
     least = max(1, round(params.min_segment_s * (obs.video.fps if obs.video.fps > 0 else 30.0)))
