@@ -103,3 +103,20 @@ def test_a_jar_shaken_over_the_pan_acts_on_the_pan_it_lies_over():
     assert links.hand_object == {"RH_P1": "salt"}
     assert links.containment["salt"] == "pan"
     assert links.object_object["salt"] == ("pan",)
+
+
+def test_the_hand_showing_up_around_it_a_frame_after_its_box_stops_carries_it():
+    obs = brought_in(hand=(7, 14))  # the jar's last box is on frame 5; the hand is first seen on frame 7
+    salt = hidden_by_hands(obs, Params()).object("salt")
+    assert list(salt.frames) == list(range(14))
+    assert np.allclose(salt.boxes[6], salt.boxes[5])  # no hand yet: it stays where it was last seen
+
+
+def test_an_ingredient_hidden_with_the_small_bowl_it_lies_in_rides_in_the_bowl():
+    # the garlic in the small dish the hand brings over the pan: both boxes stop under the hand; the dish goes
+    # on with the hand, the ingredient is not in the hand of its own (it shows up again where it was tipped)
+    dish = at(JAR, -5, -5)
+    obs = brought_in(other={"small_bowl": (Category.CONTAINER, [(0, 6, dish, at(dish, STEP * 6))])})
+    hidden = hidden_by_hands(obs, Params())
+    assert list(hidden.object("small_bowl").frames) == list(range(14))
+    assert list(hidden.object("salt").frames) == list(range(6))
