@@ -3,7 +3,8 @@
 Each stage lives in its own module; this one only chains them and applies the user's corrections:
 segment (:mod:`wecook_core.perception.segmentation`, GGS on the hands, plus cuts at the video's shot cuts,
 :mod:`wecook_core.perception.shots`, and where objects start and stop moving in hands the detector does not
-see, :mod:`wecook_core.perception.unseen`) -> associate (:mod:`wecook_core.perception.associate`, what each
+see, :mod:`wecook_core.perception.unseen`; objects hidden by the hand that carries them are carried on with it
+first, :mod:`wecook_core.perception.occlusion`) -> associate (:mod:`wecook_core.perception.associate`, what each
 hand holds decoded by :mod:`wecook_core.perception.holding`) -> actions (:mod:`wecook_core.perception.actions`,
 with the held object's own motion, :mod:`wecook_core.perception.motion`) -> merged trees and graph
 (:mod:`wecook_core.trees.graph`). Segments whose evidence is thin are marked unsure with the reason
