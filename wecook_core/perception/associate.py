@@ -87,7 +87,9 @@ def associations_of(
     """The links of one segment that last ``min_link_s`` consecutive frames, from its per-frame links, with
     the user's hand-object and object-object corrections for this segment applied. ``window``: the frames
     to summarise when not the segment's own (a segment shorter than ``min_link_s`` is judged on the
-    ``min_link_s`` around it)."""
+    ``min_link_s`` around it). A held ingredient that comes near nothing while it stays put (a jar shaken
+    hard at 5 fps never does) acts on the container it lies over in the segment: the container under a held
+    object is its destination."""
     window = window or segment
     lo, hi = window.start - links.start, window.end - links.start
     names = links.boxes.names
@@ -116,6 +118,8 @@ def associations_of(
         elif name not in object_object:
             near = near_objects(links, best, params, rows, video_diagonal)
             object_object[name] = tuple(names[k] for k in near)
+            if not near and name in containment:
+                object_object[name] = (containment[name],)
     return Associations(segment, hand_object, object_object, containment)
 
 

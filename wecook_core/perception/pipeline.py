@@ -3,7 +3,8 @@
 Each stage lives in its own module; this one only chains them and applies the user's corrections:
 segment (:mod:`wecook_core.perception.segmentation`, GGS on the hands, plus cuts at the video's shot cuts,
 :mod:`wecook_core.perception.shots`, and where objects start and stop moving in hands the detector does not
-see, :mod:`wecook_core.perception.unseen`) -> associate (:mod:`wecook_core.perception.associate`, what each
+see, :mod:`wecook_core.perception.unseen`; objects hidden by the hand that carries them are carried on with it
+first, :mod:`wecook_core.perception.occlusion`) -> associate (:mod:`wecook_core.perception.associate`, what each
 hand holds decoded by :mod:`wecook_core.perception.holding`) -> actions (:mod:`wecook_core.perception.actions`,
 with the held object's own motion, :mod:`wecook_core.perception.motion`) -> merged trees and graph
 (:mod:`wecook_core.trees.graph`). Segments whose evidence is thin are marked unsure with the reason
@@ -181,6 +182,7 @@ def analyze(
     """
     from wecook_core.perception.actions import recognize_actions
     from wecook_core.perception.associate import associate_segments
+    from wecook_core.perception.occlusion import hidden_by_hands
     from wecook_core.perception.segmentation import segment_hands
     from wecook_core.perception.unseen import unseen_holds
     from wecook_core.trees.graph import build_graph, merge_actions, tree_spans
@@ -192,6 +194,7 @@ def analyze(
     if segmentation is None:
         segmentation = segment_hands(obs, segmentation_params(obs, params))
     shots = tuple(sorted(set(shots)))
+    obs = hidden_by_hands(obs, params, shots)
     unseen = unseen_holds(obs, params, shots)
     extra = [*shots, *(f for hold in unseen for f in (hold.start, hold.end))]
     least = max(1, round(params.min_segment_s * (obs.video.fps if obs.video.fps > 0 else 30.0)))

@@ -82,7 +82,7 @@ def transfer_events(obs: Observations, timeline: Timeline, params: Params) -> tu
                 continue
             lo = max(0, end1 - rate.min_frames)
             hi = min(total, start2 + rate.min_frames)
-            event = _mover(obs, timeline, column, lo, hi, near, params)
+            event = _mover(obs, timeline, column, lo, hi, near, params, source)
             if event is None:
                 continue
             hand, carrier, span_start, span_end = event
@@ -110,15 +110,19 @@ def _arrival_end(
 
 
 def _mover(
-    obs: Observations, timeline: Timeline, ingredient: int, lo: int, hi: int, near: float, params: Params
+    obs: Observations, timeline: Timeline, ingredient: int, lo: int, hi: int, near: float, params: Params,
+    source: int = NONE,
 ) -> tuple[int, int, int, int] | None:
     """(hand column, carrier column or NONE, start and end of the carrier's hold) of the hand that moved an
-    ingredient during ``[lo, hi)``, or None when no hand did."""
+    ingredient during ``[lo, hi)``, or None when no hand did. Where the ingredient is not seen it rides in
+    the container it left (``source``; the garlic hidden in the small dish the hand brings over the pan): a
+    hand holding that container carries it there."""
     if hi <= lo:
         return None
     rate = params.at(obs.video.fps)
     boxes = frame_boxes(obs, lo, hi, rate.fill_gap)
     ingredient_boxes = boxes.objects[:, ingredient, :]
+    hidden = ~np.isfinite(ingredient_boxes[:, 0])
     rows = np.arange(hi - lo)
     best: tuple[float, int, int] | None = None
     for hand in range(len(HANDS)):
@@ -128,6 +132,7 @@ def _mover(
         carried_box = boxes.objects[rows, np.maximum(held, 0), :]
         with np.errstate(invalid="ignore"):
             via = (held != NONE) & (held != ingredient) & (box_gap(carried_box, ingredient_boxes) <= near)
+        via |= hidden & (held == source) & (source != NONE)
         score = float(np.mean(direct | via))
         if score < params.mover_share:
             continue
