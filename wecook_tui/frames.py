@@ -51,9 +51,17 @@ class FrameSource:
     seeking (seeking an H.264 file decodes from the previous key frame), so stepping forward costs one decode.
     """
 
+    RAW_KEPT = 8
+    """Native-size frames kept from the last decodes: a new view size resizes them again instead of decoding
+    (the layout settles a row or a column smaller once the session's timeline lanes show)."""
+
+    BACK_BLOCK = 16
+    """Frames read forwards per seek when prefetching behind the cursor, the nearest block first."""
+
     def __init__(self, path: str | Path | None, cache_size: int = 600) -> None:
         self.path = Path(path) if path is not None else None
         self.cache_size = cache_size
+        self._raw: OrderedDict[int, np.ndarray] = OrderedDict()
         self._lock = threading.Lock()
         self._wanted = threading.Event()
         """Set while a caller other than the prefetch waits for the lock: the prefetch lets it in between two
@@ -111,11 +119,22 @@ class FrameSource:
     # ------------------------------------------------------------------------------------- cache
 
     def set_size(self, width: int, height: int) -> None:
-        """Resize future frames to ``width x height`` pixels; drops the cache when the size changes."""
+        """Resize future frames to ``width x height`` pixels; drops the cache when the size changes, but for the
+        last few frames decoded (and frame 0), resized again from their native pictures."""
         with self._take():
             if (width, height) != self._size:
                 self._size = (width, height)
                 self._cache.clear()
+                first = getattr(self, "_first", None)
+                kept = [*([(0, first)] if first is not None and 0 not in self._raw else []), *self._raw.items()]
+                for index, raw in kept:
+                    self._store(index, raw, keep_raw=False)
+
+    def forget(self) -> None:
+        """Drop every decoded frame (the benchmark starts cold with it)."""
+        with self._take():
+            self._cache.clear()
+            self._raw.clear()
 
     @property
     def size(self) -> tuple[int, int]:
@@ -129,7 +148,12 @@ class FrameSource:
                 self._cache.move_to_end(index)
         return frame
 
-    def _store(self, index: int, frame: np.ndarray) -> np.ndarray:
+    def _store(self, index: int, frame: np.ndarray, keep_raw: bool = True) -> np.ndarray:
+        if keep_raw:
+            self._raw[index] = frame
+            self._raw.move_to_end(index)
+            while len(self._raw) > self.RAW_KEPT:
+                self._raw.popitem(last=False)
         width, height = self._size
         if width > 0 and height > 0 and (frame.shape[1], frame.shape[0]) != (width, height):
             frame = cv2.resize(frame, (width, height), interpolation=cv2.INTER_AREA)
@@ -200,6 +224,18 @@ class FrameSource:
             if self._wanted.is_set():
                 time.sleep(0.0005)  # let the waiting caller take the lock first
         return count
+
+    def prefetch_back(self, stop: int, count: int, cancelled: Callable[[], bool] = lambda: False) -> int:
+        """Decode the ``count`` frames below ``stop`` into the cache, nearest first: blocks of
+        :attr:`BACK_BLOCK` frames from ``stop`` down, each read forwards after one seek (stepping back wants
+        ``stop - 1`` next, which a forward read of the whole window would decode last). Returns how many."""
+        done = 0
+        high, low = stop, max(0, stop - count)
+        while high > low and not cancelled():
+            start = max(low, high - self.BACK_BLOCK)
+            done += self.prefetch(start, high, cancelled)
+            high = start
+        return done
 
 
 # ------------------------------------------------------------------------------------ overlays
