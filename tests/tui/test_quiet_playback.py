@@ -85,3 +85,18 @@ async def test_the_tree_is_rebuilt_only_when_the_segment_s_trees_change(session_
         assert inspector.rebuilds - before == changes
         await pilot.press("right")  # inside the segment: nothing rebuilt
         assert inspector.rebuilds - before == changes
+
+
+@pilot_test
+async def test_leaving_without_q_writes_the_pending_position_too(session_path: Path,
+                                                                monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(PositionKeeper, "INTERVAL", 3600.0)
+    app = WecookApp(session_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await settle(pilot, app)
+        await pilot.press("n", "n")
+        at = app.main.frame
+        assert load_position(session_path) != at
+        app.exit()  # ctrl+q, ctrl+c: the app quits, not the screen's q
+        await pilot.pause()
+    assert load_position(session_path) == at
