@@ -3,6 +3,7 @@ once a second (and on quitting), and the inspector's tree is rebuilt only when t
 
 from __future__ import annotations
 
+from itertools import pairwise
 from pathlib import Path
 
 import pytest
@@ -80,7 +81,7 @@ async def test_the_tree_is_rebuilt_only_when_the_segment_s_trees_change(session_
             await pilot.press("n")
             assert app.main.frame == seg.start
             shown.append(review.trees_of(app.analysis, seg))
-        changes = sum(a != b for a, b in zip(shown, shown[1:], strict=False))
+        changes = sum(a != b for a, b in pairwise(shown))
         assert changes < len(segs) - 1  # some neighbours share their trees (one action over several segments)
         assert inspector.rebuilds - before == changes
         await pilot.press("right")  # inside the segment: nothing rebuilt
