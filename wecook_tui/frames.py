@@ -1,11 +1,7 @@
-"""Video frames for the terminal: lazy decoding, a small LRU cache, overlays, half-block rendering.
-
-A terminal cell shows two pixels stacked: the upper-half-block character ``▀`` with the top pixel as its
-foreground colour and the bottom pixel as its background. That works in every terminal with true colour (and
-degrades gracefully in 256-colour ones), so the frame view never depends on a graphics protocol.
+"""Video frames for the terminal: lazy decoding, a small LRU cache, overlays.
 
 Decoding runs in worker threads (see :class:`FrameSource`); the UI thread only reads the cache, draws the
-overlays on a small image and turns it into :class:`~textual.strip.Strip` lines.
+overlays on a small image and turns it into :class:`~textual.strip.Strip` lines (:mod:`wecook_tui.halfblocks`).
 """
 
 from __future__ import annotations
@@ -16,7 +12,7 @@ import threading
 import time
 from collections import OrderedDict
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")  # FFmpeg must not print over the terminal UI
@@ -24,12 +20,11 @@ os.environ.setdefault("OPENCV_LOG_LEVEL", "OFF")
 
 import cv2
 import numpy as np
-from rich.color import Color
-from rich.segment import Segment
-from rich.style import Style
-from textual.strip import Strip
 
-HALF_BLOCK = "▀"
+from wecook_tui.halfblocks import HALF_BLOCK, Canvas, Label, to_strips
+
+__all__ = ["HALF_BLOCK", "BoxMark", "Canvas", "FrameSource", "HandMark", "Label", "LinkMark", "Overlay", "VideoFacts",
+           "blank", "contrasting", "draw", "fit", "to_strips"]
 
 
 @dataclass(frozen=True)
@@ -56,9 +51,17 @@ class FrameSource:
     seeking (seeking an H.264 file decodes from the previous key frame), so stepping forward costs one decode.
     """
 
+    RAW_KEPT = 8
+    """Native-size frames kept from the last decodes: a new view size resizes them again instead of decoding
+    (the layout settles a row or a column smaller once the session's timeline lanes show)."""
+
+    BACK_BLOCK = 16
+    """Frames read forwards per seek when prefetching behind the cursor, the nearest block first."""
+
     def __init__(self, path: str | Path | None, cache_size: int = 600) -> None:
         self.path = Path(path) if path is not None else None
         self.cache_size = cache_size
+        self._raw: OrderedDict[int, np.ndarray] = OrderedDict()
         self._lock = threading.Lock()
         self._wanted = threading.Event()
         """Set while a caller other than the prefetch waits for the lock: the prefetch lets it in between two
@@ -116,11 +119,22 @@ class FrameSource:
     # ------------------------------------------------------------------------------------- cache
 
     def set_size(self, width: int, height: int) -> None:
-        """Resize future frames to ``width x height`` pixels; drops the cache when the size changes."""
+        """Resize future frames to ``width x height`` pixels; drops the cache when the size changes, but for the
+        last few frames decoded (and frame 0), resized again from their native pictures."""
         with self._take():
             if (width, height) != self._size:
                 self._size = (width, height)
                 self._cache.clear()
+                first = getattr(self, "_first", None)
+                kept = [*([(0, first)] if first is not None and 0 not in self._raw else []), *self._raw.items()]
+                for index, raw in kept:
+                    self._store(index, raw, keep_raw=False)
+
+    def forget(self) -> None:
+        """Drop every decoded frame (the benchmark starts cold with it)."""
+        with self._take():
+            self._cache.clear()
+            self._raw.clear()
 
     @property
     def size(self) -> tuple[int, int]:
@@ -134,7 +148,12 @@ class FrameSource:
                 self._cache.move_to_end(index)
         return frame
 
-    def _store(self, index: int, frame: np.ndarray) -> np.ndarray:
+    def _store(self, index: int, frame: np.ndarray, keep_raw: bool = True) -> np.ndarray:
+        if keep_raw:
+            self._raw[index] = frame
+            self._raw.move_to_end(index)
+            while len(self._raw) > self.RAW_KEPT:
+                self._raw.popitem(last=False)
         width, height = self._size
         if width > 0 and height > 0 and (frame.shape[1], frame.shape[0]) != (width, height):
             frame = cv2.resize(frame, (width, height), interpolation=cv2.INTER_AREA)
@@ -206,6 +225,18 @@ class FrameSource:
                 time.sleep(0.0005)  # let the waiting caller take the lock first
         return count
 
+    def prefetch_back(self, stop: int, count: int, cancelled: Callable[[], bool] = lambda: False) -> int:
+        """Decode the ``count`` frames below ``stop`` into the cache, nearest first: blocks of
+        :attr:`BACK_BLOCK` frames from ``stop`` down, each read forwards after one seek (stepping back wants
+        ``stop - 1`` next, which a forward read of the whole window would decode last). Returns how many."""
+        done = 0
+        high, low = stop, max(0, stop - count)
+        while high > low and not cancelled():
+            start = max(low, high - self.BACK_BLOCK)
+            done += self.prefetch(start, high, cancelled)
+            high = start
+        return done
+
 
 # ------------------------------------------------------------------------------------ overlays
 
@@ -252,30 +283,10 @@ class Overlay:
     labels: bool = True
 
 
-@dataclass(frozen=True)
-class Label:
-    """Text placed on the half-block image, in cells."""
-
-    x: int
-    y: int
-    text: str
-    colour: tuple[int, int, int]
-    background: tuple[int, int, int] | None = None
-    """The cells' background; None: the image under the label."""
-
-
 def contrasting(rgb: tuple[int, int, int]) -> tuple[int, int, int]:
     """Black or white, whichever reads better on ``rgb`` (by relative luminance)."""
     r, g, b = rgb
     return (0, 0, 0) if 0.2126 * r + 0.7152 * g + 0.0722 * b > 140 else (255, 255, 255)
-
-
-@dataclass
-class Canvas:
-    """An image the size of the view (2 pixels per cell row) with the labels to print over it."""
-
-    image: np.ndarray
-    labels: list[Label] = field(default_factory=list)
 
 
 def blank(width: int, height: int, shade: int = 40) -> np.ndarray:
@@ -335,133 +346,6 @@ def _spread(labels: list[Label], columns: int, rows: int) -> list[Label]:
                 placed.append(Label(x, row, label.text, label.colour, label.background))
                 break
     return placed[::-1]
-
-
-# ----------------------------------------------------------------------------------- half blocks
-
-_COLOURS: dict[int, Color] = {}
-_QUANT = 0xF8
-"""Colours are quantised to 5 bits per channel: fewer distinct styles, same look at this resolution."""
-
-
-def _colour(packed: int) -> Color:
-    colour = _COLOURS.get(packed)
-    if colour is None:
-        colour = Color.from_rgb(packed >> 16, (packed >> 8) & 255, packed & 255)
-        _COLOURS[packed] = colour
-    return colour
-
-
-_PAIR_STYLES: dict[int, Style] = {}
-
-
-def _pair_style(key: int) -> Style:
-    """The style of a cell whose (top, bottom) colours are packed as ``top << 24 | bottom``."""
-    style = _PAIR_STYLES.get(key)
-    if style is None:
-        if len(_PAIR_STYLES) > 200_000:
-            _PAIR_STYLES.clear()
-        style = Style.from_color(_colour(key >> 24), _colour(key & 0xFFFFFF))
-        _PAIR_STYLES[key] = style
-    return style
-
-
-def _label_cells(labels: list[Label], bottom: list[int], width: int) -> dict[int, Segment]:
-    cells: dict[int, Segment] = {}
-    for label in labels:
-        fg = _colour(_pack(label.colour))
-        bg = _colour(_pack(label.background)) if label.background is not None else None
-        for offset, char in enumerate(label.text[: max(0, width - label.x)]):
-            x = label.x + offset
-            cells[x] = Segment(char, Style.from_color(fg, bg or _colour(bottom[x])) + _BOLD)
-    return cells
-
-
-_BOLD = Style(bold=True)
-
-
-def _pack(rgb: tuple[int, int, int]) -> int:
-    return ((rgb[0] & _QUANT) << 16) | ((rgb[1] & _QUANT) << 8) | (rgb[2] & _QUANT)
-
-
-_RUNS: dict[int, Segment] = {}
-"""Half-block runs by ``(top << 24 | bottom) << 10 | length``: a frame step reuses most of them."""
-
-
-def to_strips(canvas: Canvas) -> list[Strip]:
-    """One :class:`Strip` per pair of pixel rows; labels overwrite cells with text on the bottom colour.
-
-    Runs of equal cells are found with numpy over the whole picture at once; Python only looks each run's
-    segment up (built once, reused by later frames). Rows with labels are spliced cell by cell.
-    """
-    image = canvas.image
-    if image.shape[0] % 2:
-        image = np.vstack([image, image[-1:]])
-    rgb = (image[..., ::-1] & _QUANT).astype(np.uint64)
-    packed = (rgb[..., 0] << 16) | (rgb[..., 1] << 8) | rgb[..., 2]
-    keys = (packed[0::2] << 24) | packed[1::2]
-    rows, width = keys.shape
-    labels_by_row: dict[int, list[Label]] = {}
-    for label in canvas.labels:
-        labels_by_row.setdefault(label.y, []).append(label)
-    change = np.ones((rows, width), dtype=bool)
-    change[:, 1:] = keys[:, 1:] != keys[:, :-1]
-    if width >= 1024:  # too wide to pack a run's length in 10 bits: cell by cell
-        return [_row_strip(keys[row], change[row], packed[2 * row + 1], labels_by_row.get(row), width)
-                for row in range(rows)]
-    cells_by_row: dict[int, dict[int, Segment]] = {}
-    for row, labels in labels_by_row.items():
-        if 0 <= row < rows:
-            cells = cells_by_row[row] = _label_cells(labels, packed[2 * row + 1].tolist(), width)
-            for x in cells:  # a label's cell starts a run of its own, and the cell after it another
-                change[row, x] = True
-                if x + 1 < width:
-                    change[row, x + 1] = True
-    flat_keys = keys.ravel()
-    starts = np.flatnonzero(change.ravel())
-    lengths = np.diff(np.append(starts, rows * width)).astype(np.uint64)  # every row starts a run
-    runs = ((flat_keys[starts] << np.uint64(10)) | lengths).tolist()  # a run's key and length in one int
-    row_starts = np.searchsorted(starts, np.arange(rows + 1) * width).tolist()
-    if len(_RUNS) > 300_000:
-        _RUNS.clear()
-    strips: list[Strip] = []
-    for row in range(rows):
-        segments: list[Segment] = []
-        append = segments.append
-        row_cells = cells_by_row.get(row)
-        x = 0
-        for run in runs[row_starts[row]:row_starts[row + 1]]:
-            if row_cells is not None and x in row_cells:
-                append(row_cells[x])  # a label's cell: the run (one cell long) is the label's character
-                x += 1
-                continue
-            segment = _RUNS.get(run)
-            if segment is None:
-                segment = _RUNS[run] = Segment(HALF_BLOCK * (run & 1023), _pair_style(run >> 10))
-            append(segment)
-            x += run & 1023
-        strips.append(Strip(segments, width))
-    return strips
-
-
-def _row_strip(row_keys: np.ndarray, change: np.ndarray, bottom: np.ndarray, labels: list[Label] | None,
-               width: int) -> Strip:
-    """One row's strip, with its labels' cells."""
-    starts = np.flatnonzero(change).tolist()
-    cells = _label_cells(labels, bottom.tolist(), width) if labels else None
-    if cells:
-        starts = sorted(set(starts) | set(cells) | {x + 1 for x in cells if x + 1 < width})
-    run_keys = row_keys[starts].tolist()
-    ends = [*starts[1:], width]
-    segments: list[Segment] = []
-    for start, end, key in zip(starts, ends, run_keys, strict=True):
-        if cells is not None and start in cells:
-            segments.append(cells[start])
-            if end - start > 1:
-                segments.append(Segment(HALF_BLOCK * (end - start - 1), _pair_style(key)))
-        else:
-            segments.append(Segment(HALF_BLOCK * (end - start), _pair_style(key)))
-    return Strip(segments, width)
 
 
 def fit(video_size: tuple[int, int], cells: tuple[int, int]) -> tuple[int, int]:

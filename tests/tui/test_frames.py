@@ -40,7 +40,9 @@ def test_decode_caches_resizes_and_evicts(tmp_path: Path) -> None:
     assert source.cached(5) is None and source.cached(19) is not None  # least recently used went first
     assert source.decode(30) is None and source.decode(-1) is None
     source.set_size(32, 18)
-    assert source.cached(19) is None  # a new size drops the cache
+    assert source.cached(6) is None  # a new size drops the cache but for the last few frames, resized again
+    again = source.cached(19)
+    assert again is not None and again.shape == (18, 32, 3)
 
 
 def test_frames_match_a_sequential_read(tmp_path: Path) -> None:
@@ -244,9 +246,7 @@ async def test_playback_that_lags_keeps_every_few_frames_and_shows_the_latest_ke
         await app.workers.wait_for_complete()
         source = view.source
         assert source is not None
-        width, height = source.size
-        source.set_size(width + 1, height)  # an empty cache
-        source.set_size(width, height)
+        source.forget()  # an empty cache
         calls: list[tuple[int, int, int]] = []
         prefetch = source.prefetch
 
@@ -269,3 +269,34 @@ async def test_playback_that_lags_keeps_every_few_frames_and_shows_the_latest_ke
         app.main.frame = 15
         await pilot.pause()
         assert view.stride == 1  # a one-frame step: every frame again
+
+
+def test_prefetch_behind_the_cursor_decodes_the_nearest_frames_first(tmp_path: Path) -> None:
+    """Stepping back wants the frame just below the cursor next: the first block read is the one below it."""
+    source = FrameSource(make_video(tmp_path / "v.mp4", frames=60))
+    source.set_size(64, 36)
+    calls: list[int] = []
+    done = source.prefetch_back(50, 40, cancelled=lambda: len(calls.append(1) or calls) > FrameSource.BACK_BLOCK + 1)
+    assert done == FrameSource.BACK_BLOCK
+    assert all(source.cached(i) is not None for i in range(50 - FrameSource.BACK_BLOCK, 50))
+    assert source.cached(50) is None and source.cached(10) is None
+    assert source.prefetch_back(50, 40) == 40 - FrameSource.BACK_BLOCK
+    assert all(source.cached(i) is not None for i in range(10, 50))
+
+
+def test_a_new_size_resizes_the_last_frames_again_instead_of_decoding(tmp_path: Path) -> None:
+    """The layout settling a column smaller keeps the frames just shown, with the pixels a decode would give."""
+    path = make_video(tmp_path / "v.mp4", frames=30)
+    source = FrameSource(path)
+    source.set_size(64, 36)
+    for index in range(20):
+        source.decode(index)
+    source.set_size(62, 34)
+    kept = [i for i in range(30) if source.cached(i) is not None]
+    assert kept == [0, *range(20 - FrameSource.RAW_KEPT, 20)]
+    fresh = FrameSource(path)
+    fresh.set_size(62, 34)
+    for index in kept:
+        frame, truth = source.cached(index), fresh.decode(index)
+        assert frame is not None and truth is not None and frame.shape == (34, 62, 3)
+        assert np.array_equal(frame, truth), index

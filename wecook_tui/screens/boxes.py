@@ -34,7 +34,7 @@ from wecook_core.session.boxes import (
     tracked,
 )
 from wecook_tui.box_edits import BoxEdits, MemoryEdits
-from wecook_tui.frames import BoxMark, FrameSource, Overlay, fit
+from wecook_tui.frames import BoxMark, FrameSource, Overlay
 from wecook_tui.screens.box_name import NameScreen, known_labels
 from wecook_tui.widgets.frame_view import FrameView
 
@@ -103,10 +103,12 @@ class BoxScreen(Screen[None]):
         self.selected: int | None = len(self.tracks) - 1 if self.tracks else None
         self._last_id = max((t.track_id for t in self.tracks), default=0)
         self._drag: tuple[float, float] | None = None
+        self._marks: dict[int, str] = {}
+        """The name each shown box is drawn with, by track (a click names the box it hit)."""
         self.tracking = False
 
     def compose(self) -> ComposeResult:
-        yield FrameView(id="box-frame")
+        yield FrameView(id="box-frame", graphics=True)
         yield Static("", id="box-status")
         yield Footer()
 
@@ -142,11 +144,13 @@ class BoxScreen(Screen[None]):
 
     def _overlay(self) -> Overlay:
         marks = []
+        self._marks = {}
         for i, track in enumerate(self.tracks):
             box = self.box_at(track, self.frame)
             if box is not None:
                 key = " *" if self.frame in track.keyframes else ""
-                marks.append(BoxMark(f"{track.label}{key}", box, COLOURS[i % len(COLOURS)], held=i == self.selected))
+                self._marks[i] = f"{track.label}{key}"
+                marks.append(BoxMark(self._marks[i], box, COLOURS[i % len(COLOURS)], held=i == self.selected))
         return Overlay(boxes=tuple(marks))
 
     def _show(self) -> None:
@@ -307,14 +311,24 @@ class BoxScreen(Screen[None]):
     # --------------------------------------------------------------------------------- mouse
 
     def pixel(self, x: int, y: int) -> tuple[float, float] | None:
-        """The video pixel under cell (x, y) of the frame view, or None outside the picture."""
-        view = self.query_one(FrameView)
-        width, height = fit(self.video.size, (view.size.width, view.size.height))
-        pad = max(0, (view.size.width - width) // 2)
-        px, py = (x - pad) / width * self.video.size[0], (2 * y + 1) / height * self.video.size[1]
-        if not (0 <= px <= self.video.size[0] and 0 <= py <= self.video.size[1]):
-            return None
-        return (px, py)
+        """The video pixel under cell (x, y) of the frame view, or None outside the picture (the view's own
+        mapping: half-blocks or a graphics protocol's picture alike)."""
+        return self.query_one(FrameView).pixel_at(x, y)
+
+    def on_frame_view_clicked(self, message: FrameView.Clicked) -> None:
+        """A click (no drag) on a box or its label selects that box; of boxes drawn with one name, the
+        smallest under the click."""
+        message.stop()
+        px, py = message.pixel
+
+        def rank(i: int) -> tuple[bool, float]:
+            x1, y1, x2, y2 = self.box_at(self.tracks[i], self.frame) or (0.0, 0.0, 0.0, 0.0)
+            return (not (x1 <= px <= x2 and y1 <= py <= y2), (x2 - x1) * (y2 - y1))
+
+        named = sorted((i for i, name in self._marks.items() if name == message.box), key=rank)
+        if named and named[0] != self.selected:
+            self.selected = named[0]
+            self._show()
 
     def on_mouse_down(self, event: events.MouseDown) -> None:
         offset = event.get_content_offset(self.query_one(FrameView))

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 from rich.text import Text
 from textual.app import ComposeResult
@@ -22,6 +22,9 @@ from wecook_tui.widgets.inspector import Inspector
 from wecook_tui.widgets.status_line import StatusLine
 from wecook_tui.widgets.timeline import Timeline
 from wecook_tui.workbench_state import Workbench, workbench
+
+if TYPE_CHECKING:
+    from wecook_tui.resume import PositionKeeper
 
 MAIN_BINDINGS: list[Binding] = [  # help and quit first: the footer is cut on the right in a narrow terminal
     Binding("question_mark,f1", "help", "Help", id="help"),
@@ -79,6 +82,8 @@ class MainScreen(Screen[None]):
         """(perf_counter, frame) when playback started."""
         self._told: set[str] = set()
         """Unknown labels the user was told about (each once)."""
+        self._keeper: PositionKeeper | None = None
+        self._keep_timer: Timer | None = None
 
     @property
     def wb(self) -> Workbench:
@@ -448,11 +453,25 @@ class MainScreen(Screen[None]):
         ask_categories(self.app)
 
     def _remember(self) -> None:
-        from wecook_tui.resume import save_position
+        """Keep the cursor for the next opening: at most one write a second (a playback changes segment
+        often), the last position written once the second is over, and on quitting."""
+        if self._keeper is None:
+            from wecook_tui.resume import PositionKeeper
 
-        save_position(self.wb.session_path, self.frame)
+            self._keeper = PositionKeeper(self.wb.session_path)
+        if not self._keeper.note(self.frame) and self._keep_timer is None:
+            self._keep_timer = self.set_timer(self._keeper.due(), self._flush_position)
+
+    def _flush_position(self) -> None:
+        self._keep_timer = None
+        if self._keeper is not None:
+            self._keeper.flush()
+
+    def on_unmount(self) -> None:
+        self._flush_position()
 
     async def action_quit(self) -> None:
         if self.wb.opened is not None:
             self._remember()
+            self._flush_position()
         self.app.exit()

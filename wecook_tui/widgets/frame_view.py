@@ -146,9 +146,14 @@ class FrameView(Widget):
         self.post_message(FrameDecoded(index, frame is not None))
 
     @work(thread=True, exclusive=True, group="prefetch", exit_on_error=False)
-    def _prefetch(self, start: int, stop: int, step: int = 1) -> None:
+    def _prefetch(self, start: int, stop: int, step: int = 1, back: bool = False) -> None:
+        """``back``: the window behind the cursor, read in blocks from ``stop`` down (nearest first)."""
         worker = get_current_worker()
-        if self.source is not None:
+        if self.source is None:
+            return
+        if back:
+            self.source.prefetch_back(stop, stop - start, cancelled=lambda: worker.is_cancelled)
+        else:
             self.source.prefetch(start, stop, cancelled=lambda: worker.is_cancelled, step=step)
 
     @property
@@ -173,7 +178,7 @@ class FrameView(Widget):
         ahead = any(source.cached(i) is not None for i in range(probe, probe + stride))
         if not ahead and self._prefetch_until != stop:
             self._prefetch_until = stop
-            self._prefetch(start, stop, stride)
+            self._prefetch(start, stop, stride, back=self._direction < 0)
 
     def on_frame_decoded(self, message: FrameDecoded) -> None:
         message.stop()

@@ -34,6 +34,14 @@ class Inspector(VerticalScroll):
 
     can_focus = False
 
+    def __init__(self, *, id: str | None = None) -> None:
+        super().__init__(id=id)
+        self._shown: dict[str, object] = {}
+        """What each part shows now (header, actions, associations texts; the trees): a part whose content did
+        not change is not rebuilt (playback crosses segments of one action, whose trees are the same)."""
+        self.rebuilds = 0
+        """Times the tree was rebuilt (the tests count them)."""
+
     def compose(self) -> ComposeResult:
         yield Static(id="segment-header")
         yield Static(id="segment-actions")
@@ -54,7 +62,13 @@ class Inspector(VerticalScroll):
         if unsure:
             mark, tone = UNSURE_GLYPH
             header.append_text(Text.assemble("\n", (f"{mark} unsure: ", f"bold {tone}"), (unsure, tone)))
-        self.query_one("#segment-header", Static).update(header)
+        self._update("#segment-header", header)
+        self._update("#segment-actions", self._actions(actions, selected, rankings or {}))
+        self._update("#segment-associations", self._associations(assoc))
+        if self._shown.get("trees") == trees:
+            return
+        self._shown["trees"] = trees
+        self.rebuilds += 1
         tree = self.query_one("#segment-trees", SegmentTree)
         tree.clear()
         if trees:
@@ -65,8 +79,11 @@ class Inspector(VerticalScroll):
                                  data=format_tree(span.tree), expand=True)
             _add(node, span.tree)
         tree.root.expand()
-        self.query_one("#segment-actions", Static).update(self._actions(actions, selected, rankings or {}))
-        self.query_one("#segment-associations", Static).update(self._associations(assoc))
+
+    def _update(self, part: str, text: Text) -> None:
+        if self._shown.get(part) != text:
+            self._shown[part] = text
+            self.query_one(part, Static).update(text)
 
     @staticmethod
     def _actions(actions: Mapping[str, Action], selected: str | None,
