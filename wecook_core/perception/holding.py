@@ -81,15 +81,25 @@ def motion_coherence(hands: np.ndarray, objects: np.ndarray, overlap: np.ndarray
     moving = np.zeros(hands.shape[:2], dtype=bool)
     together = np.zeros((*hands.shape[:2], objects.shape[1]), dtype=bool)
     informative = together.copy()
+    # lengths as sqrt(x * x + y * y) on the two components: what np.linalg.norm computes, bit for bit, without
+    # its reduction over a last axis of two
     for a, b in ((np.maximum(index - window, 0), index), (index, np.minimum(index + window, length - 1))):
         hand_step = hand_centres[b] - hand_centres[a]
         object_step = object_centres[b] - object_centres[a]
+        hx, hy = hand_step[..., 0], hand_step[..., 1]
         with np.errstate(invalid="ignore"):
-            hand_move = np.linalg.norm(hand_step, axis=-1)
+            hand_move = np.sqrt(hx * hx + hy * hy)
             side_moving = hand_move > moving_fraction * hand_size
-            apart = np.linalg.norm(object_step[:, None, :, :] - hand_step[:, :, None, :], axis=-1)
-            side_together = side_moving[:, :, None] & (apart < coherent_fraction * hand_move[:, :, None])
-            side_informative = side_moving[:, :, None] & np.isfinite(apart) & overlap[a] & overlap[b]
+            dx = object_step[:, None, :, 0] - hx[:, :, None]
+            dy = object_step[:, None, :, 1] - hy[:, :, None]
+            dx *= dx
+            dy *= dy
+            dx += dy
+            apart = np.sqrt(dx, out=dx)
+            side_together = (apart < coherent_fraction * hand_move[:, :, None]) & side_moving[:, :, None]
+            side_informative = np.isfinite(apart) & side_moving[:, :, None]
+            side_informative &= overlap[a] if b is index else overlap[b]
+            side_informative &= overlap
             if shot is not None:
                 side_informative &= (shot[a] == shot[b])[:, None, None]
             side_together &= side_informative
@@ -122,17 +132,26 @@ def _carried(hand_step: np.ndarray, object_centres: np.ndarray, objects: np.ndar
     a still hand and is bigger than it, such as the contents poured out of a bowl, is not.
     A hand that carries an object says, for each other object it overlaps that is seen at both ends, that
     it does not move along (the still pan under the jar)."""
+    shape = (*hand_step.shape[:2], objects.shape[1])
     with np.errstate(invalid="ignore"):
         object_step = object_centres[b] - object_centres[a]
-        travel = np.linalg.norm(object_step, axis=-1)
+        ox, oy = object_step[..., 0], object_step[..., 1]
+        travel = np.sqrt(ox * ox + oy * oy)  # np.linalg.norm's arithmetic, bit for bit
         size = np.hypot(objects[..., 2] - objects[..., 0], objects[..., 3] - objects[..., 1])
         seen = np.isfinite(travel)
         if shot is not None:
             seen &= (shot[a] == shot[b])[:, None]
-        moves = overlap & (seen & (travel > moving_fraction * size) & ~claimed)[:, None, :]
-        apart = np.linalg.norm(object_step[:, None, :, :] - hand_step[:, :, None, :], axis=-1)
+        moving = seen & (travel > moving_fraction * size) & ~claimed
+        if not moving.any():  # nothing moves by itself: nothing carried, nothing said
+            return np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool)
+        moves = overlap & moving[:, None, :]
         hand_seen = np.isfinite(hand_step).all(axis=-1)[:, :, None]
-        judged = np.where(moves & hand_seen, apart, np.inf)
+        # the distances are only read where a moving object meets a seen hand (often a few frames)
+        judged = np.full(shape, np.inf)
+        rows, hands, columns = np.nonzero(moves & hand_seen)
+        dx = ox[rows, columns] - hand_step[rows, hands, 0]
+        dy = oy[rows, columns] - hand_step[rows, hands, 1]
+        judged[rows, hands, columns] = np.sqrt(dx * dx + dy * dy)
         follows = np.isfinite(judged) & (judged == judged.min(axis=1, keepdims=True))
         refuses = moves & hand_seen & ~follows
         unread = moves & ~hand_seen & ~follows.any(axis=1, keepdims=True)
@@ -164,7 +183,9 @@ def emission_costs(
     with np.errstate(invalid="ignore", divide="ignore"):
         hand_size = np.hypot(hands[..., 2] - hands[..., 0], hands[..., 3] - hands[..., 1])[:, :, None]
         object_size = np.hypot(objects[..., 2] - objects[..., 0], objects[..., 3] - objects[..., 1])[:, None, :]
-        distance = np.linalg.norm(centres(hands)[:, :, None, :] - centres(objects)[:, None, :, :], axis=-1)
+        dx = ((hands[..., 0] + hands[..., 2]) / 2)[:, :, None] - ((objects[..., 0] + objects[..., 2]) / 2)[:, None, :]
+        dy = ((hands[..., 1] + hands[..., 3]) / 2)[:, :, None] - ((objects[..., 1] + objects[..., 3]) / 2)[:, None, :]
+        distance = np.sqrt(dx * dx + dy * dy)  # np.linalg.norm of the centres' difference, bit for bit
         closeness = np.clip(np.nan_to_num(distance / (hand_size + object_size), nan=1.0), 0.0, 1.0)
         bigness = np.clip(np.nan_to_num(np.log(object_size / hand_size) / np.log(10.0), nan=1.0), 0.0, 1.0)
     object_cost = object_cost + TIE * (0.4 * closeness + 0.3 * bigness + 0.3 * contained)
