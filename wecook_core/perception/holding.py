@@ -205,20 +205,30 @@ def viterbi(costs: np.ndarray, switch: float, start: np.ndarray | None = None) -
     path = np.zeros((length, n_hands), dtype=np.int32)
     if length == 0:
         return path, start if start is not None else np.zeros((n_hands, n_states))
-    back = np.empty((length, n_hands, n_states), dtype=np.int16)
     total = np.zeros((n_hands, n_states)) if start is None else start - start.min(axis=1, keepdims=True)
-    hands = np.arange(n_hands)
+    # forward pass, in place: only the costs, each frame's kept; the back pointers (stay, or switch from the
+    # best) are then read from them all at once
+    totals = np.empty((length, n_hands, n_states))
+    smallest, cheaper, add, subtract = np.minimum.reduce, np.minimum, np.add, np.subtract
+    low = np.empty((n_hands, 1))
     for t in range(length):
-        best = np.argmin(total, axis=1)
-        switched = total[hands, best] + switch
-        stay = total <= switched[:, None]
-        back[t] = np.where(stay, np.arange(n_states)[None, :], best[:, None])
-        total = np.where(stay, total, switched[:, None]) + costs[t]
-        total -= total.min(axis=1, keepdims=True)  # keeps the numbers small; inf stays inf
-    state = np.argmin(total, axis=1)
+        totals[t] = total
+        smallest(total, axis=1, keepdims=True, out=low)
+        low += switch
+        cheaper(total, low, out=total)
+        add(total, costs[t], out=total)
+        smallest(total, axis=1, keepdims=True, out=low)
+        subtract(total, low, out=total)  # keeps the numbers small; inf stays inf
+    best = np.argmin(totals, axis=2)
+    stay = totals <= (np.take_along_axis(totals, best[:, :, None], axis=2) + switch)
+    back = np.where(stay, np.arange(n_states, dtype=np.int16), best[:, :, None].astype(np.int16)).tolist()
+    state = np.argmin(total, axis=1).tolist()
+    states = [state] * length
     for t in range(length - 1, -1, -1):
-        path[t] = state
-        state = back[t, hands, state]
+        states[t] = state
+        pointers = back[t]
+        state = [pointers[h][s] for h, s in enumerate(state)]
+    path[:] = states
     return path, total
 
 
