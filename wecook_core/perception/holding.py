@@ -110,7 +110,7 @@ def motion_coherence(hands: np.ndarray, objects: np.ndarray, overlap: np.ndarray
         # where the hand's own motion says nothing on this side (it is not detected at an end, or its big box
         # barely moves while it shakes a small jar), the objects' own motion may (:func:`_carried`)
         carried, said = _carried(hand_step, object_centres, objects, overlap, a, b, moving_fraction,
-                                 side_together.any(axis=1), hand_size, shot)
+                                 np.asarray(side_together.any(axis=1)), hand_size, shot)
         said &= ~side_informative
         together |= carried & said
         informative |= said
