@@ -193,3 +193,32 @@ def rank_first(knowledge, objects) -> str:
     from wecook_core.knowledge.recognize import rank
 
     return rank(knowledge, objects)[0][0]
+
+
+def test_rankings_are_remembered_per_knowledge_object_and_forgotten_with_it(monkeypatch):
+    import gc
+
+    import numpy as np
+
+    from wecook_core.knowledge.recognize import Knowledge, rank
+    from wecook_core.perception import actions
+
+    verbs, objects = ("cut", "stir", "pour"), ("knife", "spoon", "pot")
+    cutting_table = Knowledge(verbs, objects, np.array([1, 1, 1]), np.array([[5, 0, 1], [0, 5, 1], [0, 0, 5]]))
+    stirring_table = Knowledge(verbs, objects, np.array([1, 1, 1]), np.array([[0, 0, 1], [5, 5, 1], [0, 0, 5]]))
+    first = actions._rank(cutting_table, ["knife"])
+    assert first == rank(cutting_table, ["knife"], list(verbs)) and first[0][0] == "cut"
+    assert actions._rank(cutting_table, ("knife",)) is first  # the same objects: remembered
+    assert actions._rank(stirring_table, ["knife"])[0][0] == "stir"  # another table: its own ranking
+    narrowed = actions._rank(cutting_table, ["knife"], ("stir", "pour"))
+    assert narrowed == rank(cutting_table, ["knife"], ["stir", "pour"]) and len(narrowed) == 2
+
+    monkeypatch.setattr(actions, "RANKINGS_KEPT", 2)
+    for names in (["pot"], ["spoon"], ["knife", "pot"]):
+        assert actions._rank(cutting_table, names) == rank(cutting_table, names, list(verbs))
+        assert len(actions._RANKINGS[cutting_table]) <= 2
+
+    tables = len(actions._RANKINGS)
+    del stirring_table
+    gc.collect()
+    assert len(actions._RANKINGS) == tables - 1

@@ -27,6 +27,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from functools import partial
 from typing import TYPE_CHECKING
+from weakref import WeakKeyDictionary
 
 import numpy as np
 
@@ -82,10 +83,25 @@ def _candidates(knowledge: Knowledge, allowed: Sequence[str] | None = None) -> l
     return verbs
 
 
+_RANKINGS: WeakKeyDictionary[Knowledge, dict[tuple[tuple[str, ...], tuple[str, ...] | None], Ranking]] = (
+    WeakKeyDictionary())
+"""Rankings already computed, per knowledge object (by identity: its tables never change; an entry goes with
+its knowledge) and per (objects, allowed verbs): a video asks the same few dozen over and over."""
+RANKINGS_KEPT = 4096
+"""Most rankings kept per knowledge object (a long-lived workbench sees ever new object lists)."""
+
+
 def _rank(knowledge: Knowledge, objects: Sequence[str], allowed: Sequence[str] | None = None) -> Ranking:
     from wecook_core.knowledge.recognize import rank
 
-    return rank(knowledge, list(objects), _candidates(knowledge, allowed))
+    known = _RANKINGS.setdefault(knowledge, {})
+    key = (tuple(objects), None if allowed is None else tuple(allowed))
+    ranking = known.get(key)
+    if ranking is None:
+        if len(known) >= RANKINGS_KEPT:
+            known.clear()
+        ranking = known[key] = rank(knowledge, list(objects), _candidates(knowledge, allowed))
+    return ranking
 
 
 def _with_container(name: str, assoc: Associations) -> tuple[str, ...]:

@@ -81,25 +81,36 @@ def motion_coherence(hands: np.ndarray, objects: np.ndarray, overlap: np.ndarray
     moving = np.zeros(hands.shape[:2], dtype=bool)
     together = np.zeros((*hands.shape[:2], objects.shape[1]), dtype=bool)
     informative = together.copy()
+    # only the (frame, hand, object) entries where the boxes overlap can say anything: the distances are read
+    # there alone (a few percent of them), as sqrt(x * x + y * y) on the two components, np.linalg.norm's own
+    # arithmetic, bit for bit
+    rows, hand, column = np.nonzero(overlap)
     for a, b in ((np.maximum(index - window, 0), index), (index, np.minimum(index + window, length - 1))):
         hand_step = hand_centres[b] - hand_centres[a]
         object_step = object_centres[b] - object_centres[a]
+        hx, hy = hand_step[..., 0], hand_step[..., 1]
         with np.errstate(invalid="ignore"):
-            hand_move = np.linalg.norm(hand_step, axis=-1)
+            hand_move = np.sqrt(hx * hx + hy * hy)
             side_moving = hand_move > moving_fraction * hand_size
-            apart = np.linalg.norm(object_step[:, None, :, :] - hand_step[:, :, None, :], axis=-1)
-            side_together = side_moving[:, :, None] & (apart < coherent_fraction * hand_move[:, :, None])
-            side_informative = side_moving[:, :, None] & np.isfinite(apart) & overlap[a] & overlap[b]
+            dx = object_step[rows, column, 0] - hx[rows, hand]
+            dy = object_step[rows, column, 1] - hy[rows, hand]
+            apart = np.sqrt(dx * dx + dy * dy)
+            moves = side_moving[rows, hand]
+            said_here = moves & np.isfinite(apart) & overlap[a[rows] if b is index else b[rows], hand, column]
             if shot is not None:
-                side_informative &= (shot[a] == shot[b])[:, None, None]
-            side_together &= side_informative
+                said_here &= shot[a[rows]] == shot[b[rows]]
+            with_it = said_here & moves & (apart < coherent_fraction * hand_move[rows, hand])
+        side_together = np.zeros(overlap.shape, dtype=bool)
+        side_together[rows, hand, column] = with_it
+        side_informative = np.zeros(overlap.shape, dtype=bool)
+        side_informative[rows, hand, column] = said_here
         moving |= side_moving
         together |= side_together
         informative |= side_informative
         # where the hand's own motion says nothing on this side (it is not detected at an end, or its big box
         # barely moves while it shakes a small jar), the objects' own motion may (:func:`_carried`)
         carried, said = _carried(hand_step, object_centres, objects, overlap, a, b, moving_fraction,
-                                 side_together.any(axis=1), hand_size, shot)
+                                 np.asarray(side_together.any(axis=1)), hand_size, shot)
         said &= ~side_informative
         together |= carried & said
         informative |= said
@@ -122,23 +133,39 @@ def _carried(hand_step: np.ndarray, object_centres: np.ndarray, objects: np.ndar
     a still hand and is bigger than it, such as the contents poured out of a bowl, is not.
     A hand that carries an object says, for each other object it overlaps that is seen at both ends, that
     it does not move along (the still pan under the jar)."""
+    shape = (*hand_step.shape[:2], objects.shape[1])
     with np.errstate(invalid="ignore"):
         object_step = object_centres[b] - object_centres[a]
-        travel = np.linalg.norm(object_step, axis=-1)
+        ox, oy = object_step[..., 0], object_step[..., 1]
+        travel = np.sqrt(ox * ox + oy * oy)  # np.linalg.norm's arithmetic, bit for bit
         size = np.hypot(objects[..., 2] - objects[..., 0], objects[..., 3] - objects[..., 1])
         seen = np.isfinite(travel)
         if shot is not None:
             seen &= (shot[a] == shot[b])[:, None]
-        moves = overlap & (seen & (travel > moving_fraction * size) & ~claimed)[:, None, :]
-        apart = np.linalg.norm(object_step[:, None, :, :] - hand_step[:, :, None, :], axis=-1)
-        hand_seen = np.isfinite(hand_step).all(axis=-1)[:, :, None]
-        judged = np.where(moves & hand_seen, apart, np.inf)
-        follows = np.isfinite(judged) & (judged == judged.min(axis=1, keepdims=True))
-        refuses = moves & hand_seen & ~follows
-        unread = moves & ~hand_seen & ~follows.any(axis=1, keepdims=True)
-        small = size[:, None, :] <= hand_size[:, :, None]
-    carried = (follows | unread) & small
-    said = (carried.any(axis=2, keepdims=True) & overlap & seen[:, None, :]) | refuses
+        moving = seen & (travel > moving_fraction * size) & ~claimed
+        if not moving.any():  # nothing moves by itself: nothing carried, nothing said
+            return np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool)
+        # only the entries where a moving object overlaps a hand are read (often a few frames)
+        rows, hand, column = np.nonzero(overlap & moving[:, None, :])
+        hand_seen = np.isfinite(hand_step).all(axis=-1)[rows, hand]
+        dx = ox[rows, column] - hand_step[rows, hand, 0]
+        dy = oy[rows, column] - hand_step[rows, hand, 1]
+        judged = np.where(hand_seen, np.sqrt(dx * dx + dy * dy), np.inf)
+        closest = np.full(moving.shape, np.inf)  # per frame and object, over the hands
+        np.minimum.at(closest, (rows, column), judged)
+        follows = np.isfinite(judged) & (judged == closest[rows, column])
+        refuses = hand_seen & ~follows
+        followed = np.zeros(moving.shape, dtype=bool)
+        followed[rows[follows], column[follows]] = True
+        unread = ~hand_seen & ~followed[rows, column]
+        small = size[rows, column] <= hand_size[rows, hand]
+    carries = (follows | unread) & small
+    carried = np.zeros(shape, dtype=bool)
+    carried[rows, hand, column] = carries
+    carrying = np.zeros(shape[:2], dtype=bool)
+    carrying[rows[carries], hand[carries]] = True
+    said = carrying[:, :, None] & overlap & seen[:, None, :]
+    said[rows[refuses], hand[refuses], column[refuses]] = True
     return carried, said
 
 
@@ -159,17 +186,24 @@ def emission_costs(
     n_objects = objects.shape[1]
     _, together, informative = motion_coherence(hands, objects, overlap, window, moving_fraction,
                                                 coherent_fraction, shot)
-    object_cost = np.where(informative, np.where(together, MOVING_WITH, STAYING), MOVING_WITH)
+    # the object states are possible only where the boxes overlap (a few percent of the entries): their
+    # costs are computed there alone
+    rows, hand, column = np.nonzero(overlap)
+    object_cost = np.where(informative[rows, hand, column],
+                           np.where(together[rows, hand, column], MOVING_WITH, STAYING), MOVING_WITH)
     # tie-breaks: closer centres, smaller boxes, a container before the ingredient it holds
+    own, other = hands[rows, hand], objects[rows, column]
     with np.errstate(invalid="ignore", divide="ignore"):
-        hand_size = np.hypot(hands[..., 2] - hands[..., 0], hands[..., 3] - hands[..., 1])[:, :, None]
-        object_size = np.hypot(objects[..., 2] - objects[..., 0], objects[..., 3] - objects[..., 1])[:, None, :]
-        distance = np.linalg.norm(centres(hands)[:, :, None, :] - centres(objects)[:, None, :, :], axis=-1)
+        hand_size = np.hypot(own[:, 2] - own[:, 0], own[:, 3] - own[:, 1])
+        object_size = np.hypot(other[:, 2] - other[:, 0], other[:, 3] - other[:, 1])
+        dx = (own[:, 0] + own[:, 2]) / 2 - (other[:, 0] + other[:, 2]) / 2
+        dy = (own[:, 1] + own[:, 3]) / 2 - (other[:, 1] + other[:, 3]) / 2
+        distance = np.sqrt(dx * dx + dy * dy)  # np.linalg.norm of the centres' difference, bit for bit
         closeness = np.clip(np.nan_to_num(distance / (hand_size + object_size), nan=1.0), 0.0, 1.0)
         bigness = np.clip(np.nan_to_num(np.log(object_size / hand_size) / np.log(10.0), nan=1.0), 0.0, 1.0)
-    object_cost = object_cost + TIE * (0.4 * closeness + 0.3 * bigness + 0.3 * contained)
-    costs = np.empty((length, n_hands, 1 + n_objects))
-    costs[:, :, 1:] = np.where(overlap, object_cost, np.inf)
+    object_cost = object_cost + TIE * (0.4 * closeness + 0.3 * bigness + 0.3 * contained[rows, hand, column])
+    costs = np.full((length, n_hands, 1 + n_objects), np.inf)
+    costs[rows, hand, 1 + column] = object_cost
     anything = overlap.any(axis=2)
     said = informative.any(axis=2)
     costs[:, :, 0] = np.where(anything, np.where(said, NOTHING_MOVING, NOTHING_STILL), 0.0)
@@ -184,20 +218,30 @@ def viterbi(costs: np.ndarray, switch: float, start: np.ndarray | None = None) -
     path = np.zeros((length, n_hands), dtype=np.int32)
     if length == 0:
         return path, start if start is not None else np.zeros((n_hands, n_states))
-    back = np.empty((length, n_hands, n_states), dtype=np.int16)
     total = np.zeros((n_hands, n_states)) if start is None else start - start.min(axis=1, keepdims=True)
-    hands = np.arange(n_hands)
+    # forward pass, in place: only the costs, each frame's kept; the back pointers (stay, or switch from the
+    # best) are then read from them all at once
+    totals = np.empty((length, n_hands, n_states))
+    smallest, cheaper, add, subtract = np.minimum.reduce, np.minimum, np.add, np.subtract
+    low = np.empty((n_hands, 1))
     for t in range(length):
-        best = np.argmin(total, axis=1)
-        switched = total[hands, best] + switch
-        stay = total <= switched[:, None]
-        back[t] = np.where(stay, np.arange(n_states)[None, :], best[:, None])
-        total = np.where(stay, total, switched[:, None]) + costs[t]
-        total -= total.min(axis=1, keepdims=True)  # keeps the numbers small; inf stays inf
-    state = np.argmin(total, axis=1)
+        totals[t] = total
+        smallest(total, axis=1, keepdims=True, out=low)
+        low += switch
+        cheaper(total, low, out=total)
+        add(total, costs[t], out=total)
+        smallest(total, axis=1, keepdims=True, out=low)
+        subtract(total, low, out=total)  # keeps the numbers small; inf stays inf
+    best = np.argmin(totals, axis=2)
+    stay = totals <= (np.take_along_axis(totals, best[:, :, None], axis=2) + switch)
+    back = np.where(stay, np.arange(n_states, dtype=np.int16), best[:, :, None].astype(np.int16)).tolist()
+    state = np.argmin(total, axis=1).tolist()
+    states = [state] * length
     for t in range(length - 1, -1, -1):
-        path[t] = state
-        state = back[t, hands, state]
+        states[t] = state
+        pointers = back[t]
+        state = [pointers[h][s] for h, s in enumerate(state)]
+    path[:] = states
     return path, total
 
 

@@ -83,9 +83,22 @@ class Motion:
     """Median distance of the smoothed centre from its running mean, over the box's diagonal."""
 
 
+def median_of(values: np.ndarray) -> float:
+    """``np.median`` of the 1-D ``values``, bit for bit (NaN when any is NaN), without its general machinery
+    (called on short stretches, where that machinery is most of the cost)."""
+    n = len(values)
+    if n == 0 or np.isnan(values).any():
+        return float(np.median(values))
+    half = n // 2
+    if n % 2:
+        return float(np.partition(values, half)[half])
+    part = np.partition(values, (half - 1, half))
+    return float((part[half - 1] + part[half]) / 2)
+
+
 def _running_mean(values: np.ndarray, half: int) -> np.ndarray:
     """Mean of ``values`` ``(n, 2)`` over ``2 half + 1`` rows around each (edges repeated)."""
-    padded = np.pad(values, ((half + 1, half), (0, 0)), mode="edge")
+    padded = np.concatenate([np.repeat(values[:1], half + 1, axis=0), values, np.repeat(values[-1:], half, axis=0)])
     running = np.cumsum(padded, axis=0)
     return (running[2 * half + 1 :] - running[: -2 * half - 1]) / (2 * half + 1)
 
@@ -102,13 +115,14 @@ def motion_of(boxes: np.ndarray, fps: float) -> Motion | None:
     aspect = width / height
     k = max(1, round(TILT_SMOOTH_S * (fps if fps > 0 else 30.0) / 2))
     if len(aspect) > 2 * k:
-        windows = np.lib.stride_tricks.sliding_window_view(np.pad(aspect, (k, k), mode="edge"), 2 * k + 1)
+        padded = np.concatenate([np.full(k, aspect[0]), aspect, np.full(k, aspect[-1])])  # np.pad "edge", cheaper
+        windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * k + 1)
         aspect = np.median(windows, axis=1)
     tilt = float(np.max(aspect) / np.min(aspect))
     # jitter: a box that sits still changes by noise alone from one frame to the next; second differences
     # of a smooth path are small, so their median over the stretch is the noise level (times sqrt(6))
     second = np.linalg.norm(centre[2:] - 2 * centre[1:-1] + centre[:-2], axis=1)
-    jitter = float(np.median(second)) / np.sqrt(6.0) if len(second) else 0.0
+    jitter = median_of(second) / np.sqrt(6.0) if len(second) else 0.0
     # running mean over about a second removes the drift of the stroke's centre
     rate = fps if fps > 0 else 30.0
     mean = _running_mean(centre, max(1, round(0.5 * rate)))
@@ -117,14 +131,14 @@ def motion_of(boxes: np.ndarray, fps: float) -> Motion | None:
     angle = np.arctan2(offset[:, 1], offset[:, 0])
     step = np.angle(np.exp(1j * np.diff(angle)))
     counted = (radius[1:] > JITTER_TIMES * max(jitter, 0.5)) & (radius[:-1] > JITTER_TIMES * max(jitter, 0.5))
-    diagonal = float(np.median(np.hypot(width, height)))
-    active = bool(np.median(radius) > ACTIVE_FRACTION * diagonal)
+    diagonal = median_of(np.hypot(width, height))
+    active = bool(median_of(radius) > ACTIVE_FRACTION * diagonal)
     swept = step[counted]
     turns = float(abs(swept.sum()) / (2 * np.pi))
     total = float(np.abs(swept).sum())
     roundness = float(abs(swept.sum()) / total) if total > 0 else 1.0
     smooth = _running_mean(centre, round(STROKE_SMOOTH_S * rate / 2))
-    stroke = float(np.median(np.linalg.norm(smooth - mean, axis=1))) / max(diagonal, 1e-6)
+    stroke = median_of(np.linalg.norm(smooth - mean, axis=1)) / max(diagonal, 1e-6)
     return Motion(turns=turns, tilt=tilt, roundness=roundness, active=active, stroke=stroke)
 
 

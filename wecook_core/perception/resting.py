@@ -23,6 +23,7 @@ import numpy as np
 
 from wecook_core.model import HANDS, Associations, Observations, Segment
 from wecook_core.perception.frame_links import box_intersection
+from wecook_core.perception.motion import median_of
 from wecook_core.perception.transfers import hold_spans
 
 if TYPE_CHECKING:
@@ -64,17 +65,19 @@ def at_rest(obs: Observations, name: str, hold: tuple[int, int], segment: Segmen
         track = obs.object(name)
     except KeyError:
         return False
-    lo, hi = np.searchsorted(track.frames, [hold[0], hold[1]])
-    a, b = np.searchsorted(track.frames, [segment.start, segment.end])
+    lo, hi, a, b = np.searchsorted(track.frames, [hold[0], hold[1], segment.start, segment.end])
     boxes = track.boxes
-    seen = np.isfinite(boxes).all(axis=1)
-    inside = np.flatnonzero(seen[lo:hi]) + lo
-    during = np.flatnonzero(seen[a:b]) + a
-    if not len(inside) or not len(during):
+    # only the rows of the hold and of the segment are read (a track spans the whole video)
+    during = np.flatnonzero(np.isfinite(boxes[a:b]).all(axis=1)) + a
+    if not len(during):
         return False
-    centre = np.median(_centres(boxes[during]), axis=0)
+    inside = np.flatnonzero(np.isfinite(boxes[lo:hi]).all(axis=1)) + lo
+    if not len(inside):
+        return False
+    seen = boxes[during]
+    centre = np.array([median_of((seen[:, 0] + seen[:, 2]) / 2), median_of((seen[:, 1] + seen[:, 3]) / 2)])
     ends = _centres(boxes[[inside[0], inside[-1]]])
-    size = float(np.median(np.hypot(boxes[during, 2] - boxes[during, 0], boxes[during, 3] - boxes[during, 1])))
+    size = median_of(np.hypot(seen[:, 2] - seen[:, 0], seen[:, 3] - seen[:, 1]))
     return bool(np.min(np.linalg.norm(ends - centre, axis=1)) <= REST_FRACTION * size)
 
 
@@ -85,11 +88,16 @@ def beside(obs: Observations, name: str, other: str, segment: Segment) -> bool:
         a, b = obs.object(name), obs.object(other)
     except KeyError:
         return False
-    frames = np.intersect1d(a.frames[(a.frames >= segment.start) & (a.frames < segment.end)], b.frames)
-    if not len(frames):
+    # frames are strictly increasing: the frames both are seen on in the segment, by binary search
+    lo_a, hi_a = np.searchsorted(a.frames, [segment.start, segment.end])
+    lo_b, hi_b = np.searchsorted(b.frames, [segment.start, segment.end])
+    own, others = a.frames[lo_a:hi_a], b.frames[lo_b:hi_b]
+    at = np.minimum(np.searchsorted(others, own), max(len(others) - 1, 0))
+    both = np.flatnonzero(others[at] == own) if len(others) else np.zeros(0, dtype=np.int64)
+    if not len(both):
         return False
-    boxes_a = a.boxes[np.searchsorted(a.frames, frames)]
-    boxes_b = b.boxes[np.searchsorted(b.frames, frames)]
+    boxes_a = a.boxes[lo_a + both]
+    boxes_b = b.boxes[lo_b + at[both]]
     with np.errstate(invalid="ignore"):
         overlap = box_intersection(boxes_a, boxes_b) > 0
     return bool(overlap.mean() < BESIDE_SHARE)
