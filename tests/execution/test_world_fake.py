@@ -126,18 +126,11 @@ class FakeScene:
         T, base = self.pose(name), self.bases[pid][:3, 3]
         return _at(*T[:3, 3], math.atan2(base[1] - T[1, 3], base[0] - T[0, 3]))
 
-    def frame(self, spec, roles, pid, meet=None):
-        sizes = {k: self.half(roles.get(r)) for k, r in (("t", "tool"), ("i", "ingredient"), ("l", "location"))}
-        if spec.frame == "meet":
-            return self.meet(*meet), sizes
-        if spec.frame == "drop":
-            return self.bases[pid] @ _at(SKILLS.drop_distance, 0.0, 0.0, math.pi), sizes
-        kind, role = spec.frame.split(":", 1)
-        name = roles.get(role)
-        if name is None:
-            raise ActionFailed(f"the skill needs a {role} and the action names none")
-        sizes["f"] = self.half(name)
-        return (self.pose(name) if kind == "object" else self.facing(name, pid)), sizes
+    def upright(self, name):
+        return self.pose(name)
+
+    def drop(self, pid):
+        return self.bases[pid] @ _at(SKILLS.drop_distance, 0.0, 0.0, math.pi)
 
     def hand(self, pid):
         return self.hands[pid]

@@ -14,6 +14,7 @@ import numpy as np
 from wecook_core.execution.planning_scene import Riding
 from wecook_core.execution.program import ActionFailed, Program, Tick
 from wecook_core.execution.skills import Step, TSRSpec, Waypoint, actuation_path, evaluate
+from wecook_core.execution.world.frames import skill_frame
 from wecook_core.execution.world.grasping import release
 from wecook_core.execution.world.protocols import Accept, Cell, Roles, Scene
 from wecook_core.execution.world.retry import retrying
@@ -82,7 +83,7 @@ def engage_goal(cell: Cell, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[s
     scene, arm = cell.scene, cell.arms[pid]
     hand = scene.hand(pid)
     T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
-    T0_w, sizes = scene.frame(spec, roles, pid, meet)
+    T0_w, sizes = skill_frame(scene, spec, roles, pid, meet)
     T0_w = over_contents(scene, spec, roles, T0_w)
     region = spec.tsr(T0_w, sizes)
     rank = arm.away_from_other(T0_w[:3, 3]) if meet is None else None

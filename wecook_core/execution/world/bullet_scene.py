@@ -15,12 +15,12 @@ import pybullet as p
 
 from wecook_core.execution.observer import FrameInfo, RunEvent, RunObserver
 from wecook_core.execution.planning_scene import PlanningScene, Riding
-from wecook_core.execution.program import WORK, ActionFailed, Program
+from wecook_core.execution.program import WORK, Program
 from wecook_core.execution.robot import EE_LINK, REST, Panda, attach, detach, set_arm_collisions
 from wecook_core.execution.scene import SIM_HZ, SceneBodies, build_scene, link_frames, world_poses
-from wecook_core.execution.skills import Half, SkillLibrary, TSRSpec, object_kind
+from wecook_core.execution.skills import Half, SkillLibrary, object_kind
 from wecook_core.execution.tsr import pose_to_matrix
-from wecook_core.execution.world.protocols import Hand, Roles
+from wecook_core.execution.world.protocols import Hand
 from wecook_core.model import Category
 from wecook_core.plan import Plan, PlanAction
 
@@ -214,7 +214,7 @@ class BulletScene:
         out[:3, 3] = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, self.bodies.table_height + self.skills.meet_height]
         return out
 
-    def _drop(self, pid: str) -> np.ndarray:
+    def drop(self, pid: str) -> np.ndarray:
         base = self.bodies.arms[pid].base
         out = base.copy()
         out[:3, 3] = base[:3, 3] + base[:3, 0] * self.skills.drop_distance
@@ -222,24 +222,7 @@ class BulletScene:
         out[:3, :3] = base[:3, :3] @ np.diag([-1.0, -1.0, 1.0])  # x toward the arm
         return out
 
-    def frame(self, spec: TSRSpec, roles: Roles, pid: str, meet: tuple[str, str] | None = None
-              ) -> tuple[np.ndarray, dict[str, Half]]:
-        """The TSR frame (4x4) and the half-extent table for expressions."""
-        sizes = {"t": self.half(roles.get("tool")), "i": self.half(roles.get("ingredient")),
-                 "l": self.half(roles.get("location"))}
-        if spec.frame == "meet":
-            assert meet is not None
-            return self.meet(*meet), sizes
-        if spec.frame == "drop":
-            return self._drop(pid), sizes
-        kind, role = spec.frame.split(":", 1)
-        name = roles.get(role)
-        if name is None:
-            raise ActionFailed(f"the skill needs a {role} and the action names none")
-        sizes["f"] = self.half(name)
-        return (self._upright(name) if kind == "object" else self.facing(name, pid)), sizes
-
-    def _upright(self, name: str) -> np.ndarray:
+    def upright(self, name: str) -> np.ndarray:
         """The object's pose as a frame for TSRs; a sphere's only by its position (it turns as it rolls, so its
         own axes say nothing: its frame is the world's, and a hand takes it from above)."""
         T = self.pose(name)

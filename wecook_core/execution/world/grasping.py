@@ -12,6 +12,7 @@ import numpy as np
 from wecook_core.execution.program import WAIT, ActionFailed, Program, Tick
 from wecook_core.execution.skills import evaluate
 from wecook_core.execution.tsr import TSR
+from wecook_core.execution.world.frames import skill_frame
 from wecook_core.execution.world.protocols import YIELD_SECONDS, Accept, Cell, Rank
 from wecook_core.execution.world.retry import retrying
 from wecook_core.plan import PlanAction
@@ -28,7 +29,7 @@ def grasp_tsrs(cell: Cell, name: str, pid: str, kinds: Sequence[str] | None = No
     out = []
     for kind in kinds or [scene.kind(name)]:
         for spec in cell.skills.grasps[kind]:
-            T0_w, sizes = scene.frame(spec, {"object": name}, pid)
+            T0_w, sizes = skill_frame(scene, spec, {"object": name}, pid)
             if spec.frame.startswith("object") and flip:
                 T0_w = T0_w @ np.diag([-1.0, -1.0, 1.0, 1.0])
             sizes["f"] = scene.half(name)

@@ -15,7 +15,7 @@ import numpy as np
 
 from wecook_core.execution.planning_scene import Riding
 from wecook_core.execution.program import Program
-from wecook_core.execution.skills import Half, SkillLibrary, TSRSpec
+from wecook_core.execution.skills import Half, SkillLibrary
 from wecook_core.execution.tsr import TSR
 from wecook_core.model import Category
 from wecook_core.plan import PlanAction
@@ -107,8 +107,13 @@ class Scene(Protocol):
 
     def facing(self, name: str, pid: str) -> np.ndarray: ...
 
-    def frame(self, spec: TSRSpec, roles: Roles, pid: str, meet: tuple[str, str] | None = None
-              ) -> tuple[np.ndarray, dict[str, Half]]: ...
+    def drop(self, pid: str) -> np.ndarray:
+        """Where ``pid``'s arm puts things down out of the way (4x4, x toward the arm)."""
+        ...
+
+    def upright(self, name: str) -> np.ndarray:
+        """The object's pose as a TSR frame (a sphere's only by its position)."""
+        ...
 
     # -- hands
     def hand(self, pid: str) -> Hand: ...

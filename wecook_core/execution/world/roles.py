@@ -16,6 +16,7 @@ import numpy as np
 from wecook_core.execution.program import WAIT, ActionFailed, Meeting, Program
 from wecook_core.execution.skills import skill_name
 from wecook_core.execution.tsr import TSR
+from wecook_core.execution.world.frames import skill_frame
 from wecook_core.execution.world.primitives import Missed, Primitives
 from wecook_core.execution.world.protocols import Cell
 from wecook_core.plan import PlanAction
@@ -225,7 +226,7 @@ class RolePlayer:
             meeting.signal("taken")
             yield from meeting.wait_for("released")
         drop = self.skills.drop
-        T0_w, sizes = self.scene.frame(drop, {"tool": name}, pid)
+        T0_w, sizes = skill_frame(self.scene, drop, {"tool": name}, pid)
         yield from self.primitives.place(action, pid, [drop.tsr(T0_w, sizes)], free=True)
         yield from self.arms[pid].home()
 
