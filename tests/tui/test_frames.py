@@ -30,7 +30,7 @@ from wecook_tui.widgets.frame_view import FrameView
 
 
 def test_decode_caches_resizes_and_evicts(tmp_path: Path) -> None:
-    source = FrameSource(make_video(tmp_path / "v.mp4", frames=30), cache_size=8)
+    source = FrameSource(make_video(tmp_path / "v.avi", frames=30), cache_size=8)
     assert source.ok and source.facts.frame_count == 30 and (source.facts.width, source.facts.height) == (320, 180)
     source.set_size(64, 36)
     frame = source.decode(5)
@@ -49,7 +49,7 @@ def test_frames_match_a_sequential_read(tmp_path: Path) -> None:
     """Seeks, backward reads and forward skips give the same pixels as reading the file in order."""
     import cv2
 
-    path = make_video(tmp_path / "v.mp4", frames=40)
+    path = make_video(tmp_path / "v.avi", frames=40)
     capture = cv2.VideoCapture(str(path))
     truth = [capture.read()[1] for _ in range(40)]
     source = FrameSource(path)
@@ -59,7 +59,7 @@ def test_frames_match_a_sequential_read(tmp_path: Path) -> None:
 
 
 def test_prefetch_stops_when_cancelled(tmp_path: Path) -> None:
-    source = FrameSource(make_video(tmp_path / "v.mp4", frames=30))
+    source = FrameSource(make_video(tmp_path / "v.avi", frames=30))
     calls = []
     assert source.prefetch(0, 30, cancelled=lambda: len(calls.append(1) or calls) > 3) == 3
 
@@ -223,7 +223,7 @@ def test_a_selected_box_is_drawn_white_and_thicker() -> None:
 def test_prefetch_with_a_step_keeps_every_step_th_frame_with_the_right_pixels(tmp_path: Path) -> None:
     import cv2
 
-    path = make_video(tmp_path / "v.mp4", frames=30)
+    path = make_video(tmp_path / "v.avi", frames=30)
     capture = cv2.VideoCapture(str(path))
     truth = [capture.read()[1] for _ in range(30)]
     source = FrameSource(path)
@@ -273,7 +273,7 @@ async def test_playback_that_lags_keeps_every_few_frames_and_shows_the_latest_ke
 
 def test_prefetch_behind_the_cursor_decodes_the_nearest_frames_first(tmp_path: Path) -> None:
     """Stepping back wants the frame just below the cursor next: the first block read is the one below it."""
-    source = FrameSource(make_video(tmp_path / "v.mp4", frames=60))
+    source = FrameSource(make_video(tmp_path / "v.avi", frames=60))
     source.set_size(64, 36)
     calls: list[int] = []
     done = source.prefetch_back(50, 40, cancelled=lambda: len(calls.append(1) or calls) > FrameSource.BACK_BLOCK + 1)
@@ -286,7 +286,7 @@ def test_prefetch_behind_the_cursor_decodes_the_nearest_frames_first(tmp_path: P
 
 def test_a_new_size_resizes_the_last_frames_again_instead_of_decoding(tmp_path: Path) -> None:
     """The layout settling a column smaller keeps the frames just shown, with the pixels a decode would give."""
-    path = make_video(tmp_path / "v.mp4", frames=30)
+    path = make_video(tmp_path / "v.avi", frames=30)
     source = FrameSource(path)
     source.set_size(64, 36)
     for index in range(20):

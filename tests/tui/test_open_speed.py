@@ -26,7 +26,7 @@ async def test_the_video_shows_before_the_session_is_open(tmp_path: Path) -> Non
         return opener(path)
 
     app = WecookApp(tmp_path / "kitchen", opener=slow_opener, analyzer=analyzer,
-                    video_opener=lambda path: FrameSource(tmp_path / "video.mp4"))
+                    video_opener=lambda path: FrameSource(tmp_path / "video.avi"))
     async with app.run_test(size=(120, 40)) as pilot:
         view = app.main.query_one(FrameView)
         await wait_for(pilot, lambda: view.first_painted, 200)
@@ -47,7 +47,7 @@ def test_open_video_reads_the_session_yaml_only(tmp_path: Path) -> None:
 
     inputs = tmp_path / "inputs"
     inputs.mkdir()
-    video = make_video(inputs / "video.mp4", frames=30)
+    video = make_video(inputs / "video.avi", frames=30)
     (inputs / "objects.csv").write_text("frame,track_id,label,x1,y1,x2,y2\n" + "".join(
         f"{f},1,bowl,10,10,50,50\n" for f in range(30)))
     (inputs / "hands.csv").write_text("frame,hand,x,y,x1,y1,x2,y2\n" + "".join(

@@ -36,7 +36,7 @@ def test_next_unreviewed_wraps_and_ends() -> None:
 
 
 def test_objects_near_hand_closest_first(tmp_path: Path) -> None:
-    obs = make_obs(tmp_path / "v.mp4")
+    obs = make_obs(tmp_path / "v.avi")
     hand = review.hand_xy(obs, "RH_P1", 0)
     near = review.objects_near_hand(obs, "RH_P1", 0, SEGS[0])
     assert near[0][0] == "knife" and hand is not None
@@ -46,13 +46,13 @@ def test_objects_near_hand_closest_first(tmp_path: Path) -> None:
 
 
 def test_link_candidates_never_tools_nor_the_held_object(tmp_path: Path) -> None:
-    obs = make_obs(tmp_path / "v.mp4")
+    obs = make_obs(tmp_path / "v.avi")
     candidates = [name for name, _ in review.link_candidates(obs, "tomato", 0, SEGS[0])]
     assert candidates[0] == "chopping_board" and "knife" not in candidates and "tomato" not in candidates
 
 
 def test_lanes_and_overlay_follow_the_analysis(tmp_path: Path) -> None:
-    obs = make_obs(tmp_path / "v.mp4")
+    obs = make_obs(tmp_path / "v.avi")
     analysis = fake_analyze(obs, [SetVerb(20, "RH_P1", "peel")])
     lanes = review.lanes(analysis, ("LH_P1", "RH_P1"), 60)
     assert lanes[0].spans == ((0, 20, None), (20, 40, None), (40, 60, None))

@@ -38,12 +38,16 @@ SIZE = (320, 180)
 
 
 def make_video(path: Path, frames: int = FRAMES, size: tuple[int, int] = SIZE) -> Path:
-    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), 30.0, size)
+    """A lossless (FFV1) video at ``path`` (an .avi): its frames decode to exactly what was drawn, and drawn
+    without text, so the snapshots do not change with OpenCV's version (its putText glyphs did, from 4 to 5)."""
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"FFV1"), 30.0, size)
     for i in range(frames):
         image = np.zeros((size[1], size[0], 3), np.uint8)
         image[:] = (40, 90, 140)
         cv2.circle(image, (20 + 4 * i % size[0], size[1] // 2), 12, (255, 255, 255), -1)
-        cv2.putText(image, str(i), (5, 20), cv2.FONT_HERSHEY_SIMPLEX, 0.6, (0, 255, 0), 1)
+        for bit in range(6):  # the frame's number in binary, as squares (putText's glyphs change with OpenCV)
+            if i >> bit & 1:
+                image[6:14, 5 + 10 * bit:13 + 10 * bit] = (0, 255, 0)
         writer.write(image)
     writer.release()
     return path
@@ -129,7 +133,7 @@ class FakeSegmentActions:
 def fake_workspace(folder: Path) -> tuple[callable, callable]:  # type: ignore[valid-type]
     """(opener, analyzer) for ``WecookApp`` over a fake session in ``folder``."""
     folder.mkdir(parents=True, exist_ok=True)
-    video = folder / "video.mp4"
+    video = folder / "video.avi"
     if not video.exists():
         make_video(video)
     obs = make_obs(video)
