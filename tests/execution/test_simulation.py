@@ -346,3 +346,23 @@ def test_cutting_on_a_plate_with_no_ingredient_named_engages_over_the_food_on_it
         assert results[0].status == "done", results
     finally:
         world.close()
+
+
+def test_an_object_is_never_named_in_its_own_way():
+    """A plate with meat on it, walled in by bottles: the grasp fails naming the bottles, never the plate or what
+    lies on it (the hand may touch those; they were listed as in their own way)."""
+    import math
+
+    wall = tuple(SceneObject(f"bottle_{k}", Category.INGREDIENT, "cylinder", (0.07, 0.07, 0.26),
+                             0.1 + 0.15 * math.cos(k * math.pi / 3), 0.15 * math.sin(k * math.pi / 3))
+                 for k in range(6))
+    objects = (SceneObject("plate", Category.CONTAINER, "cylinder", (0.22, 0.22, 0.02), 0.1, 0.0),
+               SceneObject("meat", Category.INGREDIENT, "box", (0.08, 0.06, 0.03), 0.1, 0.0),
+               SceneObject("bowl", Category.CONTAINER, "cylinder", (0.16, 0.16, 0.07), -0.2, 0.25), *wall)
+    plan = Plan(agents=agents_for(["P1"]), scene=Scene(objects=objects, containing=(("meat", "plate"),)),
+                actions=(PlanAction("a1", ("P1",), "transfer", "plate", ("meat",), "bowl"),))
+    result = execute_plan(plan, Recorder(), seed=0, planning_time=0.5)
+    reason = result.actions[0].reason
+    assert result.actions[0].status == "failed" and "in the way: " in reason, reason
+    blockers = reason.split("in the way: ", 1)[1]
+    assert "bottle_" in blockers and "plate" not in blockers and "meat" not in blockers, reason

@@ -93,16 +93,17 @@ class BulletArm:
                     continue
                 if not (check and collides(q)):
                     return q, T
-                self.traffic.goal_blockers.update(self._in_the_way())
+                self.traffic.goal_blockers.update(self._in_the_way(ignore))
         return None
 
-    def _in_the_way(self) -> set[str]:
-        """What the planning client's arm ``self.pid`` (as last checked) penetrates: object names, ``table``, an arm."""
+    def _in_the_way(self, ignore: Iterable[str] = ()) -> set[str]:
+        """What the planning client's arm ``self.pid`` (as last checked) penetrates: object names, ``table``, an arm;
+        never what the check ignored (the object the hand takes, which it may touch), nor what the hand carries."""
         c = self.planning.client
         names = {b.body: n for n, b in self.planning.bodies.objects.items()}
         names[self.planning.bodies.table] = "table"
         names.update({a.body: f"arm {k}" for k, a in self.planning.arms.items() if k != self.pid})
-        own = {r.name for r in self.scene.hands[self.pid].riding}
+        own = {r.name for r in self.scene.hands[self.pid].riding} | set(ignore)
         body = self.planning.arms[self.pid].body
         links = self.scene.bodies.arms[self.pid].links
         contacts = p.getContactPoints(bodyA=body, physicsClientId=c)
@@ -182,7 +183,7 @@ class BulletArm:
             if result.status in ("invalid_start", "invalid_goal"):
                 q = start if result.status == "invalid_start" else goal
                 self.planning.collision_fn(self.pid, ignore=everything, arm_margin=traffic.arm_margin)(q)
-                blockers = sorted(self._in_the_way())
+                blockers = sorted(self._in_the_way(ignore))
                 if blockers:
                     return f"{result.status.replace('_', ' ')}: touching {', '.join(blockers)}"
             return result.status
@@ -278,7 +279,7 @@ class BulletArm:
             marks.append(len(path) - 1)
             prev = T
         if not path_free(collides, path, 0.05):
-            blockers = sorted(self._in_the_way())
+            blockers = sorted(self._in_the_way(names))
             if any(b.startswith("arm ") for b in blockers):
                 self.traffic.other_in_the_way = True
             raise ActionFailed(f"{what}: the straight path collides" + (f" with {', '.join(blockers)}"
