@@ -45,7 +45,7 @@ def object_tracks(
     tracks = []
     for track_id in sorted(labels):
         f = np.asarray(frames[track_id], dtype=np.int64)
-        b = np.asarray(boxes[track_id], dtype=np.float64).reshape(-1, 4)
+        b: np.ndarray = np.asarray(boxes[track_id], dtype=np.float64).reshape(-1, 4)
         order = np.argsort(f, kind="stable")
         f, b = f[order], b[order]
         repeated = np.flatnonzero(np.diff(f) == 0)

@@ -185,7 +185,7 @@ def _settle(centres: np.ndarray, halves: np.ndarray, bounds: Sequence[tuple[floa
             limit = np.maximum(np.array(bounds[k]) - halves[i], 0.0)
             xs = np.arange(-limit[0], limit[0] + 1e-9, step)
             ys = np.arange(-limit[1], limit[1] + 1e-9, step)
-            grid = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)
+            grid: np.ndarray = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)
             grid = grid[np.argsort(np.hypot(*(grid - out[i]).T), kind="stable")]
             ok = free(grid, share, fixed) & (on_side(grid) if keep_side else True) & (reached(grid) if within else True)
             if ok.any():

@@ -97,7 +97,7 @@ def _body(person: PersonPath, size: tuple[int, int], fps: float, rng: np.random.
     head = neck - 6 * forward
     hip = neck - 40 * forward
     arm_l, arm_r = person.arms
-    points = np.zeros((frames, 25, 2))
+    points: np.ndarray = np.zeros((frames, 25, 2))
     placed = {
         0: head + 14 * forward, 1: neck,
         2: arm_r.shoulder, 3: arm_r.elbow, 4: arm_r.wrist,

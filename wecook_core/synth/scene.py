@@ -107,7 +107,8 @@ def _angles(frames: int, home: float, turns: list[Turn], fps: float) -> np.ndarr
 
 def _sizes(frames: int, base: tuple[float, float], resizes: list[Resize], fps: float) -> np.ndarray:
     scale = np.ones((frames, 2))
-    current, cursor = np.ones(2), 0
+    current: np.ndarray = np.ones(2)
+    cursor = 0
     for resize in resizes:
         a, b = min(resize.start, frames), min(resize.end, frames)
         scale[cursor:a] = current
