@@ -25,44 +25,12 @@ FREE_MARGIN = 0.1
 (room for the hand to take it again)."""
 
 
-PICKED_UP = ("tool", "ingredient", "tall")
-"""The object kinds a hand takes from above, across the object (:func:`wecook_core.execution.skills.object_kind`)."""
-
-
-def _in_the_way_above(height: float) -> float:
-    """Metres above the table an object's top must reach to be in the way of a hand taking one ``height`` tall."""
-    return min(HAND_CLEAR_HEIGHT, height / 2)
-
-
-def _grasp_centre(cell: Cell, name: str) -> np.ndarray:
-    """Where a hand takes ``name``, in its own frame (x, y): a tool by its handle, anything else by its middle."""
-    if cell.scene.kind(name) == "tool":
-        return np.array([-0.55 * cell.scene.size(name)[0] / 2, 0.0])
-    return np.zeros(2)
-
-
-def _hand_footprint(centre: np.ndarray, across: np.ndarray, along: np.ndarray) -> np.ndarray:
-    """The corners (4, 2) of a hand's footprint at ``centre``: :data:`HAND_SPAN` along ``across``, 6 cm along
-    ``along`` (in whatever frame those are given)."""
-    return np.array([centre + sy * HAND_SPAN / 2 * across + sx * 0.03 * along for sx in (-1, 1) for sy in (-1, 1)])
-
-
-def _hand_box(T: np.ndarray, centre: np.ndarray) -> np.ndarray:
-    """The world AABB (2, 2) of the footprint of a hand taking the object at pose ``T`` at ``centre``."""
-    pts = _hand_footprint(centre, np.array([0.0, 1.0]), np.array([1.0, 0.0])) @ T[:2, :2].T + T[:2, 3]
-    return np.array([pts.min(axis=0), pts.max(axis=0)])
-
-
 def free_poses(cell: Cell, name: str, region: TSR) -> list[np.ndarray]:
     """Object poses of ``region`` on a 2 cm grid (yaw in 45-degree steps within the bounds), the roomiest
-    first. Room is the smallest of three clearances: the object's footprint to every other object; the
+    first. Room is the smaller of two clearances: the object's footprint to every other object, and the
     footprint of a hand taking it again (:data:`HAND_SPAN` across the object at its grasp point) to every
-    object that rises into that hand's way; and the object's footprint to the footprint of a hand taking any
-    other object that can be picked up, if the object rises into that hand's way (a spoon put down across
-    the handle of the whisk beside it leaves neither to be taken). An object rises into the way of a hand
-    taking another when its top is above :data:`HAND_CLEAR_HEIGHT`, or above half the other's height for a
-    low one (the fingers reach the table around a tool lying flat). Clearances beyond :data:`FREE_MARGIN`
-    count as equally roomy; then the spot nearest the region's centre wins."""
+    object taller than :data:`HAND_CLEAR_HEIGHT`. Clearances beyond :data:`FREE_MARGIN` count as equally
+    roomy; then the spot nearest the region's centre wins."""
     scene = cell.scene
     hands = [scene.hand(pid) for pid in cell.arms]
     own = {r.name for h in hands for r in h.riding if h.carried == name}
@@ -71,20 +39,16 @@ def free_poses(cell: Cell, name: str, region: TSR) -> list[np.ndarray]:
     holder = next((h for h in hands if h.carried == name), None)
     if holder is not None and holder.riding:  # where the hand holds it now, in the object's frame
         T_obj_ee = np.linalg.inv(holder.riding[0].T_ee_obj)
-        hand = _hand_footprint(T_obj_ee[:2, 3], T_obj_ee[:2, 1], T_obj_ee[:2, 0])
+        centre, across, along = T_obj_ee[:2, 3], T_obj_ee[:2, 1], T_obj_ee[:2, 0]
     else:
-        hand = _hand_footprint(_grasp_centre(cell, name), np.array([0.0, 1.0]), np.array([1.0, 0.0]))
-    names = [n for n in scene.names() if n not in own and n != name]
-    others = scene.boxes(names)
+        centre = np.array([-0.55 * half[0] if scene.kind(name) == "tool" else 0.0, 0.0])
+        across, along = np.array([0.0, 1.0]), np.array([1.0, 0.0])
+    hand = np.array([centre + sy * HAND_SPAN / 2 * across + sx * 0.03 * along
+                     for sx in (-1, 1) for sy in (-1, 1)])
+    others = scene.boxes([n for n in scene.names() if n not in own and n != name])
     boxes = np.array([box[:, :2] for box in others]).reshape(-1, 2, 2)
-    height = scene.size(name)[2]
-    tall = np.array([box[:, :2] for box in others if box[1, 2] - scene.table_height > _in_the_way_above(height)]
+    tall = np.array([box[:, :2] for box in others if box[1, 2] - scene.table_height > HAND_CLEAR_HEIGHT]
                     ).reshape(-1, 2, 2)
-    # the hands that take the others again, where this object would be in their way
-    their_hands = np.array([_hand_box(scene.pose(n), _grasp_centre(cell, n))
-                            for n, box in zip(names, others, strict=True)
-                            if scene.kind(n) in PICKED_UP and scene.container_of(n) is None
-                            and height > _in_the_way_above(box[1, 2] - box[0, 2])]).reshape(-1, 2, 2)
 
     def clearance(pts: np.ndarray, against: np.ndarray) -> float:
         if not len(against):
@@ -105,9 +69,8 @@ def free_poses(cell: Cell, name: str, region: TSR) -> list[np.ndarray]:
             for y in ys:
                 T = region.T0_w @ xyzrpy_to_matrix([x, y, (B[2, 0] + B[2, 1]) / 2, 0, 0, yaw]) @ region.Tw_e
                 R, t = T[:2, :2], T[:2, 3]
-                footprint = corners @ R.T + t
-                own_room = clearance(footprint, boxes)
-                room = min(own_room, clearance(hand @ R.T + t, tall), clearance(footprint, their_hands))
+                own_room = clearance(corners @ R.T + t, boxes)
+                room = min(own_room, clearance(hand @ R.T + t, tall))
                 if own_room > 0.0:  # where the hand has no room either, only after every roomy spot
                     tier = 0 if room > 0.0 else 1
                     scored.append((tier, -min(max(room, own_room * tier), FREE_MARGIN),
