@@ -1,6 +1,7 @@
 """The executor in PyBullet (headless): IK, cut contact, handover, no arm collisions, unreachable goals."""
 
 import contextlib
+import math
 
 import numpy as np
 import pybullet as p
@@ -351,8 +352,6 @@ def test_cutting_on_a_plate_with_no_ingredient_named_engages_over_the_food_on_it
 def test_an_object_is_never_named_in_its_own_way():
     """A plate with meat on it, walled in by bottles: the grasp fails naming the bottles, never the plate or what
     lies on it (the hand may touch those; they were listed as in their own way)."""
-    import math
-
     wall = tuple(SceneObject(f"bottle_{k}", Category.INGREDIENT, "cylinder", (0.07, 0.07, 0.26),
                              0.1 + 0.15 * math.cos(k * math.pi / 3), 0.15 * math.sin(k * math.pi / 3))
                  for k in range(6))

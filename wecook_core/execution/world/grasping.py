@@ -32,7 +32,6 @@ def grasp_tsrs(cell: Cell, name: str, pid: str, kinds: Sequence[str] | None = No
             T0_w, sizes = skill_frame(scene, spec, {"object": name}, pid)
             if spec.frame.startswith("object") and flip:
                 T0_w = T0_w @ np.diag([-1.0, -1.0, 1.0, 1.0])
-            sizes["f"] = scene.half(name)
             out.append(spec.tsr(T0_w, sizes))
             if flip and spec.frame.startswith("object"):
                 out.append(spec.tsr(scene.pose(name), sizes))
