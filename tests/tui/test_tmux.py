@@ -34,8 +34,15 @@ class Terminal:
         return done.stdout
 
     def start(self, command: str) -> None:
-        self.tmux("new-session", "-d", "-s", self.name, "-x", "160", "-y", "50", command)
+        """Start ``command`` in the session; again if the session did not come up (a new-session sent while the
+        server of a session that just ended is still exiting is lost: the reopen then showed a blank screen)."""
+        for _ in range(3):
+            self.tmux("new-session", "-d", "-s", self.name, "-x", "160", "-y", "50", command)
+            if self.alive():
+                break
+            time.sleep(0.5)
         self.tmux("set-option", "-s", "escape-time", "0")  # Escape then q must not arrive as Alt+q
+        self.tmux("set-option", "-s", "exit-empty", "off")  # the server stays up between a quit and a reopen
 
     def keys(self, *keys: str) -> None:
         for key in keys:
