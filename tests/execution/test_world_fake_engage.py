@@ -6,9 +6,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.execution.test_world_fake import ACTION, SKILLS, ops, run, world
+from tests.execution.test_world_fake import ACTION, OBJECTS, SKILLS, FakeArm, FakeScene, FakeWorld, ops, run, world
+from wecook_core.execution.motions import actuation_path
 from wecook_core.execution.program import ActionFailed
+from wecook_core.execution.skills import evaluate
 from wecook_core.execution.world import actuating
+from wecook_core.model import Category
+from wecook_core.plan import PlanAction, SceneObject
 
 
 def test_the_engage_goal_is_a_query_and_engage_keeps_the_axis_it_chose():
@@ -39,3 +43,30 @@ def test_an_engage_goal_out_of_reach_says_so_and_only_engage_reports_it():
     with pytest.raises(ActionFailed, match=r"engage facing:location: no reachable pose at facing:location in 6 "):
         run(w.primitives.engage(ACTION, "P1", engage.tsr, roles, then=stir))
     assert ops(w, "P1").count("no goal pose at facing:location") == w.cell.attempts
+
+
+def test_a_stir_in_a_low_pan_goes_no_deeper_than_the_table_lets_the_spoon():
+    """The stir's depth is set for a bowl; in a pan 3 cm deep the tilted spoon's tip would pass through the pan's
+    floor into the table. The spoon's lowest corner keeps TABLE_CLEARANCE above the table all the way round."""
+    pan = SceneObject("pan", Category.CONTAINER, "cylinder", (0.2, 0.2, 0.03), 0.1, -0.1)
+    scene = FakeScene((*(o for o in OBJECTS if o.name != "bowl"), pan), inside={"rice": "pan"})
+    w = FakeWorld(scene, {pid: FakeArm(pid, scene) for pid in ("P1", "P2")})
+    action = PlanAction("a1", ("P1",), "stir", "spoon", (), "pan")
+    run(w.primitives.grasp(action, "P1", "spoon"))
+    engage, stir = SKILLS.skills["stir"].steps
+    roles = {"tool": "spoon", "ingredient": "pan", "location": "pan", "source": None}
+    run(w.primitives.engage(action, "P1", engage.tsr, roles, then=stir))
+    ee = scene.ees["P1"]
+    half = np.array(scene.objects["spoon"].size) / 2
+
+    def lowest(poses: list[np.ndarray]) -> float:
+        return min(float(T[2, 3] - np.abs(T[2, :3]) @ half) for T in poses)
+
+    path = actuating.actuation_waypoints(scene, "P1", stir, roles, ee, 0)
+    assert lowest([wp.pose for wp in path]) >= scene.table_height + actuating.TABLE_CLEARANCE - 1e-9
+    T_ee_spoon = scene.hand("P1").riding[0].T_ee_obj
+    sizes = {"t": scene.half("spoon"), "i": scene.half("pan"), "l": scene.half("pan"), "f": scene.half("pan")}
+    params = {k: evaluate(v, sizes) for k, v in stir.params.items()}
+    as_asked = actuation_path("circle", params, ee @ T_ee_spoon, scene.facing("pan", "P1")[:3, :3])
+    assert lowest([wp.pose for wp in as_asked]) < scene.table_height  # the skill's own depth would hit the table
+    assert lowest([wp.pose for wp in path]) == pytest.approx(actuating.TABLE_CLEARANCE, abs=1e-6)  # still low

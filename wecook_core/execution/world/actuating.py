@@ -23,6 +23,9 @@ from wecook_core.plan import PlanAction
 
 DROP_INSIDE = 0.6
 """Share of a destination's half extents, about its middle, that what is tipped into it must fall within."""
+TABLE_CLEARANCE = 0.005
+"""Metres above the table that the carried object's lowest point keeps during an actuation: a spoon stirring a
+low pan goes no deeper than the pan's floor lets it."""
 
 
 class Missed(ActionFailed):
@@ -220,6 +223,16 @@ def actuation_waypoints(scene: Scene, pid: str, step: Step, roles: Roles, ee: np
         target = roles.get("location") or roles.get("ingredient")
         if target is not None:
             Rw = scene.facing(target, pid)[:3, :3]
+    path = actuation_path(step.motion, params, E, Rw, grip=hand.grip, hand=ee[:3, 3])  # type: ignore[arg-type]
+    if not hand.riding or "down" not in params:
+        return path
+    half = scene.half(hand.riding[0].name)
+    extent = np.array([half.hx, half.hy, half.hz])
+    lowest = min(float(w.pose[2, 3] - np.abs(w.pose[2, :3]) @ extent) for w in path)
+    short = scene.table_height + TABLE_CLEARANCE - lowest
+    if short <= 0:
+        return path
+    params["down"] = max(0.0, float(params["down"]) - short)  # as deep as the table lets the carried object go
     return actuation_path(step.motion, params, E, Rw, grip=hand.grip, hand=ee[:3, 3])  # type: ignore[arg-type]
 
 
