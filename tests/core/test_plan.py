@@ -393,3 +393,25 @@ def test_objects_lie_within_the_reach_of_the_arms_that_use_them() -> None:
     problems = reach_problems(long)
     assert problems and all(u.distance > u.high for u in problems)
     assert {u.action_id for u in problems} <= {a.id for a in long.actions}
+
+
+def test_food_held_on_a_board_is_laid_out_as_a_held_board() -> None:
+    """P1 holds the cucumber still while P2 cuts it on the board: the executor holds food lying on a board by
+    the board, so the layout gives the board the holder's room and keeps the cucumber clear of P1's end."""
+    from wecook_core.plan.contents import HOLD_ROOM
+    from wecook_core.plan.room import room_problems
+
+    objects = (track(1, "chopping_board", (280, 200, 360, 260)), track(2, "cucumber", (305, 215, 335, 245)),
+               track(3, "knife", (560, 400, 630, 420)), track(4, "pot", (10, 10, 60, 60)))  # a small board
+    categories = {"chopping_board": Category.CONTAINER, "cucumber": Category.INGREDIENT, "knife": Category.TOOL,
+                  "pot": Category.CONTAINER}
+    obs = Observations(VideoInfo("v.mp4", 30.0, 200, W, H), objects, (), categories)
+    nodes = (node("a1", "P1", 0, 40, "(HP (HP (H LH_P1) (O cucumber)) (CP (C holding) "
+                                     "(HP (HP (H LH_P2) (O knife)) (AP (A cut) (O chopping_board)))))"),)
+    plan = plan_from_graph(ActionGraph(nodes, {"P1": ("a1",)}, ()), obs)
+    board, cucumber = plan.scene.object("chopping_board"), plan.scene.object("cucumber")
+    assert dict(plan.scene.containing) == {"cucumber": "chopping_board"}
+    assert board.yaw == 0.0  # held along x, between the arms
+    left = board.x - board.size[0] / 2  # the end P1 presses
+    assert cucumber.x - cucumber.size[0] / 2 - left >= HOLD_ROOM - 1e-6
+    assert room_problems(plan) == []

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 from wecook_core.model import Category
 from wecook_core.plan import Act, Plan, PlanAction, Scene, SceneObject, agents_for
 from wecook_core.plan.contents import END_ROOM, HOLD_ROOM, end_rooms, fit_board, spread
@@ -33,21 +35,23 @@ def test_a_tall_object_beside_what_a_tool_works_on_is_named_with_the_room_there_
     assert room_problems(roll_plan(PIN, DOUGH, low)) == []
 
 
-def holding_plan(food_x: float) -> Plan:
+def holding_plan(food_x: float, held: str = "board") -> Plan:
+    """P1 holds the board (or the cucumber on it: ``held``) while P2 cuts the cucumber."""
     cucumber = SceneObject("cucumber", Category.INGREDIENT, "box", (0.06, 0.04, 0.03), food_x, -0.1)
+    partner = Act("cut", "knife", ("cucumber",)) if held == "board" else Act("cut", "knife", (), "board")
     return Plan(agents=agents_for(["P1", "P2"]),
                 scene=Scene(objects=(BOARD, KNIFE, cucumber), containing=(("cucumber", "board"),)),
-                actions=(PlanAction("a1", ("P1", "P2"), "holding", "board",
-                                    partner=Act("cut", "knife", ("cucumber",))),))
+                actions=(PlanAction("a1", ("P1", "P2"), "holding", held, partner=partner),))
 
 
-def test_food_at_the_end_of_a_board_the_holder_presses_is_named() -> None:
-    # P1 holds, P2 (at +x) cuts: P1 presses the -x end, at x = -0.15
-    crowded = room_problems(holding_plan(-0.15 + 0.03 + 0.03))  # 3 cm from the end
+@pytest.mark.parametrize("held", ["board", "cucumber"])
+def test_food_at_the_end_of_a_board_the_holder_presses_is_named(held: str) -> None:
+    # P1 holds, P2 (at +x) cuts: P1 presses the -x end, at x = -0.15 (food on a board is held by the board)
+    crowded = room_problems(holding_plan(-0.15 + 0.03 + 0.03, held))  # 3 cm from the end
     assert [(p.holding, p.name, p.what, round(p.distance, 3)) for p in crowded] == [(True, "cucumber", "board", 0.03)]
     assert "the cucumber lies 0.03 m from the end of the board the holder presses" in str(crowded[0])
-    assert room_problems(holding_plan(-0.15 + HOLD_ROOM + 0.03)) == []
-    assert room_problems(holding_plan(0.15 - 0.03 - 0.005)) == []  # at the other end: the partner's side
+    assert room_problems(holding_plan(-0.15 + HOLD_ROOM + 0.03, held)) == []
+    assert room_problems(holding_plan(0.15 - 0.03 - 0.005, held)) == []  # at the other end: the partner's side
 
 
 def test_a_held_board_lies_along_x_and_keeps_its_food_clear_of_the_holders_end() -> None:

@@ -9,10 +9,21 @@ import math
 import numpy as np
 import pytest
 
-from tests.execution.test_world_fake import ACTION, OBJECTS, ops, run, until_waiting, world
+from tests.execution.test_world_fake import (
+    ACTION,
+    OBJECTS,
+    FakeArm,
+    FakeScene,
+    FakeWorld,
+    ops,
+    run,
+    until_waiting,
+    world,
+)
 from wecook_core.execution.executor import run_schedule
 from wecook_core.execution.program import WAIT, ActionFailed, Meeting
-from wecook_core.plan import Act, Plan, PlanAction, agents_for
+from wecook_core.model import Category
+from wecook_core.plan import Act, Plan, PlanAction, SceneObject, agents_for
 from wecook_core.plan import Scene as PlanScene
 
 
@@ -45,6 +56,26 @@ def test_a_holder_grasps_only_once_the_actor_has_its_tool_and_lets_go_only_once_
     meeting.signal("acted")
     run(holder)
     assert w.scene.hand("P1").carried is None and ops(w, "P1")[-1] == "home"
+
+
+@pytest.mark.parametrize(("inside", "held"), [({"cucumber": "board"}, "board"), ({}, "cucumber")])
+def test_food_held_for_a_partner_is_held_by_the_board_it_lies_on(inside: dict[str, str], held: str):
+    """A gripper closed on a cucumber covers it and leaves the partner's knife nowhere to cut: food lying on a
+    board is held steady by the board; food lying on the table, by itself."""
+    objects = (*OBJECTS, SceneObject("board", Category.CONTAINER, "box", (0.28, 0.16, 0.02), 0.0, -0.1),
+               SceneObject("cucumber", Category.INGREDIENT, "box", (0.06, 0.04, 0.03), 0.0, -0.1))
+    scene = FakeScene(objects, inside={"rice": "bowl", **inside})
+    w = FakeWorld(scene, {pid: FakeArm(pid, scene) for pid in ("P1", "P2")})
+    action = PlanAction("h", ("P1", "P2"), "holding", "cucumber", partner=Act("cut", "knife", (), "board"))
+    meeting = Meeting(frozenset(action.pids))
+    holder = w.roles.program(action, "P1", meeting)
+    until_waiting(holder)
+    meeting.signal("tool_ready")
+    until_waiting(holder)
+    assert scene.hand("P1").carried == held and meeting.signals == {"tool_ready", "held"}
+    meeting.signal("acted")
+    run(holder)
+    assert scene.hand("P1").carried is None
 
 
 def test_a_holder_whose_partner_fails_stops_waiting_with_the_partners_reason():

@@ -40,14 +40,17 @@ def taken_from_by_hand(graph: ActionGraph) -> set[str]:
     return out
 
 
-def holders(graph: ActionGraph) -> dict[str, set[str]]:
-    """Container -> the persons who hold it still for a partner (HOLDING actions with a partner's action)."""
+def holders(graph: ActionGraph, containing: Mapping[str, str] | None = None) -> dict[str, set[str]]:
+    """Container -> the persons who hold it still for a partner (HOLDING actions with a partner's action). Food
+    held that starts in a container (``containing``, ingredient -> container) is held by its container, as the
+    executor holds it (a gripper closed on the food would cover where the partner works)."""
+    inside = containing or {}
     out: dict[str, set[str]] = {}
     for node in graph.nodes:
         action = action_of(node.span.tree, node.span.start, node.span.end)
         if action.kind is ActionKind.HOLDING and action.held is not None and action.partner is not None \
                 and action.partner.verb is not None:
-            out.setdefault(action.held, set()).add(person_of(action.hand))
+            out.setdefault(inside.get(action.held, action.held), set()).add(person_of(action.hand))
     return out
 
 

@@ -309,7 +309,7 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
         if o is not None and o.category is Category.CONTAINER and o.size[2] > HAND_DEPTH:
             objects[container] = SceneObject(o.name, o.category, o.shape, (o.size[0], o.size[1], HAND_DEPTH),
                                              o.x, o.y, o.yaw)
-    held = holders(graph)
+    held = holders(graph, containing)
     for container in set(containing.values()) | set(held):  # a board long enough for what starts on it and the
         o = objects.get(container)  # hands holding it, held along x
         if o is not None and o.shape == "box" and o.category is Category.CONTAINER:

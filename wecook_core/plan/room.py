@@ -5,8 +5,9 @@ check``), by the rules the layout keeps (:mod:`wecook_core.plan.layout`, :mod:`w
   spread...), turned whichever way the tool needs: nothing taller than :data:`~wecook_core.plan.layout.LOW` may
   stand within :data:`MIN_HAND_ROOM` of it (footprints, along x or y). (Stirring, and work on food in a container,
   is over the container: the container's own rules apply.)
-- A hand holding a board still presses its end farthest from the partner's arm: what the partner works on must
-  lie :data:`~wecook_core.plan.contents.HOLD_ROOM` clear of that end.
+- A hand holding a board still (or food lying on a board: by the board) presses its end farthest from the
+  partner's arm: what the partner works on must lie :data:`~wecook_core.plan.contents.HOLD_ROOM` clear of that
+  end.
 
 Positions are those when the action comes (:func:`wecook_core.plan.reach.positions`).
 """
@@ -87,11 +88,12 @@ def room_problems(plan: Plan) -> list[Crowded]:
                     if gap < MIN_HAND_ROOM - 1e-3:
                         out.append(Crowded(action.id, action.verb, pid, name, other.name, max(gap, 0.0),
                                            MIN_HAND_ROOM))
-        if action.verb == "holding" and action.partner is not None and action.tool in objects \
-                and objects[action.tool].shape == "box" and len(action.pids) > 1 and action.pids[1] in bases:
-            out += _hold_problems(action.id, action.verb, action.pids[0], objects[action.tool], where,
-                                  bases[action.pids[1]], [n for n in action.partner.ingredients if n in objects],
-                                  objects)
+        held = inside.get(action.tool, action.tool) if action.tool is not None else None  # food: by its board
+        if action.verb == "holding" and action.partner is not None and held in objects \
+                and objects[held].shape == "box" and len(action.pids) > 1 and action.pids[1] in bases:
+            food = [n for n in (*action.partner.ingredients, action.tool) if n in objects and n != held]
+            out += _hold_problems(action.id, action.verb, action.pids[0], objects[held], where,
+                                  bases[action.pids[1]], food, objects)
     return out
 
 

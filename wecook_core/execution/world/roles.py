@@ -19,6 +19,7 @@ from wecook_core.execution.tsr import TSR
 from wecook_core.execution.world.frames import skill_frame
 from wecook_core.execution.world.primitives import Missed, Primitives
 from wecook_core.execution.world.protocols import Cell
+from wecook_core.model import Category
 from wecook_core.plan import PlanAction
 
 Role = Callable[[PlanAction, str, Meeting], Program]
@@ -230,10 +231,23 @@ class RolePlayer:
         yield from self.primitives.place(action, pid, [drop.tsr(T0_w, sizes)], free=True)
         yield from self.arms[pid].home()
 
-    def _holder(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
+    def _held(self, action: PlanAction, pid: str) -> str:
+        """What the holder of ``action`` takes hold of: the object it names, except food lying in or on a
+        container, which is held steady by its container (a gripper closed on a cucumber covers it, and the
+        partner's knife has nowhere to go)."""
         name = action.tool
         assert name is not None
+        if self.scene.category(name) is not Category.INGREDIENT:
+            return name
+        container = self.scene.container_of(name)
+        if container is None:
+            return name
+        self.scene.log("info", f"{action.id}: {pid} holds the {name} steady by the {container} it lies on")
+        return container
+
+    def _holder(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
         yield from meeting.wait_for("tool_ready")  # the actor first takes its tool, then the container is held
+        name = self._held(action, pid)
         kind = self.scene.kind(name)
         hold = {"open_container": "hold_rim", "flat_container": "hold_flat"}.get(kind)
         regions = self.primitives.grasp_tsrs(name, pid, kinds=[hold] if hold else None)
