@@ -70,3 +70,26 @@ def test_a_stir_in_a_low_pan_goes_no_deeper_than_the_table_lets_the_spoon():
     as_asked = actuation_path("circle", params, ee @ T_ee_spoon, scene.facing("pan", "P1")[:3, :3])
     assert lowest([wp.pose for wp in as_asked]) < scene.table_height  # the skill's own depth would hit the table
     assert lowest([wp.pose for wp in path]) == pytest.approx(actuating.TABLE_CLEARANCE, abs=1e-6)  # still low
+
+
+def test_a_scoop_engages_a_centimetre_and_the_tools_thickness_above_the_food_on_a_board():
+    """The spoon's tip comes over the board's middle pointing down at 45 degrees before it scoops: with the meat
+    lying there, its lowest corner stays a centimetre above the meat (it grazed it, and every engage pose was
+    'in the way: meat (touched by the spoon)', in a held-out stand-in's run)."""
+    board = SceneObject("board", Category.CONTAINER, "box", (0.29, 0.14, 0.02), 0.0, -0.1)
+    meat = SceneObject("meat", Category.INGREDIENT, "box", (0.04, 0.04, 0.03), 0.0, -0.1)
+    scene = FakeScene((*OBJECTS, board, meat), inside={"rice": "bowl", "meat": "board"})
+    scene.poses["meat"][2, 3] = 0.02 + 0.015  # on the board
+    w = FakeWorld(scene, {pid: FakeArm(pid, scene) for pid in ("P1", "P2")})
+    action = PlanAction("a9", ("P1",), "transfer", "spoon", ("meat",), "bowl", "board")
+    run(w.primitives.grasp(action, "P1", "spoon"))
+    engage = SKILLS.skills["transfer"].steps[0]
+    roles = {"tool": "spoon", "ingredient": "meat", "location": "bowl", "source": "board"}
+    half = np.array(scene.objects["spoon"].size) / 2
+    T_ee_spoon = scene.hand("P1").riding[0].T_ee_obj
+    for _ in range(10):
+        goal = actuating.engage_goal(w.cell, "P1", engage.tsr, roles, None, None, None)
+        assert goal.q is not None
+        spoon = w.arms["P1"].goals[goal.q.tobytes()] @ T_ee_spoon
+        lowest = float(spoon[2, 3] - np.abs(spoon[2, :3]) @ half)
+        assert lowest >= 0.02 + 0.03 + 0.01 - 1e-6  # the meat's top, and a centimetre
