@@ -23,32 +23,65 @@ HAND_CLEAR_HEIGHT = 0.04
 FREE_MARGIN = 0.1
 """Metres of clearance around an object put down on a free spot beyond which spots count as equally roomy
 (room for the hand to take it again)."""
+FINGERS_ALONG = 0.035
+"""Metres either side of a tool's grasp point, along the tool, that the fingers taking it reach down to the table
+(their width, and the grasp region's play along the handle)."""
+FINGERS_OUT = 0.02
+"""Metres beyond a tool's long edges that the fingers taking it reach down to the table (the opening to approach
+it, and their thickness)."""
+
+
+def _fingers(half: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """The corners (4, 2), in the tool's frame, of where the fingers taking a tool of half extents ``half`` at
+    ``centre`` reach down to the table."""
+    return np.array([[centre[0] + sx * FINGERS_ALONG, sy * (half[1] + FINGERS_OUT)] for sx in (-1, 1)
+                     for sy in (-1, 1)])
+
+
+def _handle(half: np.ndarray) -> np.ndarray:
+    """Where a hand takes a tool lying on the table, in the tool's frame (x, y): its handle, at the -x end."""
+    return np.array([-0.55 * half[0], 0.0])
 
 
 def free_poses(cell: Cell, name: str, region: TSR) -> list[np.ndarray]:
     """Object poses of ``region`` on a 2 cm grid (yaw in 45-degree steps within the bounds), the roomiest
     first. Room is the smaller of two clearances: the object's footprint to every other object, and the
     footprint of a hand taking it again (:data:`HAND_SPAN` across the object at its grasp point) to every
-    object taller than :data:`HAND_CLEAR_HEIGHT`. Clearances beyond :data:`FREE_MARGIN` count as equally
-    roomy; then the spot nearest the region's centre wins."""
+    object taller than :data:`HAND_CLEAR_HEIGHT`. Spots where a tool's fingers would meet something come only
+    after the others, as spots without room do: where the fingers taking the object (a tool) reach down beside
+    it, no other object may lie, and the object may not lie where the fingers taking another tool on the table
+    reach down (a spoon put down across the whisk's handle leaves neither to be taken). Clearances beyond
+    :data:`FREE_MARGIN` count as equally roomy; then the spot nearest the region's centre wins."""
     scene = cell.scene
     hands = [scene.hand(pid) for pid in cell.arms]
     own = {r.name for h in hands for r in h.riding if h.carried == name}
     half = np.array(scene.size(name)) / 2
     corners = np.array([[sx * half[0], sy * half[1]] for sx in (-1, 1) for sy in (-1, 1)])
     holder = next((h for h in hands if h.carried == name), None)
+    is_tool = scene.kind(name) == "tool"
     if holder is not None and holder.riding:  # where the hand holds it now, in the object's frame
         T_obj_ee = np.linalg.inv(holder.riding[0].T_ee_obj)
         centre, across, along = T_obj_ee[:2, 3], T_obj_ee[:2, 1], T_obj_ee[:2, 0]
     else:
-        centre = np.array([-0.55 * half[0] if scene.kind(name) == "tool" else 0.0, 0.0])
+        centre = _handle(half) if is_tool else np.zeros(2)
         across, along = np.array([0.0, 1.0]), np.array([1.0, 0.0])
     hand = np.array([centre + sy * HAND_SPAN / 2 * across + sx * 0.03 * along
                      for sx in (-1, 1) for sy in (-1, 1)])
-    others = scene.boxes([n for n in scene.names() if n not in own and n != name])
+    fingers = _fingers(half, centre) if is_tool else np.zeros((0, 2))
+    names = [n for n in scene.names() if n not in own and n != name]
+    others = scene.boxes(names)
     boxes = np.array([box[:, :2] for box in others]).reshape(-1, 2, 2)
     tall = np.array([box[:, :2] for box in others if box[1, 2] - scene.table_height > HAND_CLEAR_HEIGHT]
                     ).reshape(-1, 2, 2)
+    in_hand = {r.name for h in hands for r in h.riding}
+    their_fingers = []  # where the fingers taking each other tool on the table reach down, world boxes
+    for n in names:
+        if scene.kind(n) == "tool" and n not in in_hand and scene.container_of(n) is None:
+            h = np.array(scene.size(n)) / 2
+            T = scene.pose(n)
+            pts = _fingers(h, _handle(h)) @ T[:2, :2].T + T[:2, 3]
+            their_fingers.append([pts.min(axis=0), pts.max(axis=0)])
+    fingered = np.array(their_fingers).reshape(-1, 2, 2)
 
     def clearance(pts: np.ndarray, against: np.ndarray) -> float:
         if not len(against):
@@ -69,10 +102,13 @@ def free_poses(cell: Cell, name: str, region: TSR) -> list[np.ndarray]:
             for y in ys:
                 T = region.T0_w @ xyzrpy_to_matrix([x, y, (B[2, 0] + B[2, 1]) / 2, 0, 0, yaw]) @ region.Tw_e
                 R, t = T[:2, :2], T[:2, 3]
-                own_room = clearance(corners @ R.T + t, boxes)
+                footprint = corners @ R.T + t
+                own_room = clearance(footprint, boxes)
                 room = min(own_room, clearance(hand @ R.T + t, tall))
                 if own_room > 0.0:  # where the hand has no room either, only after every roomy spot
-                    tier = 0 if room > 0.0 else 1
+                    free_fingers = clearance(footprint, fingered) > 0.0 and (
+                        not len(fingers) or clearance(fingers @ R.T + t, boxes) > 0.0)
+                    tier = 0 if room > 0.0 and free_fingers else 1
                     scored.append((tier, -min(max(room, own_room * tier), FREE_MARGIN),
                                    math.hypot(x, y) + 0.01 * abs(yaw), T))
     scored.sort(key=lambda item: item[:3])
