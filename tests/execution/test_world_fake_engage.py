@@ -93,3 +93,26 @@ def test_a_scoop_engages_a_centimetre_and_the_tools_thickness_above_the_food_on_
         spoon = w.arms["P1"].goals[goal.q.tobytes()] @ T_ee_spoon
         lowest = float(spoon[2, 3] - np.abs(spoon[2, :3]) @ half)
         assert lowest >= 0.02 + 0.03 + 0.01 - 1e-6  # the meat's top, and a centimetre
+
+
+def test_a_rolling_pin_may_lie_across_the_dough_any_way_round():
+    """A pin rolls dough the same whichever way it lies; with neighbours at both sides of the dough, the only way
+    clear is along the arm's line of sight (a bowl and a pot 14 cm either side blocked every pose of s302's roll
+    at +-60 degrees)."""
+    pin = SceneObject("rolling_pin", Category.TOOL, "box", (0.24, 0.04, 0.04), 0.15, 0.2)
+    dough = SceneObject("dough", Category.INGREDIENT, "box", (0.06, 0.05, 0.03), 0.1, 0.0)
+    scene = FakeScene((*OBJECTS, pin, dough), inside={})
+    w = FakeWorld(scene, {pid: FakeArm(pid, scene) for pid in ("P1", "P2")})
+    action = PlanAction("a12", ("P2",), "roll", "rolling_pin", ("dough",))
+    run(w.primitives.grasp(action, "P2", "rolling_pin"))
+    T_ee_pin = scene.hand("P2").riding[0].T_ee_obj
+
+    def along_the_line_of_sight(T: np.ndarray) -> bool:
+        axis = (T @ T_ee_pin)[:3, 0]
+        return abs(axis[0]) > np.cos(np.radians(25))
+
+    w.arms["P2"].reachable = along_the_line_of_sight
+    engage, strokes = SKILLS.skills["roll"].steps
+    roles = {"tool": "rolling_pin", "ingredient": "dough", "location": "dough", "source": None}
+    goal = actuating.engage_goal(w.cell, "P2", engage.tsr, roles, None, None, strokes)
+    assert goal.q is not None, goal
