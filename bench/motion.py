@@ -13,6 +13,10 @@
   through the whole pipeline (segmentation, recognition, graph, layout), as a user's own video would be.
 - ``scenario_plans_done``: share of the actions done over the plans exported from every scenario of the
   independent generator (``../shared/data/scenarios/``, :func:`scenario_plans`), run seed 0.
+- ``scenario_variants_done``: share of the actions done over plans of variants of those scenarios, a stand-in for
+  held-out ones of the same kind: each scenario's object boxes shifted, each object by its own constant offset
+  of up to :data:`VARIANT_SHIFT` of the frame (:data:`VARIANT_DRAWS` draws per scenario), then analysed and laid
+  out as a user's own would be, run seed 0.
 - ``scenario_sim_speed_recording``: simulated seconds per wall second over those plans while recording MCAP
   (target: at least 10); baseline: the same runs with an observer that drops everything.
   For the shares the note lists the failures.
@@ -47,6 +51,10 @@ DEMO_SEEDS = tuple(range(20))
 """Run seeds of the demo's plan whose share of actions done is reported."""
 VIDEO_SEEDS = tuple(range(10))
 """Synthetic videos (``wecook synth --seed``) whose exported plans are run."""
+VARIANT_DRAWS = (1, 2, 3)
+"""Draws of shifted object boxes per shared scenario (``scenario_variants_done``)."""
+VARIANT_SHIFT = 0.04
+"""Largest shift of an object's boxes in a scenario variant, as a share of the frame's width and height."""
 
 def planning_queries(n: int = 15) -> tuple[list[float], list[float], int]:
     scene = PlanningScene(demo_plan())  # the demo's table: 16 objects
@@ -101,6 +109,9 @@ def run() -> list[dict[str, object]]:
                             f"plans of synthetic videos {VIDEO_SEEDS[0]}-{VIDEO_SEEDS[-1]} (analysed, laid out, "
                             "exported as a user would), run seed 0"))
     rows += _scenario_rows()
+    rows.append(_done_share("scenario_variants_done", [(plan, 0) for _, plan in scenario_variants()],
+                            f"plans of the shared scenarios with shifted object boxes (draws {VARIANT_DRAWS}, up to "
+                            f"{VARIANT_SHIFT:.0%} of the frame), run seed 0"))
     rows.append(_all_failing_row())
     return rows
 
@@ -140,6 +151,38 @@ def scenario_plans() -> list[tuple[str, Plan]]:
     out = []
     for folder in sorted(p for p in root.iterdir() if (p / "objects.xml").is_file()):
         out.append((folder.name, inputs_plan(folder / "video.mp4", folder / "objects.xml", folder / "openpose")))
+    return out
+
+
+def scenario_variants() -> list[tuple[str, Plan]]:
+    """(name, plan) of variants of every shared scenario: each object's boxes shifted by its own constant offset,
+    up to :data:`VARIANT_SHIFT` of the frame on each axis (draws :data:`VARIANT_DRAWS`), the hands as they are;
+    analysed with the default parameters and laid out as :func:`scenario_plans` does."""
+    import dataclasses
+
+    from wecook_core.knowledge.recognize import load_knowledge
+    from wecook_core.observations.importer import load_observations
+    from wecook_core.perception.params import Params
+    from wecook_core.perception.shots import shot_cuts
+    from wecook_core.resources import shared_dir
+    from wecook_core.workflows import analyse, plan_of
+
+    root = shared_dir() / "data" / "scenarios"
+    knowledge = load_knowledge()
+    out = []
+    for folder in sorted(p for p in root.iterdir() if (p / "objects.xml").is_file()):
+        obs = load_observations(folder / "video.mp4", folder / "objects.xml", folder / "openpose")
+        shots = shot_cuts(folder / "video.mp4")
+        frame = np.array([obs.video.width, obs.video.height, obs.video.width, obs.video.height], dtype=float)
+        for draw in VARIANT_DRAWS:
+            rng = np.random.default_rng(1000 + draw)
+            objects = []
+            for track in obs.objects:
+                dx, dy = rng.uniform(-VARIANT_SHIFT, VARIANT_SHIFT, 2) * frame[:2]
+                objects.append(dataclasses.replace(track, boxes=track.boxes + np.array([dx, dy, dx, dy])))
+            shifted = dataclasses.replace(obs, objects=tuple(objects))
+            plan = plan_of(analyse(shifted, knowledge, Params(), shots=shots), shifted)
+            out.append((f"{folder.name} draw {draw}", plan))
     return out
 
 

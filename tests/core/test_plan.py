@@ -16,6 +16,7 @@ from wecook_core.model import (
     Category,
     GraphEdge,
     GraphNode,
+    HandTrack,
     ObjectTrack,
     Observations,
     TreeSpan,
@@ -415,3 +416,53 @@ def test_food_held_on_a_board_is_laid_out_as_a_held_board() -> None:
     left = board.x - board.size[0] / 2  # the end P1 presses
     assert cucumber.x - cucumber.size[0] / 2 - left >= HOLD_ROOM - 1e-6
     assert room_problems(plan) == []
+
+
+def _hands_at(x_p1: float, x_p2: float) -> tuple[HandTrack, ...]:
+    frames = np.arange(0, 200, dtype=np.int64)
+    return tuple(HandTrack(hand, frames, np.tile([x, 240.0], (200, 1)), np.tile([x - 20, 220, x + 20, 260.0], (200, 1)))
+                 for hand, x in (("LH_P1", x_p1), ("RH_P1", x_p1), ("LH_P2", x_p2), ("RH_P2", x_p2)))
+
+
+def test_when_p1_works_right_of_p2_the_video_is_laid_out_turned_half_round() -> None:
+    """P1's arm stands at the table's -x end; a video with P1 on the right is turned so each person's things lie
+    at their own arm's end (unturned, P1's pot would lie at P2's end and P2's knife at P1's)."""
+    from wecook_core.plan.layout import p1_on_the_right
+
+    objects = (track(1, "pot", (480, 150, 560, 230)), track(2, "knife", (80, 300, 190, 320)),
+               track(3, "tomato", (300, 100, 340, 140)))
+    categories = {"pot": Category.CONTAINER, "knife": Category.TOOL, "tomato": Category.INGREDIENT}
+    nodes = (node("a1", "P1", 0, 40, "(HP (HP (H RH_P1) (O tomato)) (AP (A sprinkle) (O pot)))"),
+             node("a2", "P2", 50, 90, "(HP (HP (H RH_P2) (O knife)) (AP (A cut) (O tomato)))"))
+    graph = ActionGraph(nodes, {"P1": ("a1",), "P2": ("a2",)}, ())
+    for hands, turned in ((_hands_at(520.0, 130.0), True), (_hands_at(130.0, 520.0), False)):
+        obs = Observations(VideoInfo("v.mp4", 30.0, 200, W, H), objects, hands, categories)
+        assert p1_on_the_right(obs) is turned
+        plan = plan_from_graph(graph, obs)
+        pot, knife, tomato = (plan.scene.object(n) for n in ("pot", "knife", "tomato"))
+        if turned:
+            assert pot.x < -0.03 and knife.x > 0.03  # P1's pot on P1's half, P2's knife on P2's
+            assert tomato.y < 0.0  # the image's top is the far side, turned with the rest: -y
+        else:  # each on the wrong side of the image: kept on its arm's half, at the middle line
+            assert pot.x > -0.01 and knife.x < 0.01
+            assert tomato.y > 0.0
+    assert not p1_on_the_right(Observations(VideoInfo("v.mp4", 30.0, 200, W, H), objects, (), categories))
+
+
+def test_a_container_too_near_an_arms_base_to_pour_over_is_named() -> None:
+    """An arm takes an ingredient 0.3 m from its base, but cannot tip a spoon over a plate there."""
+    from wecook_core.plan.reach import MIN_OVER_REACH, MIN_REACH, reach_problems
+
+    def plan_with(dist: float) -> Plan:
+        objects = (SceneObject("spoon", Category.TOOL, "box", (0.14, 0.03, 0.025), -0.1, 0.2, math.pi / 2),
+                   SceneObject("plate", Category.CONTAINER, "cylinder", (0.1, 0.1, 0.03), -0.5 + dist, 0.0),
+                   SceneObject("pea", Category.INGREDIENT, "sphere", (0.04, 0.04, 0.04), -0.5 + dist, -0.1))
+        return Plan(agents=(Agent("P1", "franka_panda/panda.urdf", (-0.5, 0.0, 0.0), 0.0),),
+                    scene=Scene(objects=objects),
+                    actions=(PlanAction("a1", ("P1",), "transfer", "spoon", ("pea",), "plate", None),))
+
+    assert MIN_REACH < 0.31 < MIN_OVER_REACH
+    near = reach_problems(plan_with(0.31))
+    assert [(u.name, u.low) for u in near] == [("plate", MIN_OVER_REACH)]
+    assert "too close to its base" in str(near[0])
+    assert reach_problems(plan_with(MIN_OVER_REACH + 0.01)) == []

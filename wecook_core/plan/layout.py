@@ -3,9 +3,10 @@
 Image -> table: each object's position is the centre of its median box over its first :data:`FIRST_FRAMES`
 sightings; the bounding rectangle of those boxes (at least a fifth of the image on each axis) is scaled, each
 axis on its own, onto the table's reach region (``Table.reach``): image left -> ``-x`` (P1's side), image top ->
-``+y`` (see :mod:`wecook_core.plan` for the world frame). Then nothing may overlap, and a hand keeps room where it
-works: push-apart inside the reach region, else each object to the nearest free spot. What starts in a container,
-and where on it: :mod:`wecook_core.plan.contents`.
+``+y`` (see :mod:`wecook_core.plan` for the world frame); when P1 works right of P2 in the video, the image is
+turned half round first, so that each person's things lie at their arm's end. Then nothing may overlap, and a
+hand keeps room where it works: push-apart inside the reach region, else each object to the nearest free spot.
+What starts in a container, and where on it: :mod:`wecook_core.plan.contents`.
 """
 
 from __future__ import annotations
@@ -17,11 +18,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from wecook_core.knowledge.nouns import match
-from wecook_core.model import ActionGraph, Category, Observations
+from wecook_core.model import PERSONS, ActionGraph, Category, Observations, person_of
 from wecook_core.plan.contents import containing as containing_of
 from wecook_core.plan.contents import fit_board, holders, spread, taken_from_by_hand, worked
 from wecook_core.plan.model import DEFAULT_ROBOT, DEFAULT_TABLE, Scene, SceneObject, Table, Vec3
-from wecook_core.plan.reach import MIN_REACH, WORK_REACH
+from wecook_core.plan.reach import MIN_REACH, WORK_REACH, min_reach
 from wecook_core.trees.notation import action_of
 
 _FLAT_CONTAINERS = ("board", "tray", "mat", "sheet")
@@ -210,19 +211,17 @@ def _users(graph: ActionGraph) -> dict[str, set[str]]:
     return users
 
 
-
-
-
-
 @dataclass(frozen=True)
 class Reach:
-    """Where each object may lie so that every arm using it (or what starts in it) reaches it: between
-    :data:`~wecook_core.plan.reach.MIN_REACH` and the robot's work reach, less :data:`REACH_SLACK`, from each
+    """Where each object may lie so that every arm using it (or what starts in it) reaches it: between its
+    nearest reach (:func:`~wecook_core.plan.reach.min_reach`, at least :data:`REACH_SLACK` beyond
+    :data:`~wecook_core.plan.reach.MIN_REACH`) and the robot's work reach less :data:`REACH_SLACK`, from each
     such arm's base."""
 
     arms: tuple[tuple[np.ndarray, ...], ...]
     """Per object (by index): the bases (x, y) of the arms that must reach it."""
-    low: float
+    lows: tuple[float, ...]
+    """Per object (by index): metres, the nearest to a base it may lie."""
     high: float | None
     """Metres; None: the robot is not checked."""
 
@@ -233,12 +232,12 @@ class Reach:
             return ok
         for base in self.arms[i]:
             d = np.hypot(*(points - base).T)
-            ok &= (d >= self.low) & (d <= self.high)
+            ok &= (d >= self.lows[i]) & (d <= self.high)
         return ok
 
 
 def _reach_rule(free: Sequence[str], users: Mapping[str, set[str]], containing: Mapping[str, str], table: Table,
-                robot: str) -> Reach:
+                robot: str, categories: Mapping[str, Category]) -> Reach:
     """The :class:`Reach` of the objects ``free`` (P1 at the ``-x`` end of the table, P2 at the ``+x`` end)."""
     high = WORK_REACH.get(robot)
     bases = {"P1": np.array([-table.size[0] / 2, 0.0]), "P2": np.array([table.size[0] / 2, 0.0])}
@@ -249,7 +248,17 @@ def _reach_rule(free: Sequence[str], users: Mapping[str, set[str]], containing: 
             if container == name:
                 persons |= users.get(content, set())
         arms.append(tuple(bases[p] for p in sorted(persons) if p in bases))
-    return Reach(tuple(arms), MIN_REACH + REACH_SLACK, None if high is None else high - REACH_SLACK)
+    lows = tuple(max(min_reach(categories.get(name, Category.INGREDIENT)), MIN_REACH + REACH_SLACK) for name in free)
+    return Reach(tuple(arms), lows, None if high is None else high - REACH_SLACK)
+
+
+def p1_on_the_right(obs: Observations) -> bool:
+    """Whether P1 works right of P2 in the video: the median x of P1's hands over every frame they are seen,
+    against P2's (False when either is never seen)."""
+    xs = {p: [h.xy[:, 0] for h in obs.hands if person_of(h.hand) == p and len(h.frames)] for p in PERSONS}
+    if not xs["P1"] or not xs["P2"]:
+        return False
+    return float(np.median(np.concatenate(xs["P1"]))) > float(np.median(np.concatenate(xs["P2"])))
 
 
 def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_TABLE,
@@ -259,7 +268,9 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     Mapping image -> table: each object's position is the centre of its median box over its first
     :data:`FIRST_FRAMES` sightings. The image's table area is the bounding rectangle of those boxes (at least a
     fifth of the image on each axis); it is scaled, each axis on its own, onto the reach region
-    ``[-reach_x, reach_x] x [-reach_y, reach_y]``: image left -> ``-x`` (P1's side), image top -> ``+y``.
+    ``[-reach_x, reach_x] x [-reach_y, reach_y]``: image left -> ``-x`` (P1's side), image top -> ``+y``;
+    turned half round (image right -> ``-x``, image top -> ``-y``) when P1's hands work right of P2's
+    (:func:`p1_on_the_right`): the table's ``-x`` end is P1's arm's.
     An object that only one person's actions use is kept on that arm's half (``x <= 0`` for P1, ``x >= 0`` for
     P2): a robot arm does not reach across the table as a person does.
     Sizes come from the category (containers wide, tools long and thin, ingredients small), scaled from the
@@ -289,6 +300,8 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     centres_px = (boxes[:, :2] + boxes[:, 2:]) / 2
     xy = (centres_px - lo) * scale - reach
     xy[:, 1] = -xy[:, 1]  # image y grows downwards; world +y is the image's top
+    if p1_on_the_right(obs):  # P1's arm stands at -x: the video turned half round
+        xy = -xy
     users = _users(graph)
     for k, name in enumerate(names):  # an object only one arm uses goes to that arm's half of the table
         if users.get(name) == {"P1"}:
@@ -324,7 +337,7 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     inner = (table.size[0] / 2 - ARM_CLEARANCE, table.size[1] / 2 - GAP)
     whole = (table.size[0] / 2 - 0.12, table.size[1] / 2 - 0.01)  # all but the arms' bases
     placed, ok = _push_apart(centres, halves, table.reach, gaps, sides)
-    reaches = _reach_rule(free, users, containing, table, robot)
+    reaches = _reach_rule(free, users, containing, table, robot, obs.categories)
     if not ok:  # too crowded for the reach region: each object, biggest first, to the free spot nearest its place
         placed = _settle(centres, halves, (inner, whole), gaps, sides)
     if not all(reaches(k, placed[[k]])[0] for k in range(len(free))):  # something is out of an arm's reach: each

@@ -2,7 +2,9 @@
 check``), and the rule the layout (:mod:`wecook_core.plan.layout`) places objects by.
 
 An arm works on an object on the table (grasps it from above, engages a tool over it) reliably when its
-footprint centre lies between :data:`MIN_REACH` and the arm's :data:`WORK_REACH` from the base, horizontally.
+footprint centre lies between :data:`MIN_REACH` and the arm's :data:`WORK_REACH` from the base, horizontally;
+a container, which the arm works over from above with what it carries (pours, tips, stirs in), no nearer than
+:data:`MIN_OVER_REACH`.
 Who must reach what: an individual action's arm, every object it names; a handover's giver the object handed
 over (the receiver takes it mid-air or between the arms); a holding's holder the object it holds, and the actor
 its own action's objects. Objects move as the plan goes: an object handed over lies in front of the receiver
@@ -15,6 +17,7 @@ import math
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 
+from wecook_core.model import Category
 from wecook_core.plan.model import DEFAULT_ROBOT, Agent, Plan, PlanAction
 
 WORK_REACH: dict[str, float] = {DEFAULT_ROBOT: 0.68}
@@ -23,6 +26,9 @@ by robot URDF (a Panda's hand pointing down reaches about 0.7 m out at the heigh
 listed are not checked."""
 MIN_REACH = 0.25
 """Metres: closer to its base than this, an arm folds too tightly to take an object from above."""
+MIN_OVER_REACH = 0.33
+"""Metres: closer to its base than this, an arm cannot hold what it carries over a container to pour or tip it
+there (a spoon tipped over a plate 0.31 m from the base found no pose, 0.32 m did)."""
 DROP_DISTANCE = 0.42
 """Metres from the receiver's base to where it puts what was handed over (``collaborations.handover.drop_distance``
 of the skill library)."""
@@ -66,10 +72,16 @@ def touched(action: PlanAction) -> dict[str, tuple[str, ...]]:
     return {action.pids[0]: names(action.tool, action.ingredients, action.location, action.source)}
 
 
-def reach_band(agent: Agent) -> tuple[float, float] | None:
-    """(nearest, farthest) metres from its base an arm works at, or None for a robot that is not checked."""
+def min_reach(category: Category) -> float:
+    """Metres: the nearest to an arm's base that it works on an object of ``category``."""
+    return MIN_OVER_REACH if category is Category.CONTAINER else MIN_REACH
+
+
+def reach_band(agent: Agent, category: Category = Category.INGREDIENT) -> tuple[float, float] | None:
+    """(nearest, farthest) metres from its base an arm works on an object of ``category`` at, or None for a robot
+    that is not checked."""
     high = WORK_REACH.get(agent.robot)
-    return None if high is None else (MIN_REACH, high)
+    return None if high is None else (min_reach(category), high)
 
 
 def positions(plan: Plan) -> Iterator[tuple[PlanAction, dict[str, tuple[float, float]]]]:
@@ -85,16 +97,17 @@ def positions(plan: Plan) -> Iterator[tuple[PlanAction, dict[str, tuple[float, f
 def reach_problems(plan: Plan) -> list[Unreachable]:
     """Every object an arm must work on that is out of its reach when the action comes, in plan order."""
     agents: Mapping[str, Agent] = {a.pid: a for a in plan.agents}
+    categories = {o.name: o.category for o in plan.scene.objects}
     out: list[Unreachable] = []
     for action, where in positions(plan):
         for pid, objects in touched(action).items():
             agent = agents.get(pid)
-            band = reach_band(agent) if agent is not None else None
-            if agent is None or band is None:
+            if agent is None or reach_band(agent) is None:
                 continue
             bx, by = agent.base_position[0], agent.base_position[1]
             for name in objects:
-                if name not in where:
+                band = reach_band(agent, categories.get(name, Category.INGREDIENT))
+                if name not in where or band is None:
                     continue
                 x, y = where[name]
                 d = math.hypot(x - bx, y - by)
