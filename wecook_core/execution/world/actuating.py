@@ -23,6 +23,12 @@ from wecook_core.plan import PlanAction
 
 DROP_INSIDE = 0.6
 """Share of a destination's half extents, about its middle, that what is tipped into it must fall within."""
+CLEAR_MARGIN = -0.002
+"""Metres an actuation's straight path may pass into an object it does not touch, on a pose chosen clear of its
+neighbours (its contact pairs and what lies with them are passed through on purpose)."""
+GRAZE_MARGIN = -0.01
+"""Metres it may pass into one when no pose keeps clear (a crowded table): it grazes a neighbour and may push it
+(a knife sawing meat 3 cm from a whisk rolled the whisk onto the spoon beside it), so such poses come last."""
 TABLE_CLEARANCE = 0.005
 """Metres above the table that the carried object's lowest point keeps during an actuation: a spoon stirring a
 low pan goes no deeper than the pan's floor lets it."""
@@ -46,14 +52,17 @@ class EngageGoal:
     """No pose as the samples, this many, were out of reach or blocked (the arm's report says by what)."""
     about_actuation: bool = False
     """``reason`` is the actuation's, not the goals' (what blocked the goals is no longer news)."""
+    margin: float = CLEAR_MARGIN
+    """How far the actuation from there may pass into its neighbours (:data:`CLEAR_MARGIN`, else
+    :data:`GRAZE_MARGIN`)."""
 
 
 def engage(cell: Cell, action: PlanAction, pid: str, spec: TSRSpec, roles: Roles,
            meet: tuple[str, str] | None = None, accept: Accept | None = None, then: Step | None = None,
-           chose: Callable[[int], None] | None = None) -> Program:
+           chose: Callable[[int, float], None] | None = None) -> Program:
     """Carry the effector (the carried object, else the gripper) into a TSR, by a planned move. With ``then``
     (the actuation that follows), only poses from which that actuation is feasible are chosen, and ``chose`` is
-    told the axis option of ``then`` each chosen pose goes with."""
+    told the axis option of ``then`` and the margin each chosen pose goes with."""
     scene, arm = cell.scene, cell.arms[pid]
     scene.event("primitive_start", action, pid, spec.frame, "engage")
 
@@ -66,7 +75,7 @@ def engage(cell: Cell, action: PlanAction, pid: str, spec: TSRSpec, roles: Roles
                 arm.clear_blockers()
             return goal.reason
         if goal.variant is not None and chose is not None:
-            chose(goal.variant)
+            chose(goal.variant, goal.margin)
         try:
             yield from arm.transit(goal.q, what="engage")
         except ActionFailed as error:
@@ -80,9 +89,10 @@ def engage(cell: Cell, action: PlanAction, pid: str, spec: TSRSpec, roles: Roles
 def engage_goal(cell: Cell, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[str, str] | None,
                 accept: Accept | None, then: Step | None) -> EngageGoal:
     """Joints of a collision-free pose of the TSR from which ``then`` is feasible (its straight path, and what it
-    tips falling into the destination), with the actuation's axis option; else why not (the commonest reason
-    over the samples). A query: it reads the scene and asks the arm for samples, IK and straight paths, and
-    reports nothing (:func:`engage` does)."""
+    tips falling into the destination), with the actuation's axis option and margin: a path clear of the
+    neighbours (:data:`CLEAR_MARGIN`) first, one grazing them (:data:`GRAZE_MARGIN`) only when no sample has
+    one; else why not (the commonest reason over the samples). A query: it reads the scene and asks the arm for
+    samples, IK and straight paths, and reports nothing (:func:`engage` does)."""
     scene, arm = cell.scene, cell.arms[pid]
     hand = scene.hand(pid)
     T_eff_ee = np.linalg.inv(hand.riding[0].T_ee_obj) if hand.riding else np.eye(4)
@@ -116,6 +126,7 @@ def engage_goal(cell: Cell, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[s
                                       f"{roles['location']}")
     why: Counter[str] = Counter()
     unreached = 0
+    grazing: list[tuple[np.ndarray, list[Waypoint], int]] = []  # (joints, waypoints, variant) not clear
     for G in candidates:
         found = arm.ik_goal([G], [])
         if found is None:
@@ -124,14 +135,26 @@ def engage_goal(cell: Cell, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[s
         if then is None:
             return EngageGoal(found[0])
         for variant in (lands(G) if tips else options):
+            waypoints = actuation_waypoints(scene, pid, then, roles, G, variant)
             try:
-                waypoints = actuation_waypoints(scene, pid, then, roles, G, variant)
                 arm.cartesian_path(found[0], [w.pose @ T_eff_ee for w in waypoints], touched(scene, then, roles),
-                                   "actuate")
+                                   "actuate", margin=CLEAR_MARGIN)
             except ActionFailed as error:
-                why[str(error)] += 1
+                if "collides" in str(error):  # may yet do, grazing
+                    grazing.append((found[0], waypoints, variant))
+                else:
+                    why[str(error)] += 1
                 continue
             return EngageGoal(found[0], variant)
+    for q, waypoints, variant in grazing:  # a crowded table: grazing a neighbour it is
+        assert then is not None
+        try:
+            arm.cartesian_path(q, [w.pose @ T_eff_ee for w in waypoints], touched(scene, then, roles), "actuate",
+                               margin=GRAZE_MARGIN)
+        except ActionFailed as error:
+            why[str(error)] += 1
+            continue
+        return EngageGoal(q, variant, margin=GRAZE_MARGIN)
     if then is None or unreached >= why.total():  # most samples were unreachable or in collision
         return EngageGoal(None, unreached=len(candidates))
     text, count = why.most_common(1)[0]
@@ -236,10 +259,11 @@ def actuation_waypoints(scene: Scene, pid: str, step: Step, roles: Roles, ee: np
     return actuation_path(step.motion, params, E, Rw, grip=hand.grip, hand=ee[:3, 3])  # type: ignore[arg-type]
 
 
-def actuate(cell: Cell, action: PlanAction, pid: str, step: Step, roles: Roles, variant: int = 0) -> Program:
+def actuate(cell: Cell, action: PlanAction, pid: str, step: Step, roles: Roles, variant: int = 0,
+            margin: float = GRAZE_MARGIN) -> Program:
     """The step's motion (its axis option ``variant``) from where the hand is, its contact pairs passing through
-    each other; then what it attaches rides on the tool, and what it lets go of must land in the location (else
-    :class:`Missed`)."""
+    each other and ``margin`` into its neighbours at the most; then what it attaches rides on the tool, and what
+    it lets go of must land in the location (else :class:`Missed`)."""
     assert step.motion is not None
     scene, arm = cell.scene, cell.arms[pid]
     scene.event("primitive_start", action, pid, step.motion, "actuate")
@@ -267,7 +291,7 @@ def actuate(cell: Cell, action: PlanAction, pid: str, step: Step, roles: Roles, 
                     scene.ride(pid, n)
             yield from arm.linear([w.pose @ T_eff_ee for w in waypoints], ignore=touched(scene, step, roles),
                                   holds=[w.hold for w in waypoints], fingers=[w.fingers for w in waypoints],
-                                  what=f"actuate {step.motion}", reached=let_go if tips else None)
+                                  what=f"actuate {step.motion}", margin=margin, reached=let_go if tips else None)
             if not tips:
                 break
             yield from scene.hold(0.6)  # let it land

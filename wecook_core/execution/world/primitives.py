@@ -22,12 +22,13 @@ __all__ = ["Missed", "Primitives"]
 
 
 class Primitives:
-    """The primitives of the arms of ``cell``; remembers, per arm, the axis option the last engage chose for the
-    actuation that follows it."""
+    """The primitives of the arms of ``cell``; remembers, per arm, the axis option and margin the last engage
+    chose for the actuation that follows it."""
 
     def __init__(self, cell: Cell):
         self.cell = cell
         self.variants: dict[str, int] = {}
+        self.margins: dict[str, float] = {}
 
     def grasp_tsrs(self, name: str, pid: str, kinds: Sequence[str] | None = None, flip: bool = False) -> list[TSR]:
         return grasping.grasp_tsrs(self.cell, name, pid, kinds, flip)
@@ -47,10 +48,12 @@ class Primitives:
 
     def engage(self, action: PlanAction, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[str, str] | None = None,
                accept: Accept | None = None, then: Step | None = None) -> Program:
-        def chose(variant: int) -> None:
+        def chose(variant: int, margin: float) -> None:
             self.variants[pid] = variant
+            self.margins[pid] = margin
 
         return actuating.engage(self.cell, action, pid, spec, roles, meet, accept, then, chose)
 
     def actuate(self, action: PlanAction, pid: str, step: Step, roles: Roles) -> Program:
-        return actuating.actuate(self.cell, action, pid, step, roles, self.variants.get(pid, 0))
+        return actuating.actuate(self.cell, action, pid, step, roles, self.variants.get(pid, 0),
+                                 self.margins.get(pid, actuating.GRAZE_MARGIN))
