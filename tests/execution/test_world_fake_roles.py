@@ -113,3 +113,22 @@ def test_a_failed_role_is_recovered_the_object_put_back_near_where_it_was_picked
     assert results[0].status == "failed" and results[0].reason.startswith("engage facing:location: ")
     assert w.scene.hand("P1").carried is None and ops(w, "P1")[-1] == "home"
     assert np.linalg.norm(w.scene.pose("spoon")[:2, 3] - [0.15, 0.2]) <= 0.12 * math.sqrt(2) + 1e-9
+
+
+def test_a_tool_found_tilted_is_put_back_lying_flat_where_it_was():
+    """A whisk pushed onto the spoon beside it rests tilted; put back at that pose, the hand holding it meets the
+    table. It goes back where it lay, turned as it lay, flat on the table."""
+    w = world()
+    tilted = w.scene.poses["spoon"].copy()
+    lean = math.radians(25)
+    tilted[:3, :3] = tilted[:3, :3] @ np.array([[1, 0, 0], [0, math.cos(lean), -math.sin(lean)],
+                                                 [0, math.sin(lean), math.cos(lean)]])
+    tilted[2, 3] += 0.008
+    w.scene.poses["spoon"] = tilted
+    results = run_schedule(Plan(agents_for(["P1", "P2"]), PlanScene(OBJECTS), (ACTION,)), w)
+    assert [r.status for r in results] == ["done"], results
+    after = w.scene.pose("spoon")
+    assert after[2, 2] > 0.999  # flat
+    assert np.linalg.norm(after[:2, 3] - tilted[:2, 3]) < 0.02  # where it lay
+    assert abs(after[2, 3] - 0.01) < 0.01  # on the table (half its height up)
+    assert abs(math.atan2(after[1, 0], after[0, 0]) - math.atan2(tilted[1, 0], tilted[0, 0])) <= 0.1  # turned so

@@ -29,6 +29,8 @@ ZONE_MARGIN = 0.08
 """Metres around the objects of an action that its arm may sweep over while working."""
 HAND_OVER_ROOM = 0.02
 """Metres, beyond the receiver's clearance, between the two hands' grasp points on a tool handed over mid-air."""
+TILTED = math.cos(math.radians(5))
+"""An object whose z axis leans more than 5 degrees from the vertical lies tilted (see :meth:`RolePlayer._rest`)."""
 ZONE_WAIT_SECONDS = 120.0
 """Longest wait for the other arm to leave an overlapping zone (then the action goes ahead, reservations still
 keep the arms apart)."""
@@ -122,7 +124,7 @@ class RolePlayer:
         roles: dict[str, str | None] = {"tool": carried, "ingredient": ingredient or loc, "location": loc,
                                         "source": source or (self.scene.container_of(ingredient) or ingredient
                                                              if ingredient else None)}
-        home = self.scene.pose(carried)
+        home = self._rest(carried)
         yield from self.primitives.grasp(action, pid, carried)
         if after_grasp is not None:
             yield from after_grasp()
@@ -159,6 +161,23 @@ class RolePlayer:
                 self.scene.event("retry", action, pid, f"place {carried} near its spot ({error})", "place")
                 yield from self.primitives.place(action, pid, [near], free=True)
         yield from self.arms[pid].home()
+
+    def _rest(self, name: str) -> np.ndarray:
+        """Where ``name`` goes back to after the action: where it lies now, lying flat (a whisk pushed onto the
+        spoon beside it rests tilted, and put back so its hand meets the table): turned about z as it lies, on
+        its container's floor as it is, else on the table. A sphere's turn says nothing: it goes back as it is."""
+        T = self.scene.pose(name)
+        if T[2, 2] > TILTED or self.scene.shape(name) == "sphere":
+            return T
+        along = float(np.hypot(*T[:2, 0])) > 0.3  # its x axis lies along the table, unless it stands up
+        x = T[:2, 0] if along else T[:2, 1]
+        yaw = math.atan2(x[1], x[0]) - (0.0 if along else math.pi / 2)
+        rest = np.eye(4)
+        rest[:2, :2] = [[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]]
+        rest[:3, 3] = T[:3, 3]
+        if self.scene.container_of(name) is None:
+            rest[2, 3] = self.scene.table_height + self.scene.half(name).hz
+        return rest
 
     def _mid_air(self, name: str) -> bool:
         """Whether ``name`` is handed over mid-air: a tool long enough for both hands on it, each grasping near its
