@@ -20,6 +20,10 @@ class ActionFailed(Exception):
     """A role of an action cannot go on; the message is the reason shown to the user."""
 
 
+class PathBlocked(ActionFailed):
+    """A straight path that reaches its poses but passes through something (not: out of reach)."""
+
+
 @dataclass
 class Meeting:
     """Where the roles of one collaboration meet: who has arrived, signals raised, a failure."""

@@ -102,7 +102,7 @@ def reach_problems(plan: Plan) -> list[Unreachable]:
     for action, where in positions(plan):
         for pid, objects in touched(action).items():
             agent = agents.get(pid)
-            if agent is None or reach_band(agent) is None:
+            if agent is None:
                 continue
             bx, by = agent.base_position[0], agent.base_position[1]
             for name in objects:

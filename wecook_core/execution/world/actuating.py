@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from wecook_core.execution.planning_scene import Riding
-from wecook_core.execution.program import ActionFailed, Program, Tick
+from wecook_core.execution.program import ActionFailed, PathBlocked, Program, Tick
 from wecook_core.execution.skills import Step, TSRSpec, Waypoint, actuation_path, evaluate
 from wecook_core.execution.world.frames import skill_frame
 from wecook_core.execution.world.grasping import release
@@ -139,11 +139,11 @@ def engage_goal(cell: Cell, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[s
             try:
                 arm.cartesian_path(found[0], [w.pose @ T_eff_ee for w in waypoints], touched(scene, then, roles),
                                    "actuate", margin=CLEAR_MARGIN)
+            except PathBlocked:  # may yet do, grazing
+                grazing.append((found[0], waypoints, variant))
+                continue
             except ActionFailed as error:
-                if "collides" in str(error):  # may yet do, grazing
-                    grazing.append((found[0], waypoints, variant))
-                else:
-                    why[str(error)] += 1
+                why[str(error)] += 1
                 continue
             return EngageGoal(found[0], variant)
     for q, waypoints, variant in grazing:  # a crowded table: grazing a neighbour it is

@@ -18,7 +18,7 @@ from scipy.spatial.transform import Rotation, Slerp
 
 from wecook_core.execution.motion import MotionProblem, path_free, plan_motion
 from wecook_core.execution.planning_scene import ARM_MARGIN, boxes_overlap
-from wecook_core.execution.program import WAIT, WORK, ActionFailed, Program
+from wecook_core.execution.program import WAIT, WORK, ActionFailed, PathBlocked, Program
 from wecook_core.execution.robot import HOME, LOWER, MAX_SPEED, REST, UPPER
 from wecook_core.execution.scene import SIM_HZ
 from wecook_core.execution.tsr import TSR, sample, xyzrpy_to_matrix
@@ -282,7 +282,7 @@ class BulletArm:
             blockers = sorted(self._in_the_way(names))
             if any(b.startswith("arm ") for b in blockers):
                 self.traffic.other_in_the_way = True
-            raise ActionFailed(f"{what}: the straight path collides" + (f" with {', '.join(blockers)}"
+            raise PathBlocked(f"{what}: the straight path collides" + (f" with {', '.join(blockers)}"
                                                                         if blockers else ""))
         return path, durations, marks
 

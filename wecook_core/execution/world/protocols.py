@@ -190,8 +190,9 @@ class Arm(Protocol):
     def cartesian_path(self, q: np.ndarray, poses: Sequence[np.ndarray], ignore: Sequence[str] | None, what: str,
                        margin: float = -0.01) -> tuple[list[np.ndarray], list[float], list[int]]:
         """The joint path of straight effector moves from ``q`` through ``poses``, each segment's duration and the
-        index ending each move; raises ``ActionFailed`` when it is out of reach or collides (noting, for the next
-        retry, whether the other arm was in the way). Moves nothing."""
+        index ending each move; raises ``ActionFailed`` when it is out of reach, ``PathBlocked`` (an
+        ``ActionFailed``) when it collides (noting, for the next retry, whether the other arm was in the way).
+        Moves nothing."""
         ...
 
     def linear(self, poses: Sequence[np.ndarray], ignore: Sequence[str] | None = None,
