@@ -22,7 +22,7 @@
   For the shares the note lists the failures.
 - ``all_failing_plan_wall``: wall seconds of a 40-action plan whose actions all fail (the knife out of the arm's
   reach, under its base: every grasp fails after its retries, nothing simulated); baseline: the same plan cut to
-  :data:`~wecook_core.execution.executor.FAILURES_IN_A_ROW` actions (a ratio near 1: the run does not grow with
+  :data:`~wecook_core.execution.schedule.executor.FAILURES_IN_A_ROW` actions (a ratio near 1: the run does not grow with
   the plan; issue 13's bar: nothing over 30 s).
 
 Run: ``.venv/bin/python -m bench.motion``.
@@ -38,13 +38,13 @@ from pathlib import Path
 import numpy as np
 
 from bench.recording import Discard
-from wecook_core.execution.executor import execute_plan
-from wecook_core.execution.motion import MotionProblem, plan_motion
+from wecook_core.execution.bullet.planning_scene import PlanningScene
+from wecook_core.execution.bullet.robot import HOME, LOWER, UPPER
 from wecook_core.execution.plan_samples import synthetic_plan
-from wecook_core.execution.planning_scene import PlanningScene
-from wecook_core.execution.recorder import McapRecorder
-from wecook_core.execution.robot import HOME, LOWER, UPPER
+from wecook_core.execution.planning.motion import MotionProblem, plan_motion
+from wecook_core.execution.run import execute_plan
 from wecook_core.plan import Plan
+from wecook_core.recording.writer import McapRecorder
 from wecook_core.workflows import demo_plan
 
 DEMO_SEEDS = tuple(range(20))
@@ -129,7 +129,7 @@ def all_failing_plan(n: int) -> Plan:
 
 
 def _all_failing_row() -> dict[str, object]:
-    from wecook_core.execution.executor import FAILURES_IN_A_ROW
+    from wecook_core.execution.schedule.executor import FAILURES_IN_A_ROW
 
     full = execute_plan(all_failing_plan(40), Discard(), seed=0, images=False)
     cut = execute_plan(all_failing_plan(FAILURES_IN_A_ROW), Discard(), seed=0, images=False)
@@ -163,7 +163,7 @@ def scenario_variants() -> list[tuple[str, Plan]]:
     from wecook_core.knowledge.recognize import load_knowledge
     from wecook_core.observations.importer import load_observations
     from wecook_core.perception.params import Params
-    from wecook_core.perception.shots import shot_cuts
+    from wecook_core.perception.segmentation.shots import shot_cuts
     from wecook_core.resources import shared_dir
     from wecook_core.workflows import analyse, plan_of
 
@@ -187,7 +187,7 @@ def scenario_variants() -> list[tuple[str, Plan]]:
 
 
 def _scenario_rows() -> list[dict[str, object]]:
-    from wecook_core.execution.runs import check_recording
+    from wecook_core.recording.check import check_recording
 
     plans = scenario_plans()
     done, total, failures, sim, wall, bare_sim, bare_wall, bad = 0, 0, [], 0.0, 0.0, 0.0, 0.0, []

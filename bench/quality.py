@@ -78,7 +78,7 @@ def _analyse(tally: Tally, name: str, obs: Observations, truth: Sequence[TreeSpa
     from wecook_core.knowledge.recognize import load_knowledge
     from wecook_core.perception.params import Params
     from wecook_core.perception.pipeline import analyze
-    from wecook_core.perception.shots import shot_cuts
+    from wecook_core.perception.segmentation.shots import shot_cuts
 
     cuts = shot_cuts(obs.video.path) if shots else ()  # reading the video is not the analysis
     started = time.perf_counter()

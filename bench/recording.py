@@ -3,7 +3,7 @@ the views of issue 15 on top: live serving (``--live``, a Foxglove WebSocket cli
 and subscribed to every topic) and the steady camera at its default rate (``--camera-hz``); each as a ratio
 against the bare run, and as simulated seconds per second of CPU (the execution speed target is 10x).
 
-With the real executor (``wecook_core.execution.executor.execute_plan``) on the demo's plan
+With the real executor (``wecook_core.execution.run.execute_plan``) on the demo's plan
 (:func:`wecook_core.workflows.demo_plan`, as ``wecook export demo`` writes it), the same plan and seed run twice
 per repetition, interleaved: once with an observer that drops everything, once with :class:`McapRecorder`; the
 medians of the process CPU times are compared (the machine is shared: wall times are noisier), and the time
@@ -26,9 +26,9 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from wecook_core.execution.observer import FrameInfo, Quat, RunEvent, Vec3
 from wecook_core.execution.plan_samples import ONE_ARM_CUTS
-from wecook_core.execution.recorder import McapRecorder
+from wecook_core.execution.schedule.observer import FrameInfo, Quat, RunEvent, Vec3
+from wecook_core.recording.writer import McapRecorder
 
 REPEATS = 3
 
@@ -61,7 +61,7 @@ class Discard:
 
 def _runner() -> tuple[str, Callable[[Any], float]]:
     """(description, run(observer) -> simulated seconds)."""
-    from wecook_core.execution.executor import execute_plan
+    from wecook_core.execution.run import execute_plan
     from wecook_core.plan import load_plan
     from wecook_core.workflows import demo_plan
 
@@ -160,8 +160,8 @@ def _live_run(run_once: Callable[..., float], path: Path, sent: list[int]) -> fl
     import subprocess
     import sys
 
-    from wecook_core.execution.fanout import FanOut
-    from wecook_core.execution.live import LiveServer
+    from wecook_core.execution.schedule.fanout import FanOut
+    from wecook_core.recording.live import LiveServer
 
     server = LiveServer(0)
     client = subprocess.Popen([sys.executable, "-c", CLIENT, server.url])
@@ -182,7 +182,7 @@ def _live_run(run_once: Callable[..., float], path: Path, sent: list[int]) -> fl
 def _camera_run(run_once: Callable[..., float], path: Path, images: list[int]) -> float:
     """CPU seconds for a recorded run with the steady camera at its default rate (instead of images at action
     boundaries)."""
-    from wecook_core.execution.camera import CameraObserver
+    from wecook_core.recording.camera import CameraObserver
 
     recorder = McapRecorder(path)
     camera = CameraObserver(recorder)
@@ -196,7 +196,7 @@ def _camera_run(run_once: Callable[..., float], path: Path, images: list[int]) -
 
 def _view_rows(base: float, sim: float, rec: float, live: float, camera: float, images: float, render: float,
                sent: float) -> list[dict[str, object]]:
-    from wecook_core.execution.camera import DEFAULT_HZ, SIZE
+    from wecook_core.recording.camera import DEFAULT_HZ, SIZE
 
     def speed(cpu: float) -> str:
         x = sim / cpu

@@ -7,9 +7,19 @@ The layers, top to bottom (a layer may import any layer below it, never one abov
     wecook_core.batch                many videos: one task per video and stage, resumable
     wecook_core.workflows            use cases: analyse a session, export its plan, the demo
     wecook_core.session              a session on disk: inputs, journal, typed corrections
-    wecook_core.execution            the plan acted out in PyBullet, recorded as MCAP
+    wecook_core.recording            a run recorded as MCAP: writer, Foxglove schemas, live view, check, recovery
+    wecook_core.execution            the plan acted out: execute_plan (run) over the PyBullet adapter (bullet),
+      .bullet                          which implements the simulator-free world (primitives and roles),
+      .world                           written over skills (verbs' motions, TSRs) and motion planning,
+      .skills | .planning              all driven by the scheduler (executor, programs, the run's observer)
+      .schedule
     wecook_core.plan | .synth        the robot plan (model, checks, YAML, layout) | synthetic scenarios
-    wecook_core.perception           segments, associations, actions, recognition, the pipeline, evaluation
+    wecook_core.perception           the pipeline and evaluation, over
+      .recognition                     actions: individual, transfer, collaborative; motion cues
+      .repairs                         objects hidden in hands, holds by unseen hands
+      .association                     per-frame links, what each hand holds, per-segment summaries
+      .segmentation                    GGS on each hand, shot cuts
+      .params, .label_runs             the tunables; runs in per-frame labels
     wecook_core.trees                the grammar, trees in bracket notation, tree files, the action graph
     wecook_core.observations         boxes and hands imported (or detected) into one checked value
     wecook_core.knowledge            the commonsense tables, object categories, learning them from corpora
@@ -33,9 +43,19 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("wecook_core.batch",),
     ("wecook_core.workflows",),
     ("wecook_core.session",),
+    ("wecook_core.recording",),
     ("wecook_core.execution",),
+    ("wecook_core.execution.bullet",),
+    ("wecook_core.execution.world",),
+    ("wecook_core.execution.skills", "wecook_core.execution.planning"),
+    ("wecook_core.execution.schedule",),
     ("wecook_core.plan", "wecook_core.synth"),
     ("wecook_core.perception",),
+    ("wecook_core.perception.recognition",),
+    ("wecook_core.perception.repairs",),
+    ("wecook_core.perception.association",),
+    ("wecook_core.perception.segmentation",),
+    ("wecook_core.perception.params", "wecook_core.perception.label_runs"),
     ("wecook_core.trees",),
     ("wecook_core.observations",),
     ("wecook_core.knowledge",),

@@ -127,12 +127,12 @@ SHOTS_FILE = "shots.json"
 
 def cached_shot_cuts(session: str | Path, video: str) -> tuple[int, ...]:
     """The video's shot cuts, from ``session/shots.json`` when it was made from this very file (path, size
-    and modification time), else found (:func:`wecook_core.perception.shots.shot_cuts`) and written there.
+    and modification time), else found (:func:`wecook_core.perception.segmentation.shots.shot_cuts`) and written there.
     A video that cannot be read has none."""
     import contextlib
     import json
 
-    from wecook_core.perception.shots import shot_cuts
+    from wecook_core.perception.segmentation.shots import shot_cuts
 
     source = Path(video)
     if not source.is_file():
@@ -239,7 +239,7 @@ def inputs_plan(video: str | Path, objects: str | Path, hands: str | Path, *, ta
     from wecook_core.knowledge.recognize import load_knowledge
     from wecook_core.observations.importer import load_observations
     from wecook_core.perception.params import Params
-    from wecook_core.perception.shots import shot_cuts
+    from wecook_core.perception.segmentation.shots import shot_cuts
 
     obs = load_observations(video, objects, hands)
     analysis = analyse(obs, load_knowledge(), Params(), shots=shot_cuts(video))

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from wecook_core.execution.plan_samples import ONE_ARM_CUTS
-from wecook_core.execution.recorder import McapRecorder
-from wecook_core.execution.synthetic_run import synthetic_run
 from wecook_core.plan import dump_plan, read_plan
+from wecook_core.recording.synthetic_run import synthetic_run
+from wecook_core.recording.writer import McapRecorder
 from wecook_tui.cli import main
 from wecook_tui.commands.execute import default_record_path
 
@@ -128,7 +128,7 @@ ONE_ARM = ONE_ARM_CUTS
 @pytest.mark.sim
 def test_execute_records_a_run_and_reports_every_action(tmp_path: Path,
                                                         capsys: pytest.CaptureFixture[str]) -> None:
-    from wecook_core.execution.runs import check_recording
+    from wecook_core.recording.check import check_recording
 
     plan = tmp_path / "plan.yaml"
     plan.write_text(ONE_ARM)
@@ -155,7 +155,7 @@ def test_killed_execute_leaves_a_recoverable_recording(tmp_path: Path) -> None:
     import sys
     import time
 
-    from wecook_core.execution.runs import check_recording, recover_recording
+    from wecook_core.recording.check import check_recording, recover_recording
 
     plan = tmp_path / "plan.yaml"
     more = "".join(f"- {{id: a{k}, pid: [P1], verb: cut, tool: knife, ingredients: [tomato], "
@@ -186,7 +186,7 @@ def test_sigterm_stops_the_run_with_a_closed_recording(tmp_path: Path) -> None:
     import subprocess
     import sys
 
-    from wecook_core.execution.runs import check_recording
+    from wecook_core.recording.check import check_recording
 
     plan = tmp_path / "plan.yaml"
     plan.write_text(ONE_ARM)
@@ -227,9 +227,9 @@ def test_plan_check_says_which_action_cannot_be_reached(tmp_path: Path, capsys: 
 @pytest.mark.sim
 def test_execute_force_keeps_the_old_recording_whole_until_the_new_one_replaces_it(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
-    import wecook_core.execution.executor as executor
-    from wecook_core.execution.recorder import layout_path
-    from wecook_core.execution.runs import check_recording
+    import wecook_core.execution.run as executor
+    from wecook_core.recording.check import check_recording
+    from wecook_core.recording.writer import layout_path
 
     plan = tmp_path / "plan.yaml"
     plan.write_text(ONE_ARM)
@@ -279,7 +279,7 @@ def test_a_robot_pybullet_cannot_load_is_an_input_error_not_a_traceback(tmp_path
     import pybullet as p
 
     from wecook_core.errors import InputError
-    from wecook_core.execution.scene import build_scene
+    from wecook_core.execution.bullet.bodies import build_scene
     from wecook_core.plan import Agent, Plan, Scene
 
     robot = tmp_path / "robot.urdf"  # well-formed XML, every mesh there (none), yet no robot PyBullet can load

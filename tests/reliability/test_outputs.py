@@ -11,12 +11,12 @@ import pytest
 
 from wecook_core.errors import InputError
 from wecook_core.execution.plan_samples import ONE_ARM_CUTS
-from wecook_core.execution.recorder import McapRecorder
-from wecook_core.execution.runs import check_recording, recover_recording
-from wecook_core.execution.salvage import salvage
-from wecook_core.execution.synthetic_run import synthetic_run
 from wecook_core.files import create_new, read_text, write_atomic
 from wecook_core.plan import load_plan, write_plan
+from wecook_core.recording.check import check_recording, recover_recording
+from wecook_core.recording.recover import salvage
+from wecook_core.recording.synthetic_run import synthetic_run
+from wecook_core.recording.writer import McapRecorder
 from wecook_core.workflows import export_session_plan
 from wecook_tui.cli import main
 from wecook_tui.commands.execute import recording_path

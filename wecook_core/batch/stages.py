@@ -216,10 +216,10 @@ def _export(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any
 
 
 def _execute(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
-    from wecook_core.execution.executor import execute_plan
-    from wecook_core.execution.observer import RunObserver
-    from wecook_core.execution.recorder import McapRecorder
+    from wecook_core.execution.run import execute_plan
+    from wecook_core.execution.schedule.observer import RunObserver
     from wecook_core.plan import read_plan
+    from wecook_core.recording.writer import McapRecorder
 
     session = root / item.name
     plan_path = session / "plans" / "plan.yaml"
@@ -231,7 +231,7 @@ def _execute(item: BatchItem, root: Path, options: StageOptions) -> dict[str, An
             shutil.move(record, record.with_suffix(f".{time.strftime('%Y%m%dT%H%M%S')}.mcap"))
         observer = McapRecorder(record)
     else:
-        from wecook_core.execution.fanout import FanOut
+        from wecook_core.execution.schedule.fanout import FanOut
 
         observer = FanOut()
     try:

@@ -22,7 +22,7 @@ from wecook_core.model import HANDS
 DEFAULT_FPS = 30.0
 """Frame rate assumed when a video does not say its own."""
 DECODE_S = 0.1
-"""Seconds per bin of the held-object decoder (:func:`wecook_core.perception.holding.held_objects`): a
+"""Seconds per bin of the held-object decoder (:func:`wecook_core.perception.association.holding.held_objects`): a
 resolution of the computation, not a tunable."""
 
 
@@ -82,7 +82,7 @@ class Params:
     fraction of the hand's displacement."""
     hold_switch_s: float = 0.3
     """Seconds of contrary motion evidence it takes the held-object smoother to change what a hand holds
-    (the hysteresis of :mod:`wecook_core.perception.holding`)."""
+    (the hysteresis of :mod:`wecook_core.perception.association.holding`)."""
     hand_share: float = 0.3
     """A held ingredient with nothing near is worked by the hand itself (squeeze) only when the hand verbs
     (squeeze, peel, roll, wrap) together get at least this share of P(A | ingredient), unless the hand stays

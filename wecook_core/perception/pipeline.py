@@ -2,11 +2,13 @@
 
 Each stage lives in its own module; this one only chains them and applies the user's corrections:
 segment (:mod:`wecook_core.perception.segmentation`, GGS on the hands, plus cuts at the video's shot cuts,
-:mod:`wecook_core.perception.shots`, and where objects start and stop moving in hands the detector does not
-see, :mod:`wecook_core.perception.unseen`; objects hidden by the hand that carries them are carried on with it
-first, :mod:`wecook_core.perception.occlusion`) -> associate (:mod:`wecook_core.perception.associate`, what each
-hand holds decoded by :mod:`wecook_core.perception.holding`) -> actions (:mod:`wecook_core.perception.actions`,
-with the held object's own motion, :mod:`wecook_core.perception.motion`) -> merged trees and graph
+:mod:`wecook_core.perception.segmentation.shots`, and where objects start and stop moving in hands the detector does not
+see, :mod:`wecook_core.perception.repairs.unseen`; objects hidden by the hand that carries them are carried on with it
+first, :mod:`wecook_core.perception.repairs.occlusion`) -> associate
+(:mod:`wecook_core.perception.association.associate`, what each
+hand holds decoded by :mod:`wecook_core.perception.association.holding`) -> actions
+(:mod:`wecook_core.perception.recognition.actions`,
+with the held object's own motion, :mod:`wecook_core.perception.recognition.motion`) -> merged trees and graph
 (:mod:`wecook_core.trees.graph`). Segments whose evidence is thin are marked unsure with the reason
 (:attr:`Analysis.unsure`), and bare holds there are not emitted.
 """
@@ -31,8 +33,8 @@ from wecook_core.model import (
     SegmentStatus,
     TreeSpan,
 )
+from wecook_core.perception.association.frame_links import UnseenHold
 from wecook_core.perception.params import Params
-from wecook_core.perception.unseen import UnseenHold
 
 if TYPE_CHECKING:
     from wecook_core.knowledge.recognize import Knowledge
@@ -59,10 +61,11 @@ class Analysis:
     seconds: Mapping[str, float] = field(default_factory=dict)
     """Wall time of each stage (``segment``, ``associate``, ``actions``, ``graph``), seconds."""
     shots: tuple[int, ...] = ()
-    """First frames of the video's shots after the first (:mod:`wecook_core.perception.shots`): segments end
+    """First frames of the video's shots after the first (:mod:`wecook_core.perception.segmentation.shots`): segments
+    end
     there."""
     unseen: tuple[UnseenHold, ...] = ()
-    """Objects moved by hands the detector did not see (:mod:`wecook_core.perception.unseen`)."""
+    """Objects moved by hands the detector did not see (:mod:`wecook_core.perception.repairs.unseen`)."""
     unsure: Mapping[int, str] = field(default_factory=dict)
     """Segment start -> why the evidence there is too thin to trust what was recognised (for the reviewer):
     the hands are seen on too few of its frames, or what a hand holds was inferred from the object's own
@@ -175,16 +178,17 @@ def analyze(
 
     ``segmentation``: reuse a segmentation already computed for these observations and ``params`` (the
     workbench does, since corrections never change GGS's own result); otherwise GGS runs.
-    ``shots``: the video's shot cuts (:func:`wecook_core.perception.shots.shot_cuts`, which reads the video;
+    ``shots``: the video's shot cuts (:func:`wecook_core.perception.segmentation.shots.shot_cuts`, which reads the
+    video;
     the caller decides whether that is worth it): segments end there, and no motion is read across them.
     Segments also end where an object starts or stops being moved by a hand the detector does not see
-    (:mod:`wecook_core.perception.unseen`).
+    (:mod:`wecook_core.perception.repairs.unseen`).
     """
-    from wecook_core.perception.actions import recognize_actions
-    from wecook_core.perception.associate import associate_segments
-    from wecook_core.perception.occlusion import hidden_by_hands
+    from wecook_core.perception.association.associate import associate_segments
+    from wecook_core.perception.recognition.actions import recognize_actions
+    from wecook_core.perception.repairs.occlusion import hidden_by_hands
+    from wecook_core.perception.repairs.unseen import unseen_holds
     from wecook_core.perception.segmentation import segment_hands
-    from wecook_core.perception.unseen import unseen_holds
     from wecook_core.trees.graph import build_graph, merge_actions, tree_spans
 
     params = params or Params()

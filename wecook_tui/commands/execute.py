@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any, Literal
 if TYPE_CHECKING:
     from rich.console import Console
 
-    from wecook_core.execution.observer import FrameInfo, Quat, RunEvent, Vec3
+    from wecook_core.execution.schedule.observer import FrameInfo, Quat, RunEvent, Vec3
     from wecook_core.plan import Plan
 
 
@@ -102,8 +102,8 @@ def settle_recording(written: Path, target: Path, *, keep: bool) -> None:
     ``target`` (replacing what was there in one step); else removed (``target`` is left as it was)."""
     import os
 
-    from wecook_core.execution.recorder import layout_path
     from wecook_core.files import fsync_dir
+    from wecook_core.recording.writer import layout_path
 
     if written == target and keep:
         return
@@ -306,8 +306,8 @@ def run_execute(args: argparse.Namespace) -> int:
     from rich.console import Console
 
     from wecook_core.errors import InputError
-    from wecook_core.execution.fanout import FanOut
-    from wecook_core.execution.observer import RunEvent
+    from wecook_core.execution.schedule.fanout import FanOut
+    from wecook_core.execution.schedule.observer import RunEvent
     from wecook_core.plan import read_plan
 
     plan = read_plan(args.plan)  # validates: a bad plan is an InputError before anything runs
@@ -316,7 +316,7 @@ def run_execute(args: argparse.Namespace) -> int:
     for line in plan_findings(plan):  # what will fail, said before the run
         print(f"wecook: warning: {args.plan}: {line}", file=sys.stderr)
     try:
-        from wecook_core.execution.executor import execute_plan
+        from wecook_core.execution.run import execute_plan
     except ImportError as error:
         raise InputError(None, f"the executor is not available ({error})") from None
     console = Console(stderr=args.jsonl)  # --jsonl: stdout carries only JSON lines
@@ -329,7 +329,7 @@ def run_execute(args: argparse.Namespace) -> int:
     """Where the recording goes while the run lasts: ``record_path``, or a file beside it that replaces it at the
     end when ``--force`` replaces an existing recording."""
     if not args.no_record:
-        from wecook_core.execution.recorder import McapRecorder
+        from wecook_core.recording.writer import McapRecorder
 
         force = getattr(args, "force", False)
         replacing = force and args.record is not None and (args.record.exists() or args.record.is_symlink())
@@ -405,7 +405,7 @@ def _live_server(args: argparse.Namespace, console: Console) -> Any:
     """``--live``: the server (started, its address said), else None."""
     if not args.live:
         return None
-    from wecook_core.execution.live import LiveServer
+    from wecook_core.recording.live import LiveServer
 
     server = LiveServer(args.port)
     console.print(f"live view: {server.url} (Foxglove: Open connection > Foxglove WebSocket)")
@@ -426,7 +426,7 @@ def _with_camera(observer: Any, hz: float) -> Any:
     """``--camera-hz``: the observer wrapped by a camera rendering at ``hz`` images per simulated second."""
     if not hz:
         return observer
-    from wecook_core.execution.camera import CameraObserver
+    from wecook_core.recording.camera import CameraObserver
 
     return CameraObserver(observer, hz)
 

@@ -37,7 +37,7 @@ def register(sub: Any) -> None:
 
 
 def run_check(args: argparse.Namespace) -> int:
-    from wecook_core.execution.runs import check_recording
+    from wecook_core.recording.check import check_recording
 
     report = check_recording(args.file)
     counts = ", ".join(f"{topic} {n}" for topic, n in sorted(report.messages.items()))
@@ -54,7 +54,7 @@ def run_check(args: argparse.Namespace) -> int:
 
 
 def run_recover(args: argparse.Namespace) -> int:
-    from wecook_core.execution.runs import recover_recording
+    from wecook_core.recording.check import recover_recording
 
     out = args.out or args.file.with_name(args.file.stem + ".recovered.mcap")
     report = recover_recording(args.file, out, replace=getattr(args, "force", False))
@@ -70,14 +70,14 @@ def run_recover(args: argparse.Namespace) -> int:
 
 
 def run_show(args: argparse.Namespace) -> int:
-    from wecook_core.execution.run_report import format_summary, summarize_recording
+    from wecook_core.recording.report import format_summary, summarize_recording
 
     print(format_summary(summarize_recording(args.file)))
     return 0
 
 
 def run_export_csv(args: argparse.Namespace) -> int:
-    from wecook_core.execution.run_report import export_csv
+    from wecook_core.recording.report import export_csv
 
     for path in export_csv(args.file, args.csv):
         print(f"wrote {path}")

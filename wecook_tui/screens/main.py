@@ -423,7 +423,7 @@ class MainScreen(Screen[None]):
 
     def action_run_live(self) -> None:
         """Run the plan served over Foxglove's WebSocket (`wecook execute --live`); the run screen says where."""
-        from wecook_core.execution.live import DEFAULT_PORT
+        from wecook_core.recording.live import DEFAULT_PORT
 
         self.wb.open_runs(start=True, live_port=DEFAULT_PORT)
 

@@ -1,5 +1,7 @@
-"""The PyBullet world of the executor: a simulating client, a planning client, and the primitives
-grasp / engage / actuate / place as programs (generators, see :mod:`wecook_core.execution.executor`).
+"""The executor's world, simulator-free: the primitives grasp / engage / actuate / place as programs
+(generators, see :mod:`wecook_core.execution.schedule.executor`) and the roles calling them, over two protocols.
+The PyBullet adapter, :mod:`wecook_core.execution.bullet`, implements the protocols; nothing here imports it
+(or pybullet), so the tests run the primitives and roles against a plain-Python fake.
 
 Arms are driven along their trajectories kinematically (joints set every step, motors holding them); objects
 are dynamic bodies; a grasped object rides on a fixed constraint to the hand (and is kept exactly on it).
@@ -12,14 +14,11 @@ tests run them against a plain-Python fake:
 
 - :mod:`.protocols`: a ``Scene`` (where things are, what the hands hold, stepping, events) and an ``Arm`` (one
   person's arm: goals, planned and straight moves, the gripper, going home);
-- :mod:`.bullet_scene` (``BulletScene``) and :mod:`.bullet_arm` (``BulletArm``): them in PyBullet, the arms
-  sharing a :mod:`.traffic` (``Traffic``: the planner's budget and how they keep out of each other's way);
+- :mod:`wecook_core.execution.bullet.scene` (``BulletScene``) and :mod:`~wecook_core.execution.bullet.arm`
+  (``BulletArm``): them in PyBullet, the arms sharing a ``Traffic`` (the planner's budget and how they keep out
+  of each other's way);
 - :mod:`.grasping` (grasp, release), :mod:`.actuating` (engage, actuate), :mod:`.placing` (place), gathered by
   :mod:`.primitives` (``Primitives``), all retried by one policy, :mod:`.retry`;
 - :mod:`.roles` (``RolePlayer``): actions and the roles of collaborations;
-- :mod:`.bullet` (``BulletWorld``): the executor's world, putting them together.
+- :mod:`wecook_core.execution.bullet.world` (``BulletWorld``): the executor's world, putting them together.
 """
-
-from wecook_core.execution.world.bullet import BulletWorld
-
-__all__ = ["BulletWorld"]

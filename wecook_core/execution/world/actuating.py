@@ -11,12 +11,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wecook_core.execution.planning_scene import Riding
-from wecook_core.execution.program import ActionFailed, PathBlocked, Program, Tick
-from wecook_core.execution.skills import Step, TSRSpec, Waypoint, actuation_path, evaluate
+from wecook_core.execution.schedule.program import ActionFailed, PathBlocked, Program, Tick
+from wecook_core.execution.skills.library import Step, TSRSpec, Waypoint, actuation_path, evaluate
 from wecook_core.execution.world.frames import skill_frame
 from wecook_core.execution.world.grasping import release
-from wecook_core.execution.world.protocols import Accept, Cell, Roles, Scene
+from wecook_core.execution.world.protocols import Accept, Cell, Riding, Roles, Scene
 from wecook_core.execution.world.retry import retrying
 from wecook_core.model import Category
 from wecook_core.plan import PlanAction

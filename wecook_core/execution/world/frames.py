@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from wecook_core.execution.program import ActionFailed
-from wecook_core.execution.skills import Half, TSRSpec
+from wecook_core.execution.schedule.program import ActionFailed
+from wecook_core.execution.skills.library import Half, TSRSpec
 from wecook_core.execution.world.protocols import Roles, Scene
 
 

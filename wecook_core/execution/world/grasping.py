@@ -9,9 +9,9 @@ from collections.abc import Generator, Sequence
 
 import numpy as np
 
-from wecook_core.execution.program import WAIT, ActionFailed, Program, Tick
-from wecook_core.execution.skills import evaluate
-from wecook_core.execution.tsr import TSR
+from wecook_core.execution.schedule.program import WAIT, ActionFailed, Program, Tick
+from wecook_core.execution.skills.library import evaluate
+from wecook_core.execution.skills.tsr import TSR
 from wecook_core.execution.world.frames import skill_frame
 from wecook_core.execution.world.protocols import YIELD_SECONDS, Accept, Cell, Rank
 from wecook_core.execution.world.retry import retrying

@@ -9,8 +9,8 @@ from collections.abc import Generator
 
 import numpy as np
 
-from wecook_core.execution.program import ActionFailed, Program, Tick
-from wecook_core.execution.tsr import TSR, xyzrpy_to_matrix
+from wecook_core.execution.schedule.program import ActionFailed, Program, Tick
+from wecook_core.execution.skills.tsr import TSR, xyzrpy_to_matrix
 from wecook_core.execution.world.grasping import release
 from wecook_core.execution.world.protocols import Cell
 from wecook_core.execution.world.retry import retrying

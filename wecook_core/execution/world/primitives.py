@@ -10,9 +10,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from wecook_core.execution.program import Program
-from wecook_core.execution.skills import Step, TSRSpec
-from wecook_core.execution.tsr import TSR
+from wecook_core.execution.schedule.program import Program
+from wecook_core.execution.skills.library import Step, TSRSpec
+from wecook_core.execution.skills.tsr import TSR
 from wecook_core.execution.world import actuating, grasping, placing
 from wecook_core.execution.world.actuating import Missed
 from wecook_core.execution.world.protocols import Accept, Cell, Rank, Roles

@@ -9,14 +9,14 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from contextlib import AbstractContextManager
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Literal, Protocol
 
 import numpy as np
 
-from wecook_core.execution.planning_scene import Riding
-from wecook_core.execution.program import Program
-from wecook_core.execution.skills import Half, SkillLibrary
-from wecook_core.execution.tsr import TSR
+from wecook_core.execution.schedule.program import Program
+from wecook_core.execution.skills.library import Half, SkillLibrary
+from wecook_core.execution.skills.tsr import TSR, matrix_to_pose
 from wecook_core.model import Category
 from wecook_core.plan import PlanAction
 
@@ -29,6 +29,19 @@ YIELD_SECONDS = 30.0
 other hand to let go of what it is to take)."""
 Roles = dict[str, str | None]
 """Skill role (``tool``, ``ingredient``, ``location``, ``source``) -> the object playing it."""
+
+
+@dataclass(frozen=True, eq=False)
+class Riding:
+    """An object carried by a hand: its name and the ee <- object transform (4x4)."""
+
+    name: str
+    T_ee_obj: np.ndarray
+
+    @cached_property
+    def local(self) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
+        """``T_ee_obj`` as (position, quaternion xyzw)."""
+        return matrix_to_pose(self.T_ee_obj)
 
 
 @dataclass

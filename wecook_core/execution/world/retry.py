@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Generator
 
-from wecook_core.execution.program import ActionFailed, Program, Tick
+from wecook_core.execution.schedule.program import ActionFailed, Program, Tick
 from wecook_core.execution.world.protocols import Arm, Scene
 from wecook_core.plan import PlanAction
 

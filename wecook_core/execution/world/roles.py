@@ -2,7 +2,7 @@
 :class:`~.protocols.Arm` and :class:`~.primitives.Primitives`: an action's roles as primitives.
 An individual action grasps its tool (or ingredient), engages and actuates through its skill's steps, and puts
 the tool back; a handover's giver and receiver, and a holding's holder and actor, meet through the action's
-:class:`~wecook_core.execution.executor.Meeting`. Each action first claims the table area it works in.
+:class:`~wecook_core.execution.schedule.executor.Meeting`. Each action first claims the table area it works in.
 """
 
 from __future__ import annotations
@@ -13,9 +13,9 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from wecook_core.execution.program import WAIT, ActionFailed, Meeting, Program
-from wecook_core.execution.skills import skill_name
-from wecook_core.execution.tsr import TSR
+from wecook_core.execution.schedule.program import WAIT, ActionFailed, Meeting, Program
+from wecook_core.execution.skills.library import skill_name
+from wecook_core.execution.skills.tsr import TSR
 from wecook_core.execution.world.frames import skill_frame
 from wecook_core.execution.world.primitives import Missed, Primitives
 from wecook_core.execution.world.protocols import Cell

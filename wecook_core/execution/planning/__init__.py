@@ -1,0 +1,1 @@
+"""Motion planning between configurations (OMPL RRTConnect, or straight lines), over any collision check."""

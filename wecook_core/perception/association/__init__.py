@@ -1,0 +1,1 @@
+"""Object association (paper, "Object Association"): per-frame links, what each hand holds, per-segment summaries."""

@@ -1,0 +1,252 @@
+"""Per-frame boxes and links of a stretch of video, on dense arrays aligned on frame index (one row per frame,
+NaN where a box is absent; gaps of at most ``params.fill_gap_s`` interpolated): which container holds
+each ingredient, which object each hand touches and holds. :mod:`wecook_core.perception.association.associate`
+summarises them per
+segment."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from wecook_core.model import HANDS, Category, Observations
+from wecook_core.perception.association.holding import held_objects
+from wecook_core.perception.label_runs import NONE
+
+if TYPE_CHECKING:
+    from wecook_core.perception.params import Params
+
+
+@dataclass(frozen=True)
+class UnseenHold:
+    """An object moved by a hand that is not seen (found by :mod:`wecook_core.perception.repairs.unseen`), over frames
+    ``[start, end)``."""
+
+    hand: str
+    obj: str
+    start: int
+    end: int
+
+
+@dataclass(frozen=True, eq=False)
+class FrameBoxes:
+    """Every object's and hand's box on the frames ``[start, end)``, one row per frame."""
+
+    start: int
+    end: int
+    """Frames ``[start, end)``: row ``i`` is frame ``start + i``."""
+    names: tuple[str, ...]
+    """Object names, the column order of ``objects``."""
+    categories: tuple[Category, ...]
+    """Category of each object of ``names``."""
+    objects: np.ndarray
+    """float64 ``(frames, objects, 4)``: ``x1 y1 x2 y2`` pixels, NaN where the object is not seen."""
+    hands: tuple[str, ...]
+    """Hand names (always :data:`HANDS`), the column order of ``hand_boxes``."""
+    hand_boxes: np.ndarray
+    """float64 ``(frames, hands, 4)``: pixels, NaN where the hand is not detected."""
+    fps: float = 30.0
+    """The video's frame rate (durations in :class:`Params` are seconds)."""
+
+
+def frame_boxes(obs: Observations, start: int, end: int, fill: int = 0) -> FrameBoxes:
+    """Dense boxes of every object and hand on ``[start, end)`` (cost: the tracks' entries in the range),
+    gaps of at most ``fill`` frames interpolated."""
+    length = max(0, end - start)
+    names = tuple(track.name for track in obs.objects)
+    categories = tuple(Category(obs.categories.get(name, Category.INGREDIENT)) for name in names)
+    objects = np.full((length, len(names), 4), np.nan)
+    for column, track in enumerate(obs.objects):
+        _scatter(objects[:, column], track.frames, track.boxes, start, end, fill)
+    hand_boxes = np.full((length, len(HANDS), 4), np.nan)
+    for hand_track in obs.hands:
+        if hand_track.hand in HANDS:
+            _scatter(hand_boxes[:, HANDS.index(hand_track.hand)], hand_track.frames, hand_track.boxes, start, end,
+                     fill)
+    return FrameBoxes(start, end, names, categories, objects, HANDS, hand_boxes, obs.video.fps or 30.0)
+
+
+def _scatter(out: np.ndarray, frames: np.ndarray, values: np.ndarray, start: int, end: int, fill: int) -> None:
+    """Write a track's entries on ``[start, end)`` into ``out`` (row = frame - start), interpolating linearly
+    across gaps of at most ``fill`` frames (a detector missing a few frames)."""
+    lo, hi = np.searchsorted(frames, [start, end])
+    if hi > lo:
+        out[frames[lo:hi] - start] = values[lo:hi]
+    if fill <= 0 or len(frames) < 2:
+        return
+    a, b = max(lo - 1, 0), min(hi + 1, len(frames))  # the entries just outside the range bound its gaps
+    near_frames, near_values = frames[a:b], values[a:b]
+    if len(near_frames) < 2:
+        return
+    gaps = np.diff(near_frames)
+    if not ((gaps > 1) & (gaps <= fill + 1)).any():
+        return
+    missing = np.arange(start, end)
+    position = np.searchsorted(near_frames, missing)
+    inside = (position > 0) & (position < len(near_frames))
+    before = near_frames[np.clip(position - 1, 0, len(near_frames) - 1)]
+    after = near_frames[np.clip(position, 0, len(near_frames) - 1)]
+    todo = inside & (after != missing) & (after - before <= fill + 1)
+    if todo.any():
+        t = missing[todo]
+        for k in range(values.shape[1]):
+            out[todo, k] = np.interp(t, near_frames, near_values[:, k])
+
+
+def box_area(boxes: np.ndarray) -> np.ndarray:
+    return np.clip(boxes[..., 2] - boxes[..., 0], 0, None) * np.clip(boxes[..., 3] - boxes[..., 1], 0, None)
+
+
+def box_intersection(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Intersection areas of broadcast box arrays ``a[..., 4]`` and ``b[..., 4]`` (NaN where either is absent)."""
+    width = np.minimum(a[..., 2], b[..., 2]) - np.maximum(a[..., 0], b[..., 0])
+    height = np.minimum(a[..., 3], b[..., 3]) - np.maximum(a[..., 1], b[..., 1])
+    return np.clip(width, 0, None) * np.clip(height, 0, None)
+
+
+def box_gap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Euclidean distance between two boxes' closest points (0 when they overlap); NaN where absent."""
+    dx = np.clip(np.maximum(a[..., 0], b[..., 0]) - np.minimum(a[..., 2], b[..., 2]), 0, None)
+    dy = np.clip(np.maximum(a[..., 1], b[..., 1]) - np.minimum(a[..., 3], b[..., 3]), 0, None)
+    return np.hypot(dx, dy)
+
+
+def video_diagonal(obs: Observations) -> float:
+    """Image diagonal in pixels (from the video's size, else from the boxes' extent)."""
+    if obs.video.width > 0 and obs.video.height > 0:
+        return float(np.hypot(obs.video.width, obs.video.height))
+    width, height = 1.0, 1.0
+    for boxes in [t.boxes for t in obs.objects] + [t.boxes for t in obs.hands]:
+        if len(boxes):
+            width = max(width, float(np.max(boxes[:, 2])))
+            height = max(height, float(np.max(boxes[:, 3])))
+    return float(np.hypot(width, height))
+
+
+def box_centres(boxes: np.ndarray) -> np.ndarray:
+    """Centres ``(..., 2)`` of boxes ``(..., 4)`` given as x1, y1, x2, y2."""
+    return np.stack([(boxes[..., 0] + boxes[..., 2]) / 2, (boxes[..., 1] + boxes[..., 3]) / 2], axis=-1)
+
+
+@dataclass(frozen=True, eq=False)
+class FrameLinks:
+    """Per-frame links on ``[start, end)``, before the ``min_frames`` filter."""
+
+    boxes: FrameBoxes
+    container: np.ndarray
+    """int ``(frames, objects)``: column index of the container holding each ingredient, :data:`NONE` if none
+    (always NONE for tools and containers)."""
+    held: np.ndarray
+    """int ``(frames, hands)``: column index of the object each hand holds, :data:`NONE` if none: what moves with
+    the hand among the boxes it overlaps (:mod:`wecook_core.perception.association.holding`)."""
+    touched: np.ndarray
+    """int ``(frames, hands)``: the same as ``held`` (kept for the transfer tracker's "touched" reading)."""
+    since: np.ndarray | None
+    """float64 ``(hands, 1 + objects)``: the held-object smoother's forward costs on the last frame
+    (:func:`wecook_core.perception.association.holding.held_objects`); pass it to the next range's
+    :func:`frame_links`."""
+
+    @property
+    def start(self) -> int:
+        return self.boxes.start
+
+    @property
+    def end(self) -> int:
+        return self.boxes.end
+
+
+def frame_links(
+    obs: Observations, start: int, end: int, params: Params, since: np.ndarray | None = None,
+    block: FrameBoxes | None = None, shots: Sequence[int] = (),
+) -> FrameLinks:
+    """Ingredient-container and hand-object links of every frame of ``[start, end)``; ``since`` carries the
+    held-object smoother's state on from the frame before ``start`` (:attr:`FrameLinks.since` of the previous range).
+    ``block``: boxes already gathered for frames that include ``[start, end)``."""
+    if block is not None and block.start <= start and end <= block.end:
+        boxes = crop(block, start, end)
+    else:
+        boxes = frame_boxes(obs, start, end, params.at(obs.video.fps).fill_gap)
+    return links_of(boxes, params, since, shots)
+
+
+def crop_links(links: FrameLinks, start: int, end: int) -> FrameLinks:
+    """The rows of ``[start, end)`` (within ``links``' range), as views (``since`` is not cropped)."""
+    a, b = start - links.start, end - links.start
+    return FrameLinks(crop(links.boxes, start, end), links.container[a:b], links.held[a:b], links.touched[a:b],
+                      links.since)
+
+
+BLOCK_FRAMES = 2048
+"""Frames of boxes gathered at once while associating: bounds memory whatever the video's length."""
+
+
+def crop(boxes: FrameBoxes, start: int, end: int) -> FrameBoxes:
+    """The rows of ``[start, end)`` (within ``boxes``' range), as views."""
+    a, b = start - boxes.start, end - boxes.start
+    return FrameBoxes(start, end, boxes.names, boxes.categories, boxes.objects[a:b], boxes.hands,
+                      boxes.hand_boxes[a:b], boxes.fps)
+
+
+def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None,
+             shots: Sequence[int] = ()) -> FrameLinks:
+    cats = np.array([str(c) for c in boxes.categories])
+    length, n_objects = boxes.objects.shape[:2]
+    objects = boxes.objects
+
+    # ingredient-container: the containers covering most of the ingredient's box, best Jaccard index first.
+    container = np.full((length, n_objects), NONE, dtype=np.int32)
+    ingredients = np.flatnonzero(cats == Category.INGREDIENT)
+    containers = np.flatnonzero(cats == Category.CONTAINER)
+    if len(ingredients) and len(containers) and length:
+        ing = objects[:, ingredients, None, :]
+        con = objects[:, None, containers, :]
+        inter = box_intersection(ing, con)
+        ing_area = box_area(ing)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            jaccard = inter / (ing_area + box_area(con) - inter)
+            inside = inter / ing_area
+        ok = (inside >= params.contain_fraction) & (jaccard > 0)
+        score = np.where(ok, jaccard, -1.0)
+        best = np.argmax(score, axis=2)
+        found = np.take_along_axis(score, best[..., None], axis=2)[..., 0] > 0
+        container[:, ingredients] = np.where(found, containers[best], NONE)
+        _drop_passing(container, objects, params.at(boxes.fps).dwell_frames, params.pass_fraction)
+
+    # hand-object: what moves with the hand among the boxes it overlaps, smoothed over time
+    # (wecook_core.perception.association.holding)
+    hands = boxes.hand_boxes
+    held = np.full((length, len(boxes.hands)), NONE, dtype=np.int32)
+    last = since
+    if n_objects and length:
+        overlap = box_intersection(hands[:, :, None, :], objects[:, None, :, :]) > 0
+        rate = params.at(boxes.fps)
+        held, last = held_objects(
+            hands, objects, overlap, container, window=rate.dwell_frames, moving_fraction=params.moving_fraction,
+            coherent_fraction=params.coherent_fraction, switch=rate.hold_switch_frames, start=since,
+            step=rate.decode_step, shot=np.searchsorted(np.asarray(sorted(shots), dtype=np.int64),
+                                                        np.arange(boxes.start, boxes.end), side="right"))
+    touched = held
+    return FrameLinks(boxes, container, held, touched, last)
+
+
+def _drop_passing(container: np.ndarray, objects: np.ndarray, window: int, fraction: float) -> None:
+    """Unlink (in place) an ingredient from a container it only passes over: one it moves across by more
+    than ``fraction`` of the container's diagonal between ``window`` frames before and after (a tomato
+    carried from the pan to the plate over the pot is never in the pot). An ingredient riding in a bowl
+    moves with the bowl, one stirred in a pan stays inside it: both stay linked."""
+    rows, columns = np.nonzero(container >= 0)
+    if not len(rows):
+        return
+    length = len(container)
+    holders = container[rows, columns]
+    before, after = np.maximum(rows - window, 0), np.minimum(rows + window, length - 1)
+    centre = box_centres(objects)
+    relative = (centre[after, columns] - centre[after, holders]) - (centre[before, columns] - centre[before, holders])
+    box = objects[rows, holders]
+    with np.errstate(invalid="ignore"):
+        size = np.hypot(box[:, 2] - box[:, 0], box[:, 3] - box[:, 1])
+        passing = np.linalg.norm(relative, axis=1) > fraction * size
+    container[rows[passing], columns[passing]] = NONE

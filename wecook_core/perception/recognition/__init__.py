@@ -1,0 +1,1 @@
+"""Action recognition (paper, "Action Recognition"): individual, transfer and collaborative actions, motion cues."""

@@ -1,0 +1,141 @@
+"""Holds by hands the detector does not see: an object that moves by itself is being moved by a hand.
+
+On real footage hand detectors miss hands most of the time (MediaPipe finds a partly visible hand on well
+under half of the frames of a recipe video); interpolating a hand across such gaps puts it where it was not.
+But objects in a kitchen do not move on their own: a spoon sweeping through a pan, a bowl swinging over it, a
+salt glass jerking above it are in a hand, seen or not. So, per object and frame (never comparing positions
+across a shot cut, :mod:`wecook_core.perception.segmentation.shots`):
+
+- it **moves** when its centre travels more than ``Params.moving_fraction`` of its own box's diagonal over
+  the ``Params.dwell_s`` before or after the frame (jitter of the boxes is far smaller than that);
+- an ingredient that overlaps a moving container rides in it (the squash in the tipped bowl: the bowl is
+  what the hand holds), and one that overlaps a moving tool is being stirred or scooped by it;
+- it is **unseen** when no detected hand's box comes within the object's own size of it then (otherwise the
+  held-object decoder of :mod:`wecook_core.perception.association.holding` judges it from the hand it sees, and an
+  onion sliding off a plate that a seen hand tips is moved by the plate).
+
+Runs of moving, unseen frames at least ``Params.min_link_s`` long (gaps shorter than ``min_action_s``
+bridged: a stirring spoon's box does not travel far on every frame) become :class:`UnseenHold` s, given to
+the hand the detector sees most over the video (the cook's working hand: which hand it was is the one thing
+the object's motion cannot say, and a detector's left/right labels on a partly seen hand are unreliable),
+else the right hand of the video's first person. The pipeline cuts its segments where such a hold starts
+and ends, and writes it into the timeline where that hand holds nothing.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from wecook_core.model import HANDS, Category, Observations, person_of
+from wecook_core.perception.association.frame_links import (
+    UnseenHold,
+    box_centres,
+    box_gap,
+    box_intersection,
+    frame_boxes,
+    video_diagonal,
+)
+from wecook_core.perception.label_runs import runs
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from wecook_core.perception.params import Params
+
+
+def shot_index(length: int, shots: Sequence[int]) -> np.ndarray:
+    """int ``(length,)``: which shot each frame belongs to (0 before the first cut)."""
+    return np.searchsorted(np.asarray(sorted(shots), dtype=np.int64), np.arange(length), side="right")
+
+
+def moving_objects(objects: np.ndarray, window: int, fraction: float, shot: np.ndarray, most: float) -> np.ndarray:
+    """bool ``(frames, objects)``: the object's centre travels more than ``fraction`` of its box's diagonal
+    (but never more than ``most`` pixels are asked: a big bowl swung over a pan moves less than a quarter of
+    its size) over the ``window`` frames before or after, both ends in the frame's shot and seen."""
+    length = len(objects)
+    index = np.arange(length)
+    centre = box_centres(objects)
+    with np.errstate(invalid="ignore"):
+        size = np.hypot(objects[..., 2] - objects[..., 0], objects[..., 3] - objects[..., 1])
+    moving = np.zeros(objects.shape[:2], dtype=bool)
+    for a, b in ((np.maximum(index - window, 0), index), (index, np.minimum(index + window, length - 1))):
+        same = (shot[a] == shot[b])[:, None]
+        with np.errstate(invalid="ignore"):
+            travelled = np.linalg.norm(centre[b] - centre[a], axis=-1)
+            moving |= same & (travelled > np.minimum(fraction * size, most))
+    return moving
+
+
+def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = ()) -> tuple[UnseenHold, ...]:
+    """Every hold of an object by a hand the detector does not see (see the module docstring)."""
+    total = int(obs.video.frame_count)
+    if total <= 0 or not obs.objects:
+        return ()
+    rate = params.at(obs.video.fps)
+    boxes = frame_boxes(obs, 0, total, rate.fill_gap)
+    objects = boxes.objects
+    shot = shot_index(total, shots)
+    most = params.dwell_fraction * video_diagonal(obs)
+    moving = moving_objects(objects, rate.dwell_frames, params.moving_fraction, shot, most)
+    if not moving.any():
+        return ()
+    cats = boxes.categories
+    # an ingredient overlapping a moving container rides in it (the squash in the tipped bowl); one in a
+    # container that a moving tool overlaps is being stirred there: neither is in a hand of its own
+    containers = [k for k, c in enumerate(cats) if c is Category.CONTAINER]
+    tools = [k for k, c in enumerate(cats) if c is Category.TOOL]
+    for k, category in enumerate(cats):
+        if category is not Category.INGREDIENT:
+            continue
+        rows = np.flatnonzero(moving[:, k])
+        for c in (*containers, *tools):
+            if not len(rows):
+                break
+            with np.errstate(invalid="ignore"):
+                overlap = box_intersection(objects[rows, k], objects[rows, c]) > 0
+            moving[rows[overlap & moving[rows, c]], k] = False
+            rows = np.flatnonzero(moving[:, k])
+    dominant = _dominant_hand(obs)
+    # seen: a detected hand is within the object's own size of it (the decoder judges what that hand holds;
+    # an onion sliding off a plate that a seen hand tips is moved by the plate, not by a hand of its own)
+    unseen = np.zeros_like(moving)
+    rows, columns = np.nonzero(moving)
+    if len(rows):
+        box = objects[rows, columns]
+        with np.errstate(invalid="ignore"):
+            size = np.hypot(box[:, 2] - box[:, 0], box[:, 3] - box[:, 1])
+            gap = box_gap(boxes.hand_boxes[rows], box[:, None, :])
+            seen = (gap <= size[:, None]).any(axis=1)
+        unseen[rows[~seen], columns[~seen]] = True
+    holds = []
+    bridge = rate.min_action_frames
+    for k, name in enumerate(boxes.names):
+        spans = _spans(unseen[:, k], bridge, rate.min_frames)
+        for start, end in spans:
+            holds.append(UnseenHold(dominant, name, start, end))
+    return tuple(sorted(holds, key=lambda h: (h.start, h.obj)))
+
+
+def _spans(mask: np.ndarray, bridge: int, least: int) -> list[tuple[int, int]]:
+    """Runs of True joined across gaps shorter than ``bridge``, kept when at least ``least`` long."""
+    spans: list[list[int]] = []
+    for start, end, value in runs(mask.astype(np.int8)):
+        if not value:
+            continue
+        if spans and start - spans[-1][1] < bridge:
+            spans[-1][1] = end
+        else:
+            spans.append([start, end])
+    return [(a, b) for a, b in spans if b - a >= least]
+
+
+def _dominant_hand(obs: Observations) -> str:
+    """The hand the detector sees most over the whole video (the cook's working hand), else the right hand
+    of the video's first person."""
+    counts = {t.hand: len(t.frames) for t in obs.hands if t.hand in HANDS and len(t.frames)}
+    if counts:
+        return max(counts, key=lambda hand: (counts[hand], hand.startswith("RH")))
+    persons = sorted({person_of(t.hand) for t in obs.hands}) or ["P1"]
+    return f"RH_{persons[0]}"
