@@ -44,17 +44,19 @@ def analyse(obs: Observations, knowledge: Knowledge, params: Params, corrections
     and the categories the user gave apply (:func:`wecook_core.session.boxes.with_drawn`, drawn labels
     categorised with ``categories``, default the shipped table), splits and merges cut GGS's segmentation
     (``segmentation``, computed by :func:`segment` when not given; corrections never change it, nor do boxes:
-    GGS reads the hands), then the other corrections are folded against the segments they cut."""
-    from wecook_core.perception.pipeline import analyze, apply_cuts
+    GGS reads the hands), then the other corrections are folded against the final segments
+    (:func:`~wecook_core.perception.pipeline.final_segments`: every cut, shot cuts and unseen holds' edges included)."""
+    from wecook_core.perception.pipeline import analyze, final_segments, repaired
     from wecook_core.session.boxes import with_drawn
     from wecook_core.session.corrections import fold
 
     obs = with_drawn(obs, corrections, categories).observations
     if segmentation is None:
         segmentation = segment(obs, params)
-    cut = apply_cuts(segmentation, fold(corrections))
+    repairs = repaired(obs, params, shots)
+    cut = final_segments(segmentation, repairs.shots, repairs.unseen, params, obs.video.fps, fold(corrections))
     folded = fold(corrections, cut.segments)
-    return analyze(obs, knowledge, params, folded, segmentation=segmentation, shots=shots)
+    return analyze(obs, knowledge, params, folded, segmentation=segmentation, repairs=repairs)
 
 
 @dataclass

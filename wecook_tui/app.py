@@ -111,12 +111,14 @@ class WecookApp(App[None]):
 
     def _segments(self) -> tuple[Segment, ...] | None:
         """The segments the corrections in effect give: GGS's cut by the journal's splits and merges."""
-        from wecook_core.perception.pipeline import apply_cuts
+        from wecook_core.perception.pipeline import final_segments
         from wecook_core.session.corrections import fold
 
         ggs = self.opened.segmentation if self.opened is not None else None
-        if ggs is not None and self.session is not None:
-            return apply_cuts(ggs, fold(self.session.applied_corrections)).segments
+        if ggs is not None and self.session is not None and self.analysis is not None and self.obs is not None:
+            # the video's own cuts (shots, unseen holds) are the analysis's; the journal's splits and merges now
+            return final_segments(ggs, self.analysis.shots, self.analysis.unseen, self.session.params,
+                                  self.obs.video.fps, fold(self.session.applied_corrections)).segments
         return self.analysis.segmentation.segments if self.analysis is not None else None
 
     @property

@@ -28,17 +28,18 @@ from wecook_core.model import (
     ActionKind,
     Associations,
     Corrections,
+    Observations,
     Segment,
     Segmentation,
     SegmentStatus,
     TreeSpan,
 )
 from wecook_core.perception.association.frame_links import UnseenHold
-from wecook_core.perception.params import Params
+from wecook_core.perception.params import Params, frames
 
 if TYPE_CHECKING:
     from wecook_core.knowledge.recognize import Knowledge
-    from wecook_core.model import Observations, SegmentActions
+    from wecook_core.model import SegmentActions
 
 
 @dataclass(frozen=True)
@@ -70,6 +71,9 @@ class Analysis:
     """Segment start -> why the evidence there is too thin to trust what was recognised (for the reviewer):
     the hands are seen on too few of its frames, or what a hand holds was inferred from the object's own
     motion."""
+    observations: Observations | None = None
+    """The observations the stages read: the input's, with the boxes of objects hidden by the hand carrying them
+    carried on (:mod:`wecook_core.perception.repairs.occlusion`), for the workbench to show."""
 
     def segment_index(self, frame: int) -> int | None:
         """Index of the segment holding ``frame``, None outside the video."""
@@ -114,6 +118,37 @@ def with_cuts(segmentation: Segmentation, cuts: Sequence[int], least: int) -> Se
     if segments == segmentation.segments:
         return segmentation
     return Segmentation(segmentation.per_hand, segments, segmentation.interpolated)
+
+
+def final_segments(segmentation: Segmentation, shots: Sequence[int], unseen: Sequence[UnseenHold],
+                   params: Params, fps: float, corrections: Corrections) -> Segmentation:
+    """Every cut the analysis makes, in one place: GGS's ``segmentation`` also cut at the shot cuts and at the
+    starts and ends of holds by unseen hands (each skipped within ``params.min_segment_s`` of an edge), then the
+    user's splits added and merges removed. The segments every stage, and every span correction, works on."""
+    extra = [*shots, *(f for hold in unseen for f in (hold.start, hold.end))]
+    return apply_cuts(with_cuts(segmentation, extra, frames(params.min_segment_s, fps)), corrections)
+
+
+@dataclass(frozen=True)
+class Repaired:
+    """The observations as the stages read them, and the cuts the video itself makes."""
+
+    observations: Observations
+    """With the boxes of objects hidden by the hand carrying them carried on with it
+    (:mod:`wecook_core.perception.repairs.occlusion`)."""
+    shots: tuple[int, ...]
+    unseen: tuple[UnseenHold, ...]
+
+
+def repaired(obs: Observations, params: Params, shots: Sequence[int] = ()) -> Repaired:
+    """``obs`` repaired where real observations miss (:mod:`wecook_core.perception.repairs`), with the shot cuts
+    and the holds of hands the detector did not see."""
+    from wecook_core.perception.repairs.occlusion import hidden_by_hands
+    from wecook_core.perception.repairs.unseen import unseen_holds
+
+    cuts = tuple(sorted(set(shots)))
+    fixed = hidden_by_hands(obs, params, cuts)
+    return Repaired(fixed, cuts, tuple(unseen_holds(fixed, params, cuts)))
 
 
 def unsure_segments(obs: Observations, segments: Sequence[Segment], unseen: Sequence[UnseenHold],
@@ -173,6 +208,7 @@ def analyze(
     *,
     segmentation: Segmentation | None = None,
     shots: Sequence[int] = (),
+    repairs: Repaired | None = None,
 ) -> Analysis:
     """Every stage on one video, with the user's corrections applied.
 
@@ -182,12 +218,12 @@ def analyze(
     video;
     the caller decides whether that is worth it): segments end there, and no motion is read across them.
     Segments also end where an object starts or stops being moved by a hand the detector does not see
-    (:mod:`wecook_core.perception.repairs.unseen`).
+    (:mod:`wecook_core.perception.repairs.unseen`). ``repairs``: :func:`repaired` already computed for these
+    observations, ``params`` and ``shots`` (then ``shots`` is not read): span corrections must be folded against
+    :func:`final_segments` of it, which this makes again.
     """
     from wecook_core.perception.association.associate import associate_segments
     from wecook_core.perception.recognition.actions import recognize_actions
-    from wecook_core.perception.repairs.occlusion import hidden_by_hands
-    from wecook_core.perception.repairs.unseen import unseen_holds
     from wecook_core.perception.segmentation import segment_hands
     from wecook_core.trees.graph import build_graph, merge_actions, tree_spans
 
@@ -197,12 +233,10 @@ def analyze(
     clock = time.perf_counter()
     if segmentation is None:
         segmentation = segment_hands(obs, segmentation_params(obs, params))
-    shots = tuple(sorted(set(shots)))
-    obs = hidden_by_hands(obs, params, shots)
-    unseen = unseen_holds(obs, params, shots)
-    extra = [*shots, *(f for hold in unseen for f in (hold.start, hold.end))]
-    least = max(1, round(params.min_segment_s * (obs.video.fps if obs.video.fps > 0 else 30.0)))
-    segmentation = apply_cuts(with_cuts(segmentation, extra, least), corrections)
+    if repairs is None:
+        repairs = repaired(obs, params, shots)
+    obs, shots, unseen = repairs.observations, repairs.shots, repairs.unseen
+    segmentation = final_segments(segmentation, shots, unseen, params, obs.video.fps, corrections)
     seconds["segment"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
@@ -224,4 +258,4 @@ def analyze(
     graph = build_graph(actions)
     seconds["graph"] = time.perf_counter() - clock
     return Analysis(segmentation, associations, segment_actions, actions, trees, graph, corrections, seconds,
-                    shots, unseen, unsure)
+                    shots, unseen, unsure, obs)
