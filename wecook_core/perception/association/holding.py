@@ -246,6 +246,64 @@ def viterbi(costs: np.ndarray, switch: float, start: np.ndarray | None = None) -
     return path, total
 
 
+def riding(objects: np.ndarray, container: np.ndarray, window: int, moving_fraction: float,
+           coherent_fraction: float, shot: np.ndarray | None = None) -> np.ndarray:
+    """bool ``(frames, objects)``: the ingredient rides in its container on that frame. Over the ``window``
+    frames before the frame, or over those after it (both ends seen, in one shot), the ingredient moves (its
+    centre travels more than ``moving_fraction`` of its own diagonal) and its container moves the same way
+    (their displacements differ by less than ``coherent_fraction`` of the ingredient's): common fate, as
+    for a hand and what it holds. An ingredient moving over a container that stays put (the oil bottle tipped
+    over the pot) does not ride in it."""
+    length, n_objects = objects.shape[:2]
+    rides = np.zeros((length, n_objects), dtype=bool)
+    rows, columns = np.nonzero(container >= 0)
+    if not len(rows):
+        return rides
+    holders = container[rows, columns]
+    centre = centres(objects)
+    box = objects[rows, columns]
+    with np.errstate(invalid="ignore"):
+        size = np.hypot(box[:, 2] - box[:, 0], box[:, 3] - box[:, 1])
+        for a, b in ((np.maximum(rows - window, 0), rows), (rows, np.minimum(rows + window, length - 1))):
+            own = centre[b, columns] - centre[a, columns]
+            travel = np.hypot(own[:, 0], own[:, 1])
+            apart = np.hypot(*(centre[b, holders] - centre[a, holders] - own).T)
+            side = (travel > moving_fraction * size) & (apart < coherent_fraction * travel)
+            if shot is not None:
+                side &= shot[a] == shot[b]
+            rides[rows[side], columns[side]] = True
+    return rides
+
+
+def _ride_in_containers(costs: np.ndarray, container: np.ndarray, overlap: np.ndarray, columns: np.ndarray,
+                        rides: np.ndarray) -> None:
+    """The paper's hand-object rule ("Object Association": when the closest object is an ingredient contained by
+    another object, the hand is associated with its container), where the physics agrees: on a frame where an
+    ingredient rides in its container (:func:`riding`) and the hand overlaps both, the hand does not hold the
+    ingredient but the container it rides in (the egg in the small bowl a hand tips into a bigger one; the dough
+    in the bowl held for the partner). What says the ingredient moves with the hand says it of its container:
+    the container's state costs the cheaper of the two, the ingredient's is impossible. An ingredient moving
+    over a still container (the oil bottle poured over the pot) is not riding: the bottle is held, not the pot.
+    ``costs`` ``(frames, hands, 1 + len(columns))`` is changed in place; state ``1 + k`` is object
+    ``columns[k]``."""
+    if not len(columns):
+        return
+    where = {int(c): k for k, c in enumerate(columns)}
+    for k, column in enumerate(columns):
+        holders = container[:, column]
+        frames = np.flatnonzero(holders >= 0)
+        if not len(frames):
+            continue
+        keep = rides[frames, column]
+        frames, holder = frames[keep], holders[frames[keep]]
+        for h in range(costs.shape[1]):
+            both = overlap[frames, h, holder] & overlap[frames, h, column]
+            for frame, c in zip(frames[both].tolist(), holder[both].tolist(), strict=True):
+                state = 1 + where[c]
+                costs[frame, h, state] = min(costs[frame, h, state], costs[frame, h, 1 + k])
+                costs[frame, h, 1 + k] = np.inf
+
+
 def held_objects(
     hands: np.ndarray,
     objects: np.ndarray,
@@ -275,6 +333,8 @@ def held_objects(
     contained = ((container >= 0)[:, None, :] & overlap[rows, :, holder].transpose(0, 2, 1))[:, :, columns]
     costs = emission_costs(hands, objects[:, columns], overlap[:, :, columns], contained, window, moving_fraction,
                            coherent_fraction, shot)
+    _ride_in_containers(costs, container, overlap, columns,
+                        riding(objects, container, window, moving_fraction, coherent_fraction, shot))
     length = len(costs)
     if step > 1 and length > step:
         bins = -(-length // step)
