@@ -6,13 +6,15 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
-from handmade_scenes import at, observations, still
+from handmade_scenes import HAND_AWAY, at, observations, still
 
 from wecook_core.model import ActionKind, Category, Segment, Segmentation
 from wecook_core.perception.association.associate import associate_segments
 from wecook_core.perception.params import Params
+from wecook_core.perception.pipeline import analyze
 from wecook_core.perception.recognition.actions import afforded, recognize_actions
 from wecook_core.perception.recognition.motion import motion_of, verbs_of
+from wecook_core.trees.notation import format_tree
 
 
 def recognise(obs, cuts, knowledge):
@@ -126,3 +128,37 @@ def test_bread_lying_beside_a_cup_is_not_dipped_into_it_nor_a_knife_laid_down_be
     assert "cup" not in targets and "plate" not in targets
     dip = actions[3]
     assert dip is not None and (dip.held, dip.targets) == ("bread", ("bowl",))
+
+
+def sheet_tables():
+    """Tables where foil mostly wraps (and is now and then cut), and a whisk and a brush now and then wrap."""
+    from wecook_core.knowledge.corpus import Corpus, Record
+    from wecook_core.knowledge.learning import learn
+
+    records = [Record("wrap", ("foil", "dish"), f"w{i}") for i in range(20)]
+    records += [Record("cut", ("foil",), f"c{i}") for i in range(3)]
+    records += [Record("stir", ("whisk", "bowl"), f"s{i}") for i in range(30)]
+    records += [Record("wrap", ("whisk",), f"x{i}") for i in range(6)]
+    records += [Record("spread", ("brush", "dish"), f"b{i}") for i in range(10)]
+    records += [Record("wrap", ("brush",), f"y{i}") for i in range(6)]
+    return learn(Corpus(tuple(records)), per_group=False, alpha=0.1)
+
+
+def test_a_sheet_of_foil_laid_over_a_dish_wraps_it() -> None:
+    """Foil is held like a tool but only wraps; a whisk or a brush the tables also tie to wrap does not."""
+
+    tables = sheet_tables()
+    assert afforded(tables, "foil") == ("wrap",)
+    assert "wrap" not in afforded(tables, "whisk")
+    assert "wrap" not in afforded(tables, "brush")
+    dish = (300, 250, 460, 370)
+    foil_rest, foil_over = (60, 100, 160, 160), (290, 240, 470, 300)
+    hand_rest, hand_over = (90, 110, 140, 160), (320, 245, 370, 295)
+    obs = observations(120, {
+        "dish": (Category.CONTAINER, [still(0, 120, dish)]),
+        "foil": (Category.TOOL, [still(0, 20, foil_rest), (20, 50, foil_rest, foil_over), still(50, 90, foil_over),
+                                 (90, 110, foil_over, at(foil_over, 10, 60)), still(110, 120, at(foil_over, 10, 60))]),
+    }, {"RH_P1": [still(0, 20, hand_rest), (20, 50, hand_rest, hand_over), still(50, 90, hand_over),
+                  (90, 110, hand_over, at(hand_over, 10, 60)), (110, 120, at(hand_over, 10, 60), HAND_AWAY)]})
+    trees = [format_tree(t.tree) for t in analyze(obs, tables, Params()).trees]
+    assert "(HP (HP (H RH_P1) (O foil)) (AP (A wrap) (O dish)))" in trees, trees

@@ -73,6 +73,13 @@ squeezing and wrapping with the bare hand."""
 HELD_VERBS: tuple[str, ...] = ("pour", "sprinkle", "dip")
 """The candidates of a held ingredient acting on a container (DESIGN.md's "held" case): without a tool
 it cannot cut, peel or stir."""
+SHEET_VERBS: tuple[str, ...] = ("wrap",)
+"""What a sheet does (foil, cling film, parchment): it is held and laid over what it covers, like a tool, but
+only wraps; no other tool wraps."""
+SHEET_SHARE = 0.5
+"""A held tool is a sheet (:data:`SHEET_VERBS` are its candidates) when wrapping takes at least this share of
+what the commonsense model says it does among the tool and sheet verbs: a thing with one use, wrapping, is a
+wrapping material; a whisk or a brush the tables also tie to "wrap" now and then is not."""
 AFFORD_RATIO = 5.0
 """A held tool affords the tool verbs the commonsense model gives it, alone, at least ``1 / AFFORD_RATIO`` of
 the probability of its main one (:func:`afforded`): a knife cuts, and may spread or peel; a peeler peels and
@@ -191,7 +198,10 @@ def afforded(knowledge: Knowledge, tool: str) -> tuple[str, ...]:
     """The verbs of :data:`TOOL_VERBS` that ``tool`` itself affords: P(A | tool) at least ``1 / AFFORD_RATIO``
     of its best. The tool in the hand is the instrument: it decides the verb, and what it works on (the
     ingredient, the board or pot under it) only chooses among the verbs it affords. An object the model
-    does not know affords them all (its ranking is flat)."""
+    does not know affords them all (its ranking is flat). A sheet (:data:`SHEET_SHARE`: foil, film) wraps."""
+    sheet = dict(_rank(knowledge, [tool], (*TOOL_VERBS, *SHEET_VERBS)))
+    if sum(sheet.get(verb, 0.0) for verb in SHEET_VERBS) >= SHEET_SHARE * sum(sheet.values()) > 0:
+        return SHEET_VERBS
     ranking = _rank(knowledge, [tool], TOOL_VERBS)
     if not ranking:
         return TOOL_VERBS
