@@ -111,3 +111,50 @@ def test_cli_prints_the_case_table_and_the_mistakes(tmp_path: Path, capsys: pyte
     data = json.loads(capsys.readouterr().out)
     assert data["missed"] == [{"start": 100, "end": 200, "tree": "(HP (HP (H RH_P2) (O spoon)) (AP (A stir) (O pot)))"}]
     assert data["spurious"][0]["start"] == 300 and data["cases"]["tool"] == {"predicted": 2, "truth": 2, "correct": 1}
+
+
+def test_loose_scores_tell_a_wrong_hand_from_a_wrong_object_and_leave_the_strict_score() -> None:
+    from wecook_core.perception.evaluation import loose
+
+    truth = [TreeSpan(0, 100, CUT), TreeSpan(100, 200, STIR), TreeSpan(200, 300, CUT)]
+    predicted = [
+        TreeSpan(0, 90, CUT),  # right
+        TreeSpan(100, 190, parse_tree("(HP (HP (H LH_P1) (O spoon)) (AP (A stir) (O pot)))")),  # wrong hand
+        TreeSpan(200, 290, parse_tree("(HP (HP (H LH_P1) (O knife)) (AP (A cut) (O bread)))")),  # hand and object
+        TreeSpan(400, 500, CUT),  # nowhere near a truth tree: wrong under every view
+    ]
+    strict = evaluate(predicted, truth)
+    views = loose(predicted, truth)
+    assert strict.correct == 1 and (strict.predicted, strict.truth) == (4, 3)
+    assert views["hands ignored"].correct == 2
+    assert views["verbs only"].correct == 3
+    assert views["verbs only"].precision == pytest.approx(3 / 4) and views["verbs only"].recall == 1.0
+    assert evaluate(predicted, truth) == strict  # the views leave the strict score as it was
+
+
+def test_verbs_only_keeps_the_collaboration_and_the_order() -> None:
+    from wecook_core.perception.evaluation import verbs_only
+
+    hold = parse_tree("(HP (HP (H LH_P1) (O board)) (CP (C holding) (HP (HP (H RH_P2) (O knife)) "
+                      "(AP (A cut) (O meat)))))")
+    assert [leaf.word for leaf in verbs_only(hold).children] == ["holding", "cut"]
+    assert verbs_only(hold) != verbs_only(CUT) and verbs_only(CUT) != verbs_only(STIR)
+
+
+def test_cli_loose(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    truth, pred = tmp_path / "truth.yaml", tmp_path / "pred.yaml"
+    write_tree_file(truth, [TreeSpan(0, 100, CUT), TreeSpan(100, 200, STIR)])
+    write_tree_file(pred, [TreeSpan(0, 100, parse_tree("(HP (HP (H LH_P1) (O knife)) (AP (A cut) (O tomato)))")),
+                           TreeSpan(100, 200, parse_tree("(HP (HP (H RH_P2) (O fork)) (AP (A stir) (O pot)))"))])
+    assert main(["eval", str(pred), str(truth), "--loose"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith("precision 0.000  recall 0.000")
+    assert out[1].split() == ["hands", "ignored:", "precision", "0.500", "recall", "0.500", "correct", "1"]
+    assert out[2].split() == ["verbs", "only:", "precision", "1.000", "recall", "1.000", "correct", "2"]
+    assert main(["eval", str(pred), str(truth), "--loose", "--json"]) == 0
+    import json
+
+    got = json.loads(capsys.readouterr().out)
+    assert got["correct"] == 0 and got["loose"]["verbs only"]["correct"] == 2
+    assert main(["eval", str(pred), str(truth), "--json"]) == 0
+    assert "loose" not in json.loads(capsys.readouterr().out)

@@ -37,7 +37,7 @@ def make(tmp_path: Path) -> tuple[BoxApp, BoxScreen, list[tuple[float, float, fl
 async def test_draw_with_keys_name_track_and_export(tmp_path: Path) -> None:
     app, screen, truth = make(tmp_path)
     async with app.run_test(size=SIZE) as pilot:
-        await pilot.press("b")  # a box in the middle, then the name prompt
+        await pilot.press("b", "n")  # a box in the middle; n asks for its name
         assert await wait_for(pilot, lambda: isinstance(app.screen, NameScreen))
         await pilot.press(*"tomato", "enter")
         assert await wait_for(pilot, lambda: app.screen is screen)
@@ -76,6 +76,7 @@ async def test_a_mouse_drag_draws_a_box_and_a_second_box_is_separate(tmp_path: P
         await pilot.pause()
         await pilot.mouse_down("#box-frame", offset=(40, 5))
         await pilot.mouse_up("#box-frame", offset=(60, 15))
+        await pilot.press("n")
         assert await wait_for(pilot, lambda: isinstance(app.screen, NameScreen))
         await pilot.press("escape")
         assert await wait_for(pilot, lambda: app.screen is screen)
@@ -83,7 +84,7 @@ async def test_a_mouse_drag_draws_a_box_and_a_second_box_is_separate(tmp_path: P
         x1, y1, x2, y2 = track.keyframes[0]
         assert x2 - x1 > 10 and y2 - y1 > 10  # drawn by the drag, in video pixels
         assert track.label == "object"  # the name prompt was cancelled
-        await pilot.press("b")
+        await pilot.press("b", "n")
         assert await wait_for(pilot, lambda: isinstance(app.screen, NameScreen))
         await pilot.press(*"bowl", "enter")
         assert await wait_for(pilot, lambda: app.screen is screen)
@@ -108,3 +109,47 @@ async def test_the_workbench_opens_box_mode_on_its_video(session_path: Path) -> 
         assert screen.video.path == app.obs.video.path and screen.out_dir == session_path / "boxes"
         await pilot.press("escape")
         assert await wait_for(pilot, lambda: app.screen is app.main)
+
+
+def status(screen: BoxScreen) -> str:
+    return str(screen.query_one("#box-status").render())
+
+
+@pilot_test
+async def test_keys_typed_after_b_fit_the_box_and_name_it_only_when_asked(tmp_path: Path) -> None:
+    """A new user's first keys after b are WASD, to move the box: they move it (the screen keeps the keys), and
+    the box is named only when n asks for the name."""
+    app, screen, _ = make(tmp_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await pilot.press("b")
+        await pilot.pause()
+        assert app.screen is screen
+        (track,) = screen.tracks
+        before = track.keyframes[0]
+        await pilot.press("d", "d", "s", "w", "s")
+        await pilot.pause()
+        assert app.screen is screen, "the keys went to a prompt"
+        (track,) = screen.tracks
+        assert track.label == "object" and "unnamed: n names it" in status(screen)
+        after = track.keyframes[0]
+        assert after[0] == pytest.approx(before[0] + 2 * 0.02 * 320, abs=0.1)
+        assert after[1] == pytest.approx(before[1] + 0.02 * 240, abs=0.1)
+        await pilot.press("n")
+        assert await wait_for(pilot, lambda: isinstance(app.screen, NameScreen))
+        await pilot.press(*"knife", "enter")
+        assert await wait_for(pilot, lambda: app.screen is screen)
+        assert [t.label for t in screen.tracks] == ["knife"]
+        await pilot.press("a")  # the keys act on the box again once the name is given
+        assert screen.tracks[0].keyframes[0][0] == pytest.approx(after[0] - 0.02 * 320, abs=0.1)
+
+
+@pilot_test
+async def test_box_mode_counts_frames_from_zero_as_the_review_screen(tmp_path: Path) -> None:
+    app, screen, _ = make(tmp_path)
+    async with app.run_test(size=SIZE) as pilot:
+        await pilot.pause()
+        assert status(screen).startswith("frame 0/39 (0.00 s)")
+        await pilot.press("b", "right", "right", "s")
+        await pilot.pause()
+        assert screen.frame == 2 and status(screen).startswith("frame 2/39 (0.20 s)")
+        assert "keyframes 0, 2;" in status(screen)

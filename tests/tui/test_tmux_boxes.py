@@ -23,6 +23,9 @@ from wecook_core.session.store import open_session
 from wecook_core.trees.treefile import read_tree_file
 
 WECOOK = Path(sys.executable).with_name("wecook")
+REPO = Path(__file__).resolve().parents[2]
+"""The checkout under test: the wecook script's own directory is first on its path, so without this a worktree's
+test would drive the code of the checkout the venv was installed from."""
 
 
 @pytest.fixture
@@ -33,9 +36,11 @@ def term(tmp_path: Path) -> Iterator[Terminal]:
 
 
 def draw(terminal: Terminal, label: str, keys: str) -> None:
-    """b: a new box in the middle and the name prompt; the label; then the keys that fit it to the object;
+    """b: a new box in the middle; n: the name prompt; the label; then the keys that fit it to the object;
     then t: track it, and wait for the tracker to finish."""
     terminal.keys("b")
+    terminal.wait_text("unnamed: n names it")
+    terminal.keys("n")
     terminal.wait_text("Name the box")
     terminal.keys(label, "Enter")
     terminal.wait(lambda: "Name the box" not in terminal.screen(), "the name prompt stayed")
@@ -52,16 +57,18 @@ def test_video_alone_to_a_tree(tmp_path: Path, term: Terminal) -> None:
     truth = hand_and_tomato(video)  # 640x360: the box mode's new box is 256-384 x 144-216
     root = tmp_path / "sessions"
     made = subprocess.run([str(WECOOK), "new", "kitchen", "--video", str(video), "--root", str(root),
-                           "--hand-model", "lite"], capture_output=True, text=True, timeout=300)
+                           "--hand-model", "lite"], capture_output=True, text=True, timeout=300,
+                          env={**os.environ, "PYTHONPATH": str(REPO)})
     assert made.returncode == 0, made.stderr
     assert "RH_P1" in (root / "kitchen.hands.csv").read_text() and "objects  none yet" in made.stdout
     session = root / "kitchen"
-    env = f"WECOOK_KEYS={shlex.quote(str(tmp_path / 'none.toml'))} TERM=xterm-256color COLORTERM=truecolor"
+    env = (f"WECOOK_KEYS={shlex.quote(str(tmp_path / 'none.toml'))} TERM=xterm-256color COLORTERM=truecolor "
+           f"PYTHONPATH={shlex.quote(str(REPO))}")
     term.start(f"exec env -u COLUMNS -u LINES {env} {shlex.quote(str(WECOOK))} open kitchen "
                f"--root {shlex.quote(str(root))}")
     term.wait_ready()
     term.keys("B")
-    term.wait_text("frame 1/60")
+    term.wait_text("frame 0/59")
     draw(term, "tomato", "AAAAAWW" + "a" * 11 + "s" * 8)  # onto the tomato, about 115-179 x 202-259
     draw(term, "bowl", "D" + "S" * 9 + "d" * 11 + "ss")  # onto the bowl, about 397-538 x 158-295
     term.keys("Escape")

@@ -44,7 +44,7 @@ async def test_boxes_drawn_in_the_workbench_are_journaled_undone_from_review_and
         screen = app.screen
         assert isinstance(screen, BoxScreen)
         # The board: drawn (b, named), fitted, tracked by OpenCV through the video.
-        await pilot.press("b")
+        await pilot.press("b", "n")
         await name(pilot, app, "chopping board")
         screen.set_keyframe((120.0, 70.0, 230.0, 150.0))
         await pilot.press("t")

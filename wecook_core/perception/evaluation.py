@@ -10,13 +10,19 @@ ground truth names them by what they are. ``instances=True`` compares the exact 
 
 :func:`report` adds, for reading the mistakes, the missed and spurious trees and the counts per tree case
 (:data:`wecook_core.trees.graph.CASES`: tool, container, hand, held, transfer, holding, handover).
+
+:func:`loose` scores the same trees under looser views besides the strict one (``wecook eval --loose``), so a
+reviewer sees which part of a tree is wrong: :func:`without_hands` (every hand the same: a tree wrong only in
+which hand or person did it matches) and :func:`verbs_only` (only the actions and collaborations, in order: a
+tree wrong only in its objects or hands matches). The strict score is the one the bars are set on; the views
+never change it.
 """
 
 from __future__ import annotations
 
 import re
 from collections import Counter
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from functools import cache
 from typing import TYPE_CHECKING
@@ -52,13 +58,47 @@ def object_names(node: Node) -> set[str]:
     return {name for child in node.children for name in object_names(child)}
 
 
+HAND = "hand"
+"""The one hand word of :func:`without_hands`."""
+
+
+def without_hands(node: Node) -> Node:
+    """The tree with every hand word the same (:data:`HAND`): which hand, and whose, no longer counts."""
+    if node.label == "H":
+        return replace(node, word=HAND)
+    if not node.children:
+        return node
+    return replace(node, children=tuple(without_hands(child) for child in node.children))
+
+
+def _preterminals(node: Node) -> list[Node]:
+    if not node.children:
+        return [node]
+    return [leaf for child in node.children for leaf in _preterminals(child)]
+
+
+def verbs_only(node: Node) -> Node:
+    """The tree's actions and collaborations (``A`` and ``C`` words) in order, as the children of one node:
+    hands, objects and structure no longer count."""
+    return Node("AP", tuple(Node(leaf.label, word=leaf.word) for leaf in _preterminals(node)
+                            if leaf.label in ("A", "C")))
+
+
+View = Callable[[Node], Node]
+"""A view of a tree for loose scoring: two trees match when their views are equal."""
+
+LOOSE_VIEWS: dict[str, View] = {"hands ignored": without_hands, "verbs only": verbs_only}
+"""The views of :func:`loose`, by the name a reviewer reads."""
+
+
 def _overlap(a: TreeSpan, b: TreeSpan) -> int:
     return min(a.end, b.end) - max(a.start, b.start)
 
 
-def _counted(spans: Sequence[TreeSpan], instances: bool) -> list[TreeSpan]:
+def _counted(spans: Sequence[TreeSpan], instances: bool, view: View | None = None) -> list[TreeSpan]:
     kept = [s for s in spans if has_action(s.tree)]
-    return kept if instances else [replace(s, tree=class_tree(s.tree)) for s in kept]
+    named = kept if instances else [replace(s, tree=class_tree(s.tree)) for s in kept]
+    return named if view is None else [replace(s, tree=view(s.tree)) for s in named]
 
 
 def _pairs(pred: Sequence[TreeSpan], true: Sequence[TreeSpan]) -> list[tuple[int, int]]:
@@ -90,10 +130,16 @@ def match(predicted: Sequence[TreeSpan], truth: Sequence[TreeSpan], *, instances
     return [(pred[i], true[j]) for i, j in pairs]
 
 
-def evaluate(predicted: Sequence[TreeSpan], truth: Sequence[TreeSpan], *, instances: bool = False) -> Scores:
+def evaluate(predicted: Sequence[TreeSpan], truth: Sequence[TreeSpan], *, instances: bool = False,
+             view: View | None = None) -> Scores:
+    """Tree precision and recall; with ``view``, trees match when their views are equal (loose scoring; the
+    trees counted are the same: those with an action)."""
     n_pred = sum(1 for p in predicted if has_action(p.tree))
     n_true = sum(1 for t in truth if has_action(t.tree))
-    correct = len(match(predicted, truth, instances=instances))
+    if view is None:
+        correct = len(match(predicted, truth, instances=instances))
+    else:
+        correct = len(_pairs(_counted(predicted, instances, view), _counted(truth, instances, view)))
     return Scores(
         precision=correct / n_pred if n_pred else 0.0,
         recall=correct / n_true if n_true else 0.0,
@@ -172,3 +218,9 @@ def report(predicted: Sequence[TreeSpan], truth: Sequence[TreeSpan], *, instance
         truth=dict(Counter(true_cases)),
         correct=dict(Counter(true_cases[j] for _, j in pairs)),
     )
+
+
+def loose(predicted: Sequence[TreeSpan], truth: Sequence[TreeSpan], *, instances: bool = False,
+          ) -> dict[str, Scores]:
+    """The scores under each of :data:`LOOSE_VIEWS`, by name (the strict score is :func:`evaluate`'s)."""
+    return {name: evaluate(predicted, truth, instances=instances, view=view) for name, view in LOOSE_VIEWS.items()}

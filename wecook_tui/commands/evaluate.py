@@ -1,5 +1,6 @@
-"""`wecook eval PRED TRUTH [--json] [--instances] [--categories FILE]`: tree precision and recall of one tree
-file against another, the trees missed and spurious, and the counts per tree case."""
+"""`wecook eval PRED TRUTH [--json] [--instances] [--loose] [--categories FILE]`: tree precision and recall of
+one tree file against another, the trees missed and spurious, and the counts per tree case; with --loose also
+the scores with hands ignored and with verbs only."""
 
 from __future__ import annotations
 
@@ -20,6 +21,9 @@ def register(sub: Any) -> None:
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--instances", action="store_true",
                         help="match objects by their exact names (bowl_2 is not bowl)")
+    parser.add_argument("--loose", action="store_true",
+                        help="also score with hands ignored and with verbs only, to see which part of the "
+                             "trees is wrong (the strict score is unchanged)")
     parser.add_argument("--categories", default=None,
                         help="categories file for telling the cases apart (default: the shipped table)")
     parser.set_defaults(func=run)
@@ -29,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
     from dataclasses import asdict
     from pathlib import Path
 
-    from wecook_core.perception.evaluation import class_name, object_names, report
+    from wecook_core.perception.evaluation import class_name, loose, object_names, report
     from wecook_core.trees.notation import format_tree
     from wecook_core.trees.treefile import read_tree_file
 
@@ -45,6 +49,7 @@ def run(args: argparse.Namespace) -> int:
     result = report(predicted, truth, instances=args.instances, categories=categories)
     scores = result.scores
     cases = result.cases()
+    views = loose(predicted, truth, instances=args.instances) if args.loose else {}
     if args.json:
         def spans(items: Any) -> list[dict[str, Any]]:
             return [{"start": s.start, "end": s.end, "tree": format_tree(s.tree)} for s in items]
@@ -55,10 +60,13 @@ def run(args: argparse.Namespace) -> int:
             "spurious": spans(result.spurious),
             "cases": {c: {"predicted": result.predicted.get(c, 0), "truth": result.truth.get(c, 0),
                           "correct": result.correct.get(c, 0)} for c in cases},
+            **({"loose": {name: asdict(view) for name, view in views.items()}} if args.loose else {}),
         }))
         return 0
     print(f"precision {scores.precision:.3f}  recall {scores.recall:.3f}  "
           f"correct {scores.correct}  predicted {scores.predicted}  truth {scores.truth}")
+    for name, view in views.items():
+        print(f"{name + ':':<15} precision {view.precision:.3f}  recall {view.recall:.3f}  correct {view.correct}")
     if cases:
         print(f"\n{'case':<10} {'correct':>7} {'predicted':>9} {'truth':>5} {'precision':>9} {'recall':>6}")
         for case in cases:

@@ -156,13 +156,16 @@ class BoxScreen(Screen[None]):
     def _show(self) -> None:
         self.query_one(FrameView).show(self.frame, self._overlay())
         track = self.current()
-        parts = [f"frame {self.frame + 1}/{self.video.frame_count}"]
+        # Frames counted from 0, as on the review screen and in the files.
+        seconds = f" ({self.frame / self.video.fps:.2f} s)" if self.video.fps > 0 else ""
+        parts = [f"frame {self.frame}/{self.video.frame_count - 1}{seconds}"]
         if track is not None:
-            keys = ", ".join(str(f + 1) for f in sorted(track.keyframes))
+            keys = ", ".join(str(f) for f in sorted(track.keyframes))
             state = "tracking..." if self.tracking else (
-                f"lost at frame {track.lost_at + 1}" if track.lost_at is not None else
-                f"tracked to frame {max(track.tracked) + 1}" if track.tracked else "not tracked")
-            parts.append(f"{track.label} (keyframes {keys}; {state})")
+                f"lost at frame {track.lost_at}" if track.lost_at is not None else
+                f"tracked to frame {max(track.tracked)}" if track.tracked else "not tracked")
+            name = f"{track.label} (unnamed: n names it)" if track.label == UNNAMED else track.label
+            parts.append(f"{name} (keyframes {keys}; {state})")
         parts.append(f"{len(self.tracks)} boxes")
         message = self.edits.message()
         if message:
@@ -183,14 +186,14 @@ class BoxScreen(Screen[None]):
         self.add_box(box)
 
     def add_box(self, box: Box, label: str = UNNAMED) -> None:
+        """A new box at the current frame, selected. It is named only when the user asks (n): the keys typed
+        next are meant to move and fit it, never to become its name."""
         track_id = self._last_id + 1
         if not self.edits.apply(SetBoxKeyframe(track_id, self.frame, rounded(self._clip(box)),
                                                None if label == UNNAMED else label)):
             return
         self._last_id = track_id
         self._reload(track_id)
-        if label == UNNAMED:
-            self.action_name()
 
     def set_keyframe(self, box: Box) -> None:
         """The selected box is ``box`` at the current frame (a keyframe)."""
