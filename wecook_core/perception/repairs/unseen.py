@@ -24,6 +24,7 @@ and ends, and writes it into the timeline where that hand holds nothing.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -40,8 +41,6 @@ from wecook_core.perception.association.frame_links import (
 from wecook_core.perception.label_runs import runs
 
 if TYPE_CHECKING:
-    from collections.abc import Sequence
-
     from wecook_core.perception.params import Params
 
 
@@ -68,6 +67,36 @@ def moving_objects(objects: np.ndarray, window: int, fraction: float, shot: np.n
     return moving
 
 
+def _carried_containers(moving: np.ndarray, objects: np.ndarray, cats: Sequence[Category], containers: Sequence[int],
+                        window: int, coherent_fraction: float, shot: np.ndarray) -> None:
+    """Mark (in place) as moving a container that a moving ingredient overlaps and moves with: their
+    displacements over the ``window`` frames before or after differ by less than ``coherent_fraction`` of the
+    ingredient's (common fate). The yogurt poured out of a tipped measuring cup moves a good part of its own
+    size while the cup, bigger, moves the same pixels and less than a quarter of its own: the cup is carried and
+    the yogurt rides in it, so the hold is the cup's (the rule below then takes it off the yogurt)."""
+    length = len(objects)
+    if not length or not containers:
+        return
+    centre = box_centres(objects)
+    for k, category in enumerate(cats):
+        if category is not Category.INGREDIENT or not moving[:, k].any():
+            continue
+        rows = np.flatnonzero(moving[:, k])
+        for c in containers:
+            with np.errstate(invalid="ignore"):
+                touching = box_intersection(objects[rows, k], objects[rows, c]) > 0
+            near = rows[touching]
+            if not len(near):
+                continue
+            together = np.zeros(len(near), dtype=bool)
+            for a, b in ((np.maximum(near - window, 0), near), (near, np.minimum(near + window, length - 1))):
+                own = centre[b, k] - centre[a, k]
+                with np.errstate(invalid="ignore"):
+                    apart = np.linalg.norm(centre[b, c] - centre[a, c] - own, axis=-1)
+                    together |= (shot[a] == shot[b]) & (apart < coherent_fraction * np.linalg.norm(own, axis=-1))
+            moving[near[together], c] = True
+
+
 def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = ()) -> tuple[UnseenHold, ...]:
     """Every hold of an object by a hand the detector does not see (see the module docstring)."""
     total = int(obs.video.frame_count)
@@ -86,6 +115,7 @@ def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = ()) -
     # container that a moving tool overlaps is being stirred there: neither is in a hand of its own
     containers = [k for k, c in enumerate(cats) if c is Category.CONTAINER]
     tools = [k for k, c in enumerate(cats) if c is Category.TOOL]
+    _carried_containers(moving, objects, cats, containers, rate.dwell_frames, params.coherent_fraction, shot)
     for k, category in enumerate(cats):
         if category is not Category.INGREDIENT:
             continue
