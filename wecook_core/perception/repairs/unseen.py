@@ -16,10 +16,11 @@ across a shot cut, :mod:`wecook_core.perception.segmentation.shots`):
 
 Runs of moving, unseen frames at least ``Params.min_link_s`` long (gaps shorter than ``min_action_s``
 bridged: a stirring spoon's box does not travel far on every frame) become :class:`UnseenHold` s, given to
-the hand the detector sees most over the video (the cook's working hand: which hand it was is the one thing
-the object's motion cannot say, and a detector's left/right labels on a partly seen hand are unreliable),
-else the right hand of the video's first person. The pipeline cuts its segments where such a hold starts
-and ends, and writes it into the timeline where that hand holds nothing.
+the hand seen nearest the object just before the hold or just after it (within ``Params.min_action_s``, in the
+same shot: hands do not jump, so the hand that let go of it or takes it back moved it), else the hand the
+detector sees most over the video (the cook's working hand), else the right hand of the video's first
+person. The pipeline cuts its segments where such a hold starts and ends, and writes it into the timeline where
+that hand holds nothing.
 """
 
 from __future__ import annotations
@@ -144,7 +145,8 @@ def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = ()) -
     for k, name in enumerate(boxes.names):
         spans = _spans(unseen[:, k], bridge, rate.min_frames)
         for start, end in spans:
-            holds.append(UnseenHold(dominant, name, start, end))
+            hand = _nearest_hand(objects[:, k], boxes.hand_boxes, start, end, shot, rate.min_action_frames)
+            holds.append(UnseenHold(hand or dominant, name, start, end))
     return tuple(sorted(holds, key=lambda h: (h.start, h.obj)))
 
 
@@ -159,6 +161,36 @@ def _spans(mask: np.ndarray, bridge: int, least: int) -> list[tuple[int, int]]:
         else:
             spans.append([start, end])
     return [(a, b) for a, b in spans if b - a >= least]
+
+
+def _nearest_hand(track: np.ndarray, hands: np.ndarray, start: int, end: int, shot: np.ndarray,
+                  reach: int) -> str | None:
+    """The hand seen nearest the object just before or after its unseen hold ``[start, end)``: within
+    ``reach`` frames of either end, in the same shot as that end, the detected hand whose box comes closest
+    to the object's, no farther than the object's own size. Hands do not jump: the hand that let go of the
+    object, or that takes it back, moved it (the detector lost it, not the cook). None when no hand is seen
+    there."""
+    length = len(track)
+    best: tuple[float, int] | None = None
+    for lo, hi, edge in ((max(start - reach, 0), start, start), (end, min(end + reach, length), end - 1)):
+        if hi <= lo:
+            continue
+        frames = np.arange(lo, hi)
+        frames = frames[shot[frames] == shot[min(edge, length - 1)]]
+        if not len(frames):
+            continue
+        box = track[frames]
+        with np.errstate(invalid="ignore"):
+            size = np.hypot(box[:, 2] - box[:, 0], box[:, 3] - box[:, 1])
+            gap = box_gap(hands[frames], box[:, None, :]) / size[:, None]
+        gap = np.where(np.isfinite(gap) & (gap <= 1.0), gap, np.inf)
+        if not np.isfinite(gap).any():
+            continue
+        column = int(np.argmin(np.min(gap, axis=0)))
+        near = float(np.min(gap[:, column]))
+        if best is None or near < best[0]:
+            best = (near, column)
+    return HANDS[best[1]] if best is not None else None
 
 
 def _dominant_hand(obs: Observations) -> str:
