@@ -104,6 +104,10 @@ class Params:
     min_action_s: float = 1.0
     """Seconds: a bare hold (a grasp with no action) shorter than this, next to an action of the same hand,
     is part of that action's reach or release, not a tree, graph node or plan entry of its own."""
+    rejoin_s: float = 1.0
+    """Seconds: one person's same work with a tool or a hand (same verb, object and targets) broken for at most
+    this long, within a shot, is one action (:func:`wecook_core.trees.graph.rejoined`): nobody passes the spoon
+    to the other hand and back in the middle of a stir; the break is the detector's."""
 
     def at(self, fps: float) -> FrameParams:
         """The durations of these parameters in frames of a video at ``fps``."""

@@ -251,7 +251,8 @@ def analyze(
     clock = time.perf_counter()
     rejected = {start for start, status in corrections.status.items() if status is SegmentStatus.REJECTED}
     actions = merge_actions(segment_actions, obs.categories, rejected,
-                            min_hold=params.at(obs.video.fps).min_action_frames)
+                            min_hold=params.at(obs.video.fps).min_action_frames,
+                            rejoin=frames(params.rejoin_s, obs.video.fps, least=0), shots=shots)
     unsure = unsure_segments(obs, segmentation.segments, unseen, params.seen_share)
     actions = _without_thin_holds(actions, segmentation.segments, unsure)
     trees = tree_spans(actions)

@@ -21,6 +21,7 @@ The graph file (YAML, ``wecook_graph: 1``)::
 
 from __future__ import annotations
 
+import bisect
 import itertools
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -226,13 +227,16 @@ def merge_actions(
     rejected: Iterable[int] = (),
     *,
     min_hold: int = 0,
+    rejoin: int = 0,
+    shots: Sequence[int] = (),
 ) -> tuple[Action, ...]:
     """The merged actions of a video, in order of start frame (then hand). Segments whose start frame is in
     ``rejected`` give nothing and break merges. An action or bare hold shorter than ``min_hold`` frames is
     left out: a hand touching a pot for a moment on its way to the knife, or lingering on the board after a
     cut, is the reach or release of an action, not an action, a graph node or a step of the plan. Nor is a
     bare hold of the object a collaboration's partner holds while the collaboration lasts: it is that
-    partner's part of the collaboration."""
+    partner's part of the collaboration. ``rejoin``, ``shots``: see :func:`rejoined` (a rejected segment walls
+    off as a shot cut does)."""
     rejected = set(rejected)
     merged: list[Action] = []
     for hand in HANDS:
@@ -245,11 +249,56 @@ def merge_actions(
                 items.append((segment.start, segment.end, PARTNER))
             else:
                 items.append((segment.start, segment.end, entry.action_of(hand)))
-        merged += [a for a in merge_lane(items, categories) if a.end - a.start >= min_hold]
+        merged += merge_lane(items, categories)
+    walls = [f for e in segment_actions if e.segment.start in rejected for f in (e.segment.start, e.segment.end)]
+    merged = [a for a in rejoined(merged, rejoin, (*shots, *walls)) if a.end - a.start >= min_hold]
     partners = [(a.partner, a) for a in merged if a.partner is not None]
     merged = [a for a in merged if not (a.kind is ActionKind.GRASP and any(
         p.hand == a.hand and _grip(p) == a.held and c.start < a.end and a.start < c.end for p, c in partners))]
     return tuple(sorted(merged, key=lambda a: (a.start, HANDS.index(a.hand), a.end)))
+
+
+REJOINED_KINDS = frozenset({ActionKind.TOOL, ActionKind.HAND})
+"""What a short break does not end: working with a tool or a hand goes on through a pause (a stir, a cut). A
+transfer is one trip (two scoops are two transfers), a collaboration its own event."""
+
+
+def rejoined(actions: Sequence[Action], gap: int, shots: Sequence[int] = ()) -> list[Action]:
+    """``actions`` with each person's consecutive runs of one action (same kind, verb, held object and targets:
+    :data:`REJOINED_KINDS` only) broken by at most ``gap`` frames joined into one, within one shot. A person
+    does not pass the spoon to the other hand and back in the middle of a stir, nor stop stirring for a moment
+    to stir again: the break is the detector's (a hand lost for a moment, or named by the other side for a
+    while). The joined action is given to the hand that did more of it. ``gap`` 0 joins nothing."""
+    if gap <= 0:
+        return list(actions)
+    cuts = sorted(set(shots))
+
+    def shot_of(frame: int) -> int:
+        return bisect.bisect_right(cuts, frame)
+
+    out: list[Action] = []
+    for action in sorted(actions, key=lambda a: (a.start, HANDS.index(a.hand) if a.hand in HANDS else 9)):
+        person = person_of(action.hand)
+        join = next((i for i in range(len(out) - 1, -1, -1)
+                     if person_of(out[i].hand) == person and _same_work(out[i], action)
+                     and action.start - out[i].end <= gap and shot_of(out[i].end - 1) == shot_of(action.start)),
+                    None)
+        if join is None:
+            out.append(action)
+            continue
+        before = out[join]
+        hand = before.hand if before.end - before.start >= action.end - action.start else action.hand
+        out[join] = replace(before, hand=hand, start=min(before.start, action.start), end=max(before.end, action.end))
+    # the other hand's bare hold of the same tool inside a joined action is that action's, not a tree of its own
+    works = [a for a in out if a.kind in REJOINED_KINDS]
+    return [a for a in out if not (a.kind is ActionKind.GRASP and any(
+        w.held == a.held and person_of(w.hand) == person_of(a.hand) and w.start <= a.start and a.end <= w.end
+        for w in works))]
+
+
+def _same_work(a: Action, b: Action) -> bool:
+    return (a.kind in REJOINED_KINDS and a.kind is b.kind and a.verb == b.verb and a.held == b.held
+            and a.targets == b.targets)
 
 
 def tree_spans(actions: Iterable[Action]) -> tuple[TreeSpan, ...]:
