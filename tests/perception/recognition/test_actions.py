@@ -195,9 +195,7 @@ def rank_first(knowledge, objects) -> str:
     return rank(knowledge, objects)[0][0]
 
 
-def test_rankings_are_remembered_per_knowledge_object_and_forgotten_with_it(monkeypatch):
-    import gc
-
+def test_rankings_are_remembered_by_the_analysis_that_asked_for_them(monkeypatch):
     import numpy as np
 
     from wecook_core.knowledge.recognize import Knowledge, rank
@@ -206,19 +204,16 @@ def test_rankings_are_remembered_per_knowledge_object_and_forgotten_with_it(monk
     verbs, objects = ("cut", "stir", "pour"), ("knife", "spoon", "pot")
     cutting_table = Knowledge(verbs, objects, np.array([1, 1, 1]), np.array([[5, 0, 1], [0, 5, 1], [0, 0, 5]]))
     stirring_table = Knowledge(verbs, objects, np.array([1, 1, 1]), np.array([[0, 0, 1], [5, 5, 1], [0, 0, 5]]))
-    first = actions._rank(cutting_table, ["knife"])
+    cutting = actions.Ranker(cutting_table)
+    first = cutting.rank(["knife"])
     assert first == rank(cutting_table, ["knife"], list(verbs)) and first[0][0] == "cut"
-    assert actions._rank(cutting_table, ("knife",)) is first  # the same objects: remembered
-    assert actions._rank(stirring_table, ["knife"])[0][0] == "stir"  # another table: its own ranking
-    narrowed = actions._rank(cutting_table, ["knife"], ("stir", "pour"))
+    assert cutting.rank(("knife",)) is first  # the same objects: remembered
+    assert actions.Ranker(stirring_table).rank(["knife"])[0][0] == "stir"  # another table: its own ranking
+    narrowed = cutting.rank(["knife"], ("stir", "pour"))
     assert narrowed == rank(cutting_table, ["knife"], ["stir", "pour"]) and len(narrowed) == 2
+    assert actions.Ranker(cutting_table).rank(["knife"]) is not first  # nothing shared between analyses
 
     monkeypatch.setattr(actions, "RANKINGS_KEPT", 2)
     for names in (["pot"], ["spoon"], ["knife", "pot"]):
-        assert actions._rank(cutting_table, names) == rank(cutting_table, names, list(verbs))
-        assert len(actions._RANKINGS[cutting_table]) <= 2
-
-    tables = len(actions._RANKINGS)
-    del stirring_table
-    gc.collect()
-    assert len(actions._RANKINGS) == tables - 1
+        assert cutting.rank(names) == rank(cutting_table, names, list(verbs))
+        assert len(cutting._known) <= 2

@@ -27,7 +27,6 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from functools import partial
 from typing import TYPE_CHECKING
-from weakref import WeakKeyDictionary
 
 import numpy as np
 
@@ -96,25 +95,33 @@ def _candidates(knowledge: Knowledge, allowed: Sequence[str] | None = None) -> l
     return verbs
 
 
-_RANKINGS: WeakKeyDictionary[Knowledge, dict[tuple[tuple[str, ...], tuple[str, ...] | None], Ranking]] = (
-    WeakKeyDictionary())
-"""Rankings already computed, per knowledge object (by identity: its tables never change; an entry goes with
-its knowledge) and per (objects, allowed verbs): a video asks the same few dozen over and over."""
 RANKINGS_KEPT = 4096
-"""Most rankings kept per knowledge object (a long-lived workbench sees ever new object lists)."""
+"""Most rankings one :class:`Ranker` keeps (a long video asks ever new object lists)."""
 
 
-def _rank(knowledge: Knowledge, objects: Sequence[str], allowed: Sequence[str] | None = None) -> Ranking:
-    from wecook_core.knowledge.recognize import rank
+class Ranker:
+    """The commonsense rankings of one analysis, each computed once: a video asks the same few dozen (objects,
+    allowed verbs) over and over. Made per :func:`recognize_actions` call and dropped with it (no state outlives
+    the stage)."""
 
-    known = _RANKINGS.setdefault(knowledge, {})
-    key = (tuple(objects), None if allowed is None else tuple(allowed))
-    ranking = known.get(key)
-    if ranking is None:
-        if len(known) >= RANKINGS_KEPT:
-            known.clear()
-        ranking = known[key] = rank(knowledge, list(objects), _candidates(knowledge, allowed))
-    return ranking
+    def __init__(self, knowledge: Knowledge) -> None:
+        self.knowledge = knowledge
+        self._known: dict[tuple[tuple[str, ...], tuple[str, ...] | None], Ranking] = {}
+
+    def rank(self, objects: Sequence[str], allowed: Sequence[str] | None = None) -> Ranking:
+        from wecook_core.knowledge.recognize import rank
+
+        key = (tuple(objects), None if allowed is None else tuple(allowed))
+        ranking = self._known.get(key)
+        if ranking is None:
+            if len(self._known) >= RANKINGS_KEPT:
+                self._known.clear()
+            ranking = self._known[key] = rank(self.knowledge, list(objects), _candidates(self.knowledge, allowed))
+        return ranking
+
+
+def _ranker(knowledge: Knowledge | Ranker) -> Ranker:
+    return knowledge if isinstance(knowledge, Ranker) else Ranker(knowledge)
 
 
 def _with_container(name: str, assoc: Associations) -> tuple[str, ...]:
@@ -126,7 +133,7 @@ def individual_action(
     hand: str,
     assoc: Associations,
     categories: Mapping[str, Category],
-    knowledge: Knowledge,
+    knowledge: Knowledge | Ranker,
     *,
     still: bool | Callable[[bool], bool] = True,
     verb: str | None = None,
@@ -151,6 +158,7 @@ def individual_action(
     held = assoc.hand_object.get(hand)
     if held is None:
         return None, ()
+    ranker = _ranker(knowledge)
     category = categories.get(held, Category.INGREDIENT)
     links = assoc.object_object.get(held, ())
     ingredients = [o for o in links if categories.get(o, Category.INGREDIENT) is Category.INGREDIENT]
@@ -160,7 +168,7 @@ def individual_action(
     kind = ActionKind.TOOL
     allowed: Sequence[str] | None = None
     if category is Category.TOOL:
-        allowed = afforded(knowledge, held)
+        allowed = afforded(ranker, held)
         if ingredients:
             targets = _with_container(ingredients[0], assoc)
         elif containers:
@@ -170,7 +178,7 @@ def individual_action(
             targets, allowed = (containers[0],), HELD_VERBS
         elif ingredients:
             pass  # an ingredient held beside another is not acting on it
-        elif _worked_by_hand(knowledge, held, hand_share, still):
+        elif _worked_by_hand(ranker, held, hand_share, still):
             kind, targets, allowed = ActionKind.HAND, (held,), STILL_HAND_VERBS
     if not targets:
         if verb is None:
@@ -182,9 +190,9 @@ def individual_action(
     if moves is not None:
         moved = moves(held, "hand" if kind is ActionKind.HAND else "held" if allowed is HELD_VERBS else "tool")
     if moved is not None:
-        narrowed = [v for v in (allowed if allowed is not None else knowledge.verbs) if v in moved]
+        narrowed = [v for v in (allowed if allowed is not None else ranker.knowledge.verbs) if v in moved]
         allowed = narrowed or allowed
-    ranking = _rank(knowledge, objects, allowed)
+    ranking = ranker.rank(objects, allowed)
     chosen = verb or (ranking[0][0] if ranking else None)
     if chosen is None:
         return grasp, ranking
@@ -194,35 +202,36 @@ def individual_action(
                   scores=ranking), ranking
 
 
-def afforded(knowledge: Knowledge, tool: str) -> tuple[str, ...]:
+def afforded(knowledge: Knowledge | Ranker, tool: str) -> tuple[str, ...]:
     """The verbs of :data:`TOOL_VERBS` that ``tool`` itself affords: P(A | tool) at least ``1 / AFFORD_RATIO``
     of its best. The tool in the hand is the instrument: it decides the verb, and what it works on (the
     ingredient, the board or pot under it) only chooses among the verbs it affords. An object the model
     does not know affords them all (its ranking is flat). A sheet (:data:`SHEET_SHARE`: foil, film) wraps."""
-    sheet = dict(_rank(knowledge, [tool], (*TOOL_VERBS, *SHEET_VERBS)))
+    ranker = _ranker(knowledge)
+    sheet = dict(ranker.rank([tool], (*TOOL_VERBS, *SHEET_VERBS)))
     if sum(sheet.get(verb, 0.0) for verb in SHEET_VERBS) >= SHEET_SHARE * sum(sheet.values()) > 0:
         return SHEET_VERBS
-    ranking = _rank(knowledge, [tool], TOOL_VERBS)
+    ranking = ranker.rank([tool], TOOL_VERBS)
     if not ranking:
         return TOOL_VERBS
     best = ranking[0][1]
     return tuple(verb for verb, p in ranking if p * AFFORD_RATIO >= best)
 
 
-def _worked_by_hand(knowledge: Knowledge, held: str, hand_share: float, still: bool | Callable[[bool], bool]) -> bool:
+def _worked_by_hand(ranker: Ranker, held: str, hand_share: float, still: bool | Callable[[bool], bool]) -> bool:
     """A held ingredient with nothing near is worked by the hand when the hand stays put on it: briefly when
     the commonsense model says hands work it, for ``min_action_s`` whatever it says (an egg held still for
     seconds is being peeled, not carried)."""
     if not callable(still):
-        return still and _hand_share(knowledge, held) >= hand_share
-    if _hand_share(knowledge, held) >= hand_share:
+        return still and _hand_share(ranker, held) >= hand_share
+    if _hand_share(ranker, held) >= hand_share:
         return still(False)
     return still(True)
 
 
-def _hand_share(knowledge: Knowledge, ingredient: str) -> float:
+def _hand_share(ranker: Ranker, ingredient: str) -> float:
     """How much of P(A | ingredient) the verbs of a bare hand take (lemon: squeeze; oil: hardly any)."""
-    return sum(p for verb, p in _rank(knowledge, [ingredient]) if verb in HAND_VERBS)
+    return sum(p for verb, p in ranker.rank([ingredient]) if verb in HAND_VERBS)
 
 
 def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, diagonal: float,
@@ -371,6 +380,7 @@ def recognize_actions(
     transfers = transfer_events(obs, timeline, params)
     handovers = handover_events(timeline, params)
     hold_runs = {hand: runs(timeline.held[:, column]) for column, hand in enumerate(HANDS)}
+    ranker = Ranker(knowledge)
     motion_cache: dict[tuple[str, int, int, Role], frozenset[str] | None] = {}
     result = []
     spans: SpanCache = {}
@@ -384,7 +394,7 @@ def recognize_actions(
         for hand in HANDS:
             verb = corrections.verbs.get((segment.start, hand))
             still = partial(hand_still, obs, hand, segment, params, diagonal)
-            action, ranking = individual_action(hand, assoc, categories, knowledge, still=still, verb=verb,
+            action, ranking = individual_action(hand, assoc, categories, ranker, still=still, verb=verb,
                                                 hand_share=params.hand_share,
                                                 moves=partial(_moves, obs, segment, timeline, hold_runs, motion_cache,
                                                               hand))
