@@ -109,6 +109,30 @@ class Params:
     this long, within a shot, is one action (:func:`wecook_core.trees.graph.rejoined`): nobody passes the spoon
     to the other hand and back in the middle of a stir; the break is the detector's."""
 
+    # One meaning each (issue 23): these were read from the parameter named in each docstring, which means
+    # something else; their defaults are that parameter's, so the analysis is unchanged.
+    moving_cap_fraction: float = 0.05
+    """An object moves by itself (:mod:`~wecook_core.perception.repairs.unseen`,
+    :mod:`~wecook_core.perception.repairs.occlusion`) when its centre travels more than ``moving_fraction`` of
+    its own box's diagonal over ``dwell_s``, or more than this fraction of the image diagonal, whichever is
+    less: a big bowl swung over a pan moves by less than a quarter of its own size. (Was ``dwell_fraction``.)"""
+    cover_fraction: float = 0.5
+    """An object whose box stops being seen is hidden by a detected hand no smaller than it when at least this
+    fraction of its box lies in the hand's box: the hand is in front of it
+    (:mod:`~wecook_core.perception.repairs.occlusion`). (Was ``contain_fraction``.)"""
+    unseen_bridge_s: float = 1.0
+    """Seconds: gaps shorter than this between an object's moving, unseen frames are bridged into one hold by
+    an unseen hand: a stirring spoon's box does not travel far on every frame
+    (:mod:`~wecook_core.perception.repairs.unseen`). (Was ``min_action_s``.)"""
+    mover_window_s: float = 0.27
+    """Seconds: a transfer's mover is looked for this long before the ingredient's last frame in its old
+    container and after its first frame in the new one (``mover_share`` of those frames;
+    :mod:`~wecook_core.perception.recognition.transfers`). (Was ``min_link_s``.)"""
+
+    unseen_hand_s: float = 1.0
+    """Seconds before and after a hold by an unseen hand in which the hand seen nearest the object is the one
+    that moved it (:mod:`wecook_core.perception.repairs.unseen`)."""
+
     def at(self, fps: float) -> FrameParams:
         """The durations of these parameters in frames of a video at ``fps``."""
         return FrameParams(
@@ -146,7 +170,7 @@ MAX_PARAM_FRAMES = 10**6
 """The largest value of a whole-number parameter."""
 _FRACTIONS = frozenset({"contain_fraction", "min_share", "near_fraction", "dwell_fraction", "hand_share",
                         "still_fraction", "dwell_own_fraction", "moving_fraction", "coherent_fraction",
-                        "mover_share", "seen_share"})
+                        "mover_share", "seen_share", "moving_cap_fraction", "cover_fraction"})
 _UPPER: dict[str, float] = {"k_max": MAX_BREAKPOINTS, "k_per_minute": MAX_BREAKPOINTS_PER_MINUTE,
                             "seed": 2**63 - 1, "lamb": 1e6, "min_segment_s": 3600.0}
 

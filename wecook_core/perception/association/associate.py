@@ -48,6 +48,7 @@ from wecook_core.perception.association.frame_links import (
     video_diagonal,
 )
 from wecook_core.perception.label_runs import NONE, dominant, kept_runs, longest_runs, runs
+from wecook_core.perception.params import DEFAULT_FPS
 
 if TYPE_CHECKING:
     from wecook_core.perception.association.frame_links import UnseenHold
@@ -70,7 +71,7 @@ class Timeline:
     """int16 ``(frames, hands)``: see :attr:`FrameLinks.held`; hands in :data:`HANDS` order."""
     touched: np.ndarray
     """int16 ``(frames, hands)``: see :attr:`FrameLinks.touched`."""
-    fps: float = 30.0
+    fps: float = DEFAULT_FPS
     """The video's frame rate."""
 
     def column(self, name: str) -> int:
@@ -157,8 +158,9 @@ def near_objects(
     with np.errstate(invalid="ignore"):
         sums = np.where(near[:, keep], gap[:, keep], 0.0).sum(axis=0)
     mean_gap = sums / np.maximum(near[:, keep].sum(axis=0), 1)
-    # among boxes that touch it (gap 0), the one the held object covers most of, on average: a spoon
-    # stirring the spinach just tipped over the squash covers more of the spinach's box
+    # among boxes that touch it (gap 0), the one the held object covers most of, on average: a tool works
+    # what it is in, not what it grazes at an edge (found on tasty-a, frames 238-254: a spoon stirring the
+    # spinach just tipped over the squash covers more of the spinach's box)
     covered = np.zeros(len(keep))
     if len(keep) > 1 and len(np.unique(mean_gap)) < len(keep):  # only ties need it
         held_boxes = boxes.objects[:, held : held + 1, :]
@@ -264,7 +266,7 @@ def associate_segments(
                 if (segment.start, hand) in corrections.hand_object:
                     chosen = association.hand_object.get(hand)
                     held[segment.start : segment.end, column] = names.index(chosen) if chosen is not None else NONE
-    return done, Timeline(names, categories, container, held, touched, obs.video.fps or 30.0)
+    return done, Timeline(names, categories, container, held, touched, obs.video.fps or DEFAULT_FPS)
 
 
 def associate(

@@ -15,9 +15,11 @@ from wecook_core.model import HANDS, Category, Observations, person_of
 from wecook_core.perception.association.associate import Timeline, video_diagonal
 from wecook_core.perception.association.frame_links import box_gap, frame_boxes
 from wecook_core.perception.label_runs import NONE, kept_runs
+from wecook_core.perception.params import frames
 
 if TYPE_CHECKING:
     from wecook_core.perception.params import Params
+
 
 @dataclass(frozen=True)
 class TransferEvent:
@@ -68,10 +70,14 @@ def hold_spans(labels: np.ndarray, value: int, min_frames: int) -> list[tuple[in
 
 
 def transfer_events(obs: Observations, timeline: Timeline, params: Params) -> tuple[TransferEvent, ...]:
-    """Every change of an ingredient's container that a hand caused, over the whole video."""
+    """Every change of an ingredient's container that a hand caused, over the whole video: the hand that
+    touches it, or holds what carries it (within ``near_fraction`` of the image diagonal of it), on
+    ``mover_share`` of the frames from ``mover_window_s`` before it leaves its container to ``mover_window_s``
+    after it enters the next."""
     diagonal = video_diagonal(obs)
     near = params.near_fraction * diagonal
     rate = params.at(obs.video.fps)
+    window = frames(params.mover_window_s, obs.video.fps)
     events = []
     total = len(timeline.held)
     for column, category in enumerate(timeline.categories):
@@ -81,8 +87,8 @@ def transfer_events(obs: Observations, timeline: Timeline, params: Params) -> tu
         for (_, end1, source), (start2, _, destination) in itertools.pairwise(kept):
             if source == destination:
                 continue
-            lo = max(0, end1 - rate.min_frames)
-            hi = min(total, start2 + rate.min_frames)
+            lo = max(0, end1 - window)
+            hi = min(total, start2 + window)
             event = _mover(obs, timeline, column, lo, hi, near, params, source)
             if event is None:
                 continue
@@ -116,8 +122,9 @@ def _mover(
 ) -> tuple[int, int, int, int] | None:
     """(hand column, carrier column or NONE, start and end of the carrier's hold) of the hand that moved an
     ingredient during ``[lo, hi)``, or None when no hand did. Where the ingredient is not seen it rides in
-    the container it left (``source``; the garlic hidden in the small dish the hand brings over the pan): a
-    hand holding that container carries it there."""
+    the container it left (``source``): a hand holding that container carries it there (the rule of
+    :mod:`~wecook_core.perception.repairs.occlusion`: a hidden ingredient rides in the container it lies in;
+    found on tasty-a, the garlic hidden in the small dish the hand brings over the pan, frames 63-78)."""
     if hi <= lo:
         return None
     rate = params.at(obs.video.fps)

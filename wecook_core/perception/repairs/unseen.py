@@ -7,20 +7,23 @@ salt glass jerking above it are in a hand, seen or not. So, per object and frame
 across a shot cut, :mod:`wecook_core.perception.segmentation.shots`):
 
 - it **moves** when its centre travels more than ``Params.moving_fraction`` of its own box's diagonal over
-  the ``Params.dwell_s`` before or after the frame (jitter of the boxes is far smaller than that);
-- an ingredient that overlaps a moving container rides in it (the squash in the tipped bowl: the bowl is
-  what the hand holds), and one that overlaps a moving tool is being stirred or scooped by it;
-- it is **unseen** when no detected hand's box comes within the object's own size of it then (otherwise the
-  held-object decoder of :mod:`wecook_core.perception.association.holding` judges it from the hand it sees, and an
-  onion sliding off a plate that a seen hand tips is moved by the plate).
+  the ``Params.dwell_s`` before or after the frame (jitter of the boxes is far smaller than that), or more
+  than ``Params.moving_cap_fraction`` of the image diagonal (a big bowl swung over a pan moves by less than a
+  quarter of its size);
+- an ingredient that overlaps a moving container rides in it (the container is what the hand holds: found
+  on tasty-a, the squash in the tipped bowl, frames 10-27), and one that overlaps a moving tool is being
+  stirred or scooped by it;
+- it is **unseen** when no detected hand's box comes within :data:`SEEN_WITHIN` of the object's own diagonal
+  of it then (otherwise the held-object decoder of :mod:`wecook_core.perception.association.holding` judges it
+  from the hand it sees, and an onion sliding off a plate that a seen hand tips is moved by the plate).
 
-Runs of moving, unseen frames at least ``Params.min_link_s`` long (gaps shorter than ``min_action_s``
-bridged: a stirring spoon's box does not travel far on every frame) become :class:`UnseenHold` s, given to
-the hand seen nearest the object just before the hold or just after it (within ``Params.min_action_s``, in the
-same shot: hands do not jump, so the hand that let go of it or takes it back moved it), else the hand the
-detector sees most over the video (the cook's working hand), else the right hand of the video's first
-person. The pipeline cuts its segments where such a hold starts and ends, and writes it into the timeline where
-that hand holds nothing.
+Runs of moving, unseen frames at least ``Params.min_link_s`` long (gaps shorter than
+``Params.unseen_bridge_s`` bridged: a stirring spoon's box does not travel far on every frame) become
+:class:`UnseenHold` s, given to the hand seen nearest the object just before the hold or just after it (within
+``Params.unseen_hand_s``, in the same shot: hands do not jump, so the hand that let go of it or takes it back
+moved it), else the hand the detector sees most over the video (the cook's working hand), else the right hand
+of the video's first person. The pipeline cuts its segments where such a hold starts and ends, and writes it
+into the timeline where that hand holds nothing.
 """
 
 from __future__ import annotations
@@ -40,9 +43,15 @@ from wecook_core.perception.association.frame_links import (
     video_diagonal,
 )
 from wecook_core.perception.label_runs import runs
+from wecook_core.perception.params import frames
 
 if TYPE_CHECKING:
     from wecook_core.perception.params import Params
+
+SEEN_WITHIN = 1.0
+"""A moving object is seen by a detected hand whose box comes within this many of the object's own box
+diagonals of it: a hand that near is the one moving it (the decoder judges it from that hand), farther away it
+is some other hand's work."""
 
 
 def shot_index(length: int, shots: Sequence[int]) -> np.ndarray:
@@ -107,13 +116,14 @@ def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = ()) -
     boxes = frame_boxes(obs, 0, total, rate.fill_gap)
     objects = boxes.objects
     shot = shot_index(total, shots)
-    most = params.dwell_fraction * video_diagonal(obs)
+    most = params.moving_cap_fraction * video_diagonal(obs)
     moving = moving_objects(objects, rate.dwell_frames, params.moving_fraction, shot, most)
     if not moving.any():
         return ()
     cats = boxes.categories
-    # an ingredient overlapping a moving container rides in it (the squash in the tipped bowl); one in a
-    # container that a moving tool overlaps is being stirred there: neither is in a hand of its own
+    # an ingredient overlapping a moving container rides in it (found on tasty-a: the squash in the tipped
+    # bowl); one in a container that a moving tool overlaps is being stirred there: neither is in a hand of
+    # its own
     containers = [k for k, c in enumerate(cats) if c is Category.CONTAINER]
     tools = [k for k, c in enumerate(cats) if c is Category.TOOL]
     _carried_containers(moving, objects, cats, containers, rate.dwell_frames, params.coherent_fraction, shot)
@@ -129,8 +139,9 @@ def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = ()) -
             moving[rows[overlap & moving[rows, c]], k] = False
             rows = np.flatnonzero(moving[:, k])
     dominant = _dominant_hand(obs)
-    # seen: a detected hand is within the object's own size of it (the decoder judges what that hand holds;
-    # an onion sliding off a plate that a seen hand tips is moved by the plate, not by a hand of its own)
+    # seen: a detected hand comes within SEEN_WITHIN of the object's own size (the decoder judges what that
+    # hand holds; an onion sliding off a plate that a seen hand tips is moved by the plate, not by a hand of
+    # its own)
     unseen = np.zeros_like(moving)
     rows, columns = np.nonzero(moving)
     if len(rows):
@@ -138,14 +149,15 @@ def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = ()) -
         with np.errstate(invalid="ignore"):
             size = np.hypot(box[:, 2] - box[:, 0], box[:, 3] - box[:, 1])
             gap = box_gap(boxes.hand_boxes[rows], box[:, None, :])
-            seen = (gap <= size[:, None]).any(axis=1)
+            seen = (gap <= SEEN_WITHIN * size[:, None]).any(axis=1)
         unseen[rows[~seen], columns[~seen]] = True
     holds = []
-    bridge = rate.min_action_frames
+    bridge = frames(params.unseen_bridge_s, obs.video.fps)
+    reach = frames(params.unseen_hand_s, obs.video.fps)
     for k, name in enumerate(boxes.names):
         spans = _spans(unseen[:, k], bridge, rate.min_frames)
         for start, end in spans:
-            hand = _nearest_hand(objects[:, k], boxes.hand_boxes, start, end, shot, rate.min_action_frames)
+            hand = _nearest_hand(objects[:, k], boxes.hand_boxes, start, end, shot, reach)
             holds.append(UnseenHold(hand or dominant, name, start, end))
     return tuple(sorted(holds, key=lambda h: (h.start, h.obj)))
 

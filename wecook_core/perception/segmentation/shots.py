@@ -25,20 +25,28 @@ from pathlib import Path
 import numpy as np
 
 SIZE = 64
-"""Frames are shrunk to this many pixels a side before their histogram is taken (speed; colours survive)."""
+"""Pixels a side frames are shrunk to before their histogram is taken (speed; colours survive). A resolution
+of the computation: the histogram is normalised, so the result hardly depends on it."""
 BINS = (16, 8)
-"""Hue and saturation bins of the histogram."""
+"""Hue and saturation bins of the histogram (counts)."""
+HSV_RANGES = (0, 180, 0, 256)
+"""OpenCV's ranges of 8-bit hue (0-179) and saturation (0-255): the whole of each, not a tunable."""
 THRESHOLD = 0.3
-"""Bhattacharyya distance (0: same colours, 1: none shared) below which consecutive frames are never a cut:
-within a shot it stays near 0.05-0.2."""
+"""Bhattacharyya distance (unitless, 0: same colours, 1: none shared) below which consecutive frames are never
+a cut: within a shot it stays near 0.05-0.2."""
 OUTLIER = 8.0
-"""A cut's distance lies more than this many median absolute deviations above the video's median (a robust
+"""Median absolute deviations: a cut's distance lies more than this many above the video's median (a robust
 outlier test: motion inside shots spreads the distances, a cut stands out of them)."""
+MIN_FRAMES = 3
+"""Frames a video needs before cuts are looked for: the median and spread of its distances need two of them
+(the first frame has none)."""
+FFMPEG_QUIET = "-8"
+"""OpenCV's FFmpeg log level that prints nothing (a damaged frame is not the user's business here)."""
 
 
 def histogram_distances(path: str | Path) -> np.ndarray:
     """float64 ``(frames,)``: each frame's Bhattacharyya distance to the frame before (0 for the first)."""
-    os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
+    os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", FFMPEG_QUIET)
     import cv2
 
     capture = cv2.VideoCapture(str(path))
@@ -51,7 +59,7 @@ def histogram_distances(path: str | Path) -> np.ndarray:
                 break
             small = cv2.resize(frame, (SIZE, SIZE), interpolation=cv2.INTER_AREA)
             hsv = cv2.cvtColor(small, cv2.COLOR_BGR2HSV)
-            hist = cv2.calcHist([hsv], [0, 1], None, list(BINS), [0, 180, 0, 256])
+            hist = cv2.calcHist([hsv], [0, 1], None, list(BINS), list(HSV_RANGES))
             cv2.normalize(hist, hist, 1.0, 0.0, cv2.NORM_L1)
             distances.append(0.0 if previous is None else
                              float(cv2.compareHist(previous, hist, cv2.HISTCMP_BHATTACHARYYA)))
@@ -64,7 +72,7 @@ def histogram_distances(path: str | Path) -> np.ndarray:
 def cuts_of(distances: np.ndarray, threshold: float = THRESHOLD, outlier: float = OUTLIER) -> tuple[int, ...]:
     """The frames that start a new shot: where the distance to the frame before exceeds ``threshold`` and
     lies ``outlier`` median absolute deviations above the median."""
-    if len(distances) < 3:
+    if len(distances) < MIN_FRAMES:
         return ()
     inner = distances[1:]
     median = float(np.median(inner))
