@@ -236,3 +236,22 @@ def test_parameters_are_seconds_so_5_fps_and_30_fps_agree():
     slow = resampled(shaking_over_the_pan(), 6)
     _, timeline = associate_segments(slow, (Segment(0, 20),), Params())
     assert (timeline.held[2:18, 1] == timeline.column("salt")).all()
+
+
+def test_a_tool_works_the_ingredient_it_is_in_not_the_one_it_grazes():
+    """Both ingredients touch the spoon (box gap 0): the spinach tipped over the squash lies where the spoon
+    stirs, the squash's box only reaches under it. The spoon covers more of the spinach's box: it works it."""
+    pan = (100, 100, 540, 420)
+    squash = (140, 140, 420, 380)  # the big heap, listed first
+    spinach = (360, 200, 480, 320)
+    spoon = (380, 230, 440, 290)
+    hand = (400, 250, 450, 300)
+    obs = observations(60, {
+        "pan": (Category.CONTAINER, [still(0, 60, pan)]),
+        "squash": (Category.INGREDIENT, [still(0, 60, squash)]),
+        "spinach": (Category.INGREDIENT, [still(0, 60, spinach)]),
+        "spoon": (Category.TOOL, [still(0, 60, spoon)]),
+    }, {"RH_P1": [still(0, 60, hand)]})
+    (assoc,) = associate(obs, one_segment(obs), Params())
+    assert assoc.hand_object == {"RH_P1": "spoon"}
+    assert assoc.object_object["spoon"][0] == "spinach", assoc.object_object
