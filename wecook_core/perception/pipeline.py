@@ -35,7 +35,7 @@ from wecook_core.model import (
     TreeSpan,
 )
 from wecook_core.perception.association.frame_links import UnseenHold
-from wecook_core.perception.params import Params, frames
+from wecook_core.perception.params import DEFAULT_FPS, Params, frames
 
 if TYPE_CHECKING:
     from wecook_core.knowledge.recognize import Knowledge
@@ -194,7 +194,7 @@ def segmentation_params(obs: Observations, params: Params) -> Params:
     """``params`` with ``k_max`` raised to ``k_per_minute`` times the video's length in minutes."""
     import math
 
-    fps = obs.video.fps if obs.video.fps > 0 else 30.0
+    fps = obs.video.fps if obs.video.fps > 0 else DEFAULT_FPS
     minutes = obs.video.frame_count / fps / 60.0
     k_max = max(params.k_max, math.ceil(params.k_per_minute * minutes))
     return params if k_max == params.k_max else replace(params, k_max=k_max)

@@ -15,6 +15,7 @@ import numpy as np
 from wecook_core.model import HANDS, Category, Observations
 from wecook_core.perception.association.holding import held_objects
 from wecook_core.perception.label_runs import NONE
+from wecook_core.perception.params import DEFAULT_FPS
 
 if TYPE_CHECKING:
     from wecook_core.perception.params import Params
@@ -48,7 +49,7 @@ class FrameBoxes:
     """Hand names (always :data:`HANDS`), the column order of ``hand_boxes``."""
     hand_boxes: np.ndarray
     """float64 ``(frames, hands, 4)``: pixels, NaN where the hand is not detected."""
-    fps: float = 30.0
+    fps: float = DEFAULT_FPS
     """The video's frame rate (durations in :class:`Params` are seconds)."""
 
 
@@ -66,7 +67,7 @@ def frame_boxes(obs: Observations, start: int, end: int, fill: int = 0) -> Frame
         if hand_track.hand in HANDS:
             _scatter(hand_boxes[:, HANDS.index(hand_track.hand)], hand_track.frames, hand_track.boxes, start, end,
                      fill)
-    return FrameBoxes(start, end, names, categories, objects, HANDS, hand_boxes, obs.video.fps or 30.0)
+    return FrameBoxes(start, end, names, categories, objects, HANDS, hand_boxes, obs.video.fps or DEFAULT_FPS)
 
 
 def _scatter(out: np.ndarray, frames: np.ndarray, values: np.ndarray, start: int, end: int, fill: int) -> None:

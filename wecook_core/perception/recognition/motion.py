@@ -34,6 +34,8 @@ from typing import Literal
 
 import numpy as np
 
+from wecook_core.perception.params import DEFAULT_FPS
+
 Role = Literal["tool", "held", "hand"]
 """What the object whose motion is read does: a held ``tool``; an ingredient ``held`` over a container (poured,
 sprinkled, dipped); an ingredient worked by the ``hand`` itself (squeezed, peeled)."""
@@ -113,7 +115,7 @@ def motion_of(boxes: np.ndarray, fps: float) -> Motion | None:
     width = np.clip(box[:, 2] - box[:, 0], 1e-6, None)
     height = np.clip(box[:, 3] - box[:, 1], 1e-6, None)
     aspect = width / height
-    k = max(1, round(TILT_SMOOTH_S * (fps if fps > 0 else 30.0) / 2))
+    k = max(1, round(TILT_SMOOTH_S * (fps if fps > 0 else DEFAULT_FPS) / 2))
     if len(aspect) > 2 * k:
         padded = np.concatenate([np.full(k, aspect[0]), aspect, np.full(k, aspect[-1])])  # np.pad "edge", cheaper
         windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * k + 1)
@@ -124,7 +126,7 @@ def motion_of(boxes: np.ndarray, fps: float) -> Motion | None:
     second = np.linalg.norm(centre[2:] - 2 * centre[1:-1] + centre[:-2], axis=1)
     jitter = median_of(second) / np.sqrt(6.0) if len(second) else 0.0
     # running mean over about a second removes the drift of the stroke's centre
-    rate = fps if fps > 0 else 30.0
+    rate = fps if fps > 0 else DEFAULT_FPS
     mean = _running_mean(centre, max(1, round(0.5 * rate)))
     offset = centre - mean
     radius = np.linalg.norm(offset, axis=1)

@@ -9,7 +9,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from wecook_core.model import HandTrack, Observations, Segment, Segmentation
-from wecook_core.perception.params import Params
+from wecook_core.perception.params import Params, frames
 from wecook_core.perception.segmentation.choose import breakpoint_penalty, choose_k
 from wecook_core.perception.segmentation.ggs import ggs, refine_breakpoints
 
@@ -71,7 +71,7 @@ def segment_hands(obs: Observations, params: Params, *, sample_hz: float = SAMPL
         series, filled = hand_series(track, frame_count, video.width, video.height)
         interpolated[track.hand] = filled
         per_hand[track.hand] = _segment_series(series, params, step, params.k.get(track.hand))
-    min_frames = max(1, round(params.min_segment_s * video.fps)) if video.fps > 0 else 1
+    min_frames = frames(params.min_segment_s, video.fps)  # one rule for every duration (the default rate at fps 0)
     cuts = union_breakpoints(per_hand.values(), frame_count, min_frames)
     edges = [0, *cuts, frame_count]
     segments = tuple(Segment(a, b) for a, b in itertools.pairwise(edges)) if frame_count > 0 else ()
