@@ -26,7 +26,7 @@ transfer and collaboration detection track over time (:mod:`wecook_core.percepti
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -69,8 +69,6 @@ class Timeline:
     """int16 ``(frames, objects)``: see :attr:`FrameLinks.container`."""
     held: np.ndarray
     """int16 ``(frames, hands)``: see :attr:`FrameLinks.held`; hands in :data:`HANDS` order."""
-    touched: np.ndarray
-    """int16 ``(frames, hands)``: see :attr:`FrameLinks.touched`."""
     fps: float = DEFAULT_FPS
     """The video's frame rate."""
 
@@ -222,7 +220,6 @@ def associate_segments(
     total = frame_count(obs, segments)
     container = np.full((total, len(names)), NONE, dtype=np.int16)
     held = np.full((total, len(HANDS)), NONE, dtype=np.int16)
-    touched = held.copy()
     associations: list[Associations | None] = []
     since = None
     previous_end = None
@@ -234,15 +231,18 @@ def associate_segments(
         start, end = segments[first].start, segments[last].end
         links = frame_links(obs, start, end, params, since if previous_end == start else None, shots=shots)
         since, previous_end = links.since, end
+        written = None  # the block's held labels with the unseen holds written in (a new array: links stay frozen)
         for hold in unseen:
             lo, hi = max(hold.start, start), min(hold.end, end)
             if lo < hi and hold.obj in names:
-                unseen_rows = links.held[lo - start : hi - start, HANDS.index(hold.hand)]
+                written = links.held.copy() if written is None else written
+                unseen_rows = written[lo - start : hi - start, HANDS.index(hold.hand)]
                 unseen_rows[unseen_rows == NONE] = names.index(hold.obj)
+        if written is not None:
+            links = replace(links, held=written)
         rows = slice(start, end)
         container[rows] = links.container
         held[rows] = links.held
-        touched[rows] = links.touched
         for segment in segments[first : last + 1]:
             # a segment too short to hold a link of min_frames is judged on the min_frames around it, once
             # the frames after it are known
@@ -256,8 +256,7 @@ def associate_segments(
             window = Segment(max(0, segment.start - pad), min(total, segment.end + pad))
             rows = slice(window.start, window.end)
             boxes = frame_boxes(obs, window.start, window.end, rate.fill_gap)
-            around = FrameLinks(boxes, container[rows].astype(np.int32), held[rows].astype(np.int32),
-                                touched[rows].astype(np.int32), None)
+            around = FrameLinks(boxes, container[rows].astype(np.int32), held[rows].astype(np.int32), None)
             associations[i] = associations_of(around, segment, params, diagonal, corrections, window)
     done = tuple(a for a in associations if a is not None)
     if corrections is not None:
@@ -266,7 +265,7 @@ def associate_segments(
                 if (segment.start, hand) in corrections.hand_object:
                     chosen = association.hand_object.get(hand)
                     held[segment.start : segment.end, column] = names.index(chosen) if chosen is not None else NONE
-    return done, Timeline(names, categories, container, held, touched, obs.video.fps or DEFAULT_FPS)
+    return done, Timeline(names, categories, container, held, obs.video.fps or DEFAULT_FPS)
 
 
 def associate(

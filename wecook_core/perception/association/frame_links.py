@@ -143,8 +143,6 @@ class FrameLinks:
     held: np.ndarray
     """int ``(frames, hands)``: column index of the object each hand holds, :data:`NONE` if none: what moves with
     the hand among the boxes it overlaps (:mod:`wecook_core.perception.association.holding`)."""
-    touched: np.ndarray
-    """int ``(frames, hands)``: the same as ``held`` (kept for the transfer tracker's "touched" reading)."""
     since: np.ndarray | None
     """float64 ``(hands, 1 + objects)``: the held-object smoother's forward costs on the last frame
     (:func:`wecook_core.perception.association.holding.held_objects`); pass it to the next range's
@@ -176,7 +174,7 @@ def frame_links(
 def crop_links(links: FrameLinks, start: int, end: int) -> FrameLinks:
     """The rows of ``[start, end)`` (within ``links``' range), as views (``since`` is not cropped)."""
     a, b = start - links.start, end - links.start
-    return FrameLinks(crop(links.boxes, start, end), links.container[a:b], links.held[a:b], links.touched[a:b],
+    return FrameLinks(crop(links.boxes, start, end), links.container[a:b], links.held[a:b],
                       links.since)
 
 
@@ -229,8 +227,7 @@ def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None,
             coherent_fraction=params.coherent_fraction, switch=rate.hold_switch_frames, start=since,
             step=rate.decode_step, shot=np.searchsorted(np.asarray(sorted(shots), dtype=np.int64),
                                                         np.arange(boxes.start, boxes.end), side="right"))
-    touched = held
-    return FrameLinks(boxes, container, held, touched, last)
+    return FrameLinks(boxes, container, held, last)
 
 
 def _drop_passing(container: np.ndarray, objects: np.ndarray, window: int, fraction: float) -> None:

@@ -135,8 +135,7 @@ def _mover(
     best: tuple[float, int, int] | None = None
     for hand in range(len(HANDS)):
         held = timeline.held[lo:hi, hand].astype(np.int64)
-        touched = timeline.touched[lo:hi, hand].astype(np.int64)
-        direct = (touched == ingredient) | (held == ingredient)
+        direct = held == ingredient
         carried_box = boxes.objects[rows, np.maximum(held, 0), :]
         with np.errstate(invalid="ignore"):
             via = (held != NONE) & (held != ingredient) & (box_gap(carried_box, ingredient_boxes) <= near)
@@ -154,7 +153,7 @@ def _mover(
     if best is None:
         return None
     _, hand, carrier = best
-    label = timeline.held[:, hand] if carrier != NONE else timeline.touched[:, hand]
+    label = timeline.held[:, hand]
     value = carrier if carrier != NONE else ingredient
     start, end = lo, hi
     for span_start, span_end in hold_spans(label, value, rate.min_frames):
