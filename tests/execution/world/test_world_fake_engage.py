@@ -6,7 +6,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.execution.world.test_world_fake import ACTION, OBJECTS, SKILLS, FakeArm, FakeScene, FakeWorld, ops, run, world
+from tests.execution.world.test_world_fake import (
+    ACTION,
+    OBJECTS,
+    SKILLS,
+    FakeArm,
+    FakeScene,
+    FakeWorld,
+    ops,
+    run,
+    world,
+)
 from wecook_core.execution.schedule.program import ActionFailed
 from wecook_core.execution.skills.library import evaluate
 from wecook_core.execution.skills.motions import actuation_path
