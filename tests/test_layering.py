@@ -6,6 +6,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 import wecook_core
 
 SCRIPT = """
@@ -18,6 +20,7 @@ print(" ".join(bad))
 """
 
 
+@pytest.mark.slow
 def test_core_never_imports_the_ui() -> None:
     result = subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True, timeout=120,
                             cwd=Path(wecook_core.__file__).parents[1])
@@ -48,6 +51,7 @@ print(" ".join(bad))
 """
 
 
+@pytest.mark.slow
 def test_the_world_its_skills_and_the_scheduler_import_no_simulator() -> None:
     """The primitives and roles are written against protocols (world/protocols.py): loading them, the skills and
     the scheduler loads neither pybullet nor the adapter, so they run against the tests' plain-Python fake."""

@@ -90,6 +90,7 @@ def test_unknown_stage_and_bad_workers_exit_2(tmp_path: Path, demo_inputs: dict[
 # ------------------------------------------------------------------------------------- stages, resume
 
 
+@pytest.mark.slow
 def test_stages_are_skipped_when_nothing_changed_and_redone_when_an_input_does(
         tmp_path: Path, demo_inputs: dict[str, Path]) -> None:
     d = demo_inputs
@@ -113,6 +114,7 @@ def test_stages_are_skipped_when_nothing_changed_and_redone_when_an_input_does(
     assert len(kept) == 1, "--force keeps the replaced session beside the new one"
 
 
+@pytest.mark.slow
 def test_a_failed_video_stops_only_its_own_stages(tmp_path: Path, demo_inputs: dict[str, Path]) -> None:
     d = demo_inputs
     good = BatchItem("good", d["video"], d["objects"], d["hands"], d["truth"])
@@ -128,6 +130,7 @@ def test_a_failed_video_stops_only_its_own_stages(tmp_path: Path, demo_inputs: d
     assert [v["status"] for v in data["videos"]] == ["failed", "done"]
 
 
+@pytest.mark.slow
 def test_a_session_the_user_made_is_never_replaced_without_force(tmp_path: Path,
                                                                  demo_inputs: dict[str, Path]) -> None:
     d = demo_inputs

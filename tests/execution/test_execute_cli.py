@@ -56,6 +56,7 @@ def test_default_record_path(tmp_path: Path) -> None:
     assert default_record_path(tmp_path / "my.yaml", now) == tmp_path.resolve() / "runs" / "my-20261124-030405.mcap"
 
 
+@pytest.mark.slow
 def test_runs_check_and_recover(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     good = tmp_path / "good.mcap"
     synthetic_run(McapRecorder(good), actions=2, seconds_per_action=0.3)

@@ -38,6 +38,7 @@ def round_trip(plan: Plan, folder: Path, name: str = "plan") -> set[tuple[str, .
     return simulate(domain, problem, list(export.steps))
 
 
+@pytest.mark.slow
 def test_the_small_plan_round_trips_and_its_steps_reach_the_goal(tmp_path: Path) -> None:
     plan = read_plan(SMALL)
     state = round_trip(plan, tmp_path, "small")
@@ -47,12 +48,14 @@ def test_the_small_plan_round_trips_and_its_steps_reach_the_goal(tmp_path: Path)
     assert not [f for f in state if f[0] == "holding"]
 
 
+@pytest.mark.slow
 def test_the_demo_plan_and_sample_plans_round_trip(tmp_path: Path) -> None:
     round_trip(demo_plan(), tmp_path / "demo", "demo")
     for seed in range(4):
         round_trip(synthetic_plan(seed), tmp_path / f"s{seed}")
 
 
+@pytest.mark.slow
 def test_steps_that_break_the_domain_are_caught(tmp_path: Path) -> None:
     export = export_pddl(read_plan(SMALL))
     domain, problem, _ = write_pddl(export, tmp_path)

@@ -33,6 +33,7 @@ def test_the_exporter_knows_the_platform_messages_as_they_are_defined() -> None:
     assert {name: msg.fields_of(name) for name in msg.DEFINITIONS} == MESSAGES
 
 
+@pytest.mark.slow
 def test_the_demo_plan_dispatches_as_one_task_with_its_actions(demo: Plan, monkeypatch: pytest.MonkeyPatch) -> None:
     script, export = dispatch_script(demo, "demo")
     ast.parse(script)

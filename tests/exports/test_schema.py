@@ -28,6 +28,7 @@ def test_the_schema_is_a_valid_draft_2020_12_schema() -> None:
     Draft202012Validator.check_schema(plan_schema())
 
 
+@pytest.mark.slow
 def test_every_plan_wecook_writes_meets_the_schema() -> None:
     texts = [ONE_ARM_CUTS, SMALL.read_text(), *(dump_plan(synthetic_plan(seed)) for seed in range(6))]
     for text in texts:

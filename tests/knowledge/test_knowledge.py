@@ -390,6 +390,7 @@ def test_build_from_a_csv_writes_tables_and_source(tmp_path: Path) -> None:
     assert "| uniform, per record | all |" in source and "ceiling" in source
 
 
+@pytest.mark.slow
 def test_shipped_tables_are_what_the_shared_corpora_teach(shared: Path) -> None:
     """The shipped counts are reproducible from the corpora read in place (same defaults as `learn`)."""
     shipped = json.loads((ASSETS_DIR / "knowledge" / "commonsense.json").read_text())

@@ -43,6 +43,7 @@ def video(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[tuple[fl
     return path, render(path)
 
 
+@pytest.mark.slow
 def test_the_photo_hand_is_found_with_both_models() -> None:
     image = cv2.resize(cv2.imread(str(HAND)), None, fx=3, fy=3)
     for model in ("full", "lite"):
@@ -55,6 +56,7 @@ def test_the_photo_hand_is_found_with_both_models() -> None:
 
 
 @pytest.mark.parametrize("model", ["full", "lite"])
+@pytest.mark.slow
 def test_a_video_gives_both_hands_named_and_tracked(video, model: str) -> None:
     path, centres = video
     done: list[tuple[int, int]] = []
@@ -69,6 +71,7 @@ def test_a_video_gives_both_hands_named_and_tracked(video, model: str) -> None:
     assert (by_name["LH_P1"].xy[:, 0] > 320).all()
 
 
+@pytest.mark.slow
 def test_wecook_hands_writes_a_csv_the_importer_reads(video, tmp_path: Path, capsys) -> None:
     path, _ = video
     out = tmp_path / "hands.csv"
@@ -85,6 +88,7 @@ def test_wecook_hands_writes_a_csv_the_importer_reads(video, tmp_path: Path, cap
     assert out.read_bytes() == before
 
 
+@pytest.mark.slow
 def test_wecook_new_without_hands_detects_them(video, tmp_path: Path, capsys) -> None:
     path, _ = video
     objects = tmp_path / "objects.csv"

@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from tests.square_video import moving_square
 from wecook_core.formats.cvat import read_cvat
@@ -19,6 +20,7 @@ def test_mil_is_available() -> None:
     assert "MIL" in available_trackers()
 
 
+@pytest.mark.slow
 def test_a_drawn_box_is_followed_until_the_object_is_gone(tmp_path: Path) -> None:
     video = tmp_path / "square.avi"
     truth = moving_square(video)
@@ -31,6 +33,7 @@ def test_a_drawn_box_is_followed_until_the_object_is_gone(tmp_path: Path) -> Non
     assert max(boxes) < 31
 
 
+@pytest.mark.slow
 def test_max_seconds_bounds_the_tracking(tmp_path: Path) -> None:
     video = tmp_path / "square.avi"
     truth = moving_square(video, vanish=None)

@@ -264,6 +264,7 @@ def test_generated_plan_round_trips(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(("seed", "persons"), [(0, 2), (1, 2), (2, 2), (3, 1)])
+@pytest.mark.slow
 def test_plans_of_synthetic_videos_are_valid_and_uncluttered(seed: int, persons: int) -> None:
     from wecook_core.model import ActionKind
     from wecook_core.synth.scenario import synthesize
@@ -324,6 +325,7 @@ def test_one_arm_objects_stay_on_its_half_when_the_table_is_crowded() -> None:
         assert abs(a.x - b.x) >= ax + bx or abs(a.y - b.y) >= ay + by, (a.name, b.name)
 
 
+@pytest.mark.slow
 def test_the_demo_layout_keeps_each_arm_s_things_on_its_half_and_room_for_the_hand() -> None:
     """The bundled demo's plan: what one person uses lies on that arm's half, and a gripper lying across a tool
     to take it has HAND_ROOM from anything tall (the spoon beside the pot, on P2's side, made P1's grasps and

@@ -41,6 +41,7 @@ class Images:
         self.images.append((t, jpeg, width, height))
 
 
+@pytest.mark.slow
 def test_panda_links_get_their_visual_meshes_decimated_in_the_right_place() -> None:
     import trimesh
 

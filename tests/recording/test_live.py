@@ -41,6 +41,7 @@ def _data(message: bytes, subs: dict[int, str]) -> tuple[str, int, dict] | None:
     return subs[sub], ns, json.loads(message[13:])
 
 
+@pytest.mark.slow
 def test_server_sends_every_topic_and_meshes_to_a_late_subscriber() -> None:
     with LiveServer(port=0, live_hz=1000) as server:
         assert server.url == f"ws://127.0.0.1:{server.port}"

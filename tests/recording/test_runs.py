@@ -87,6 +87,7 @@ def test_missing_topics_and_corruption_are_found(tmp_path: Path) -> None:
     assert len(check_recording(junk).problems) == 1
 
 
+@pytest.mark.slow
 def test_recovering_a_finished_file_keeps_everything(tmp_path: Path) -> None:
     source = recorded(tmp_path / "ok.mcap")
     report = recover_recording(source, tmp_path / "copy.mcap")

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
 from contract import field_swapped, keeps_contract, mutated
 from hypothesis import given
 from hypothesis import strategies as st
@@ -59,6 +60,7 @@ def _write(folder: Path, name: str, data: bytes | str) -> Path:
 
 
 @given(data=st.one_of(mutated(OBJECTS_CSV.encode()), field_swapped(OBJECTS_CSV).map(str.encode)))
+@pytest.mark.slow
 def test_objects_csv(tmp_path: Path, data: bytes) -> None:
     path = _write(tmp_path, "objects.csv", data)
     keeps_contract(lambda: read_objects_csv(path), path)

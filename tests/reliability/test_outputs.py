@@ -114,6 +114,7 @@ def test_execute_record_refuses_a_folder_or_an_existing_file(tmp_path: Path, pre
     assert precious.read_text() == PRECIOUS
 
 
+@pytest.mark.slow
 def test_runs_recover_refuses_a_folder_or_an_existing_file(tmp_path: Path, precious: Path, recording: Path,
                                                            capsys: pytest.CaptureFixture[str]) -> None:
     _one_line_exit_2(["runs", "recover", str(recording), "-o", str(tmp_path)], tmp_path, capsys)
@@ -128,6 +129,7 @@ def test_runs_recover_refuses_a_folder_or_an_existing_file(tmp_path: Path, preci
     default.unlink()
 
 
+@pytest.mark.slow
 def test_a_flipped_byte_costs_one_chunk_and_is_reported(tmp_path: Path, recording: Path) -> None:
     data = bytearray(recording.read_bytes())
     whole = salvage(recording)
@@ -155,6 +157,7 @@ def test_a_torn_recording_says_the_run_had_not_finished(tmp_path: Path, recordin
     assert check_recording(tmp_path / "out.mcap").ok
 
 
+@pytest.mark.slow
 def test_damaged_record_boundaries_cost_at_most_one_chunk(tmp_path: Path, recording: Path) -> None:
     import struct
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 import yaml
 from contract import NASTY, field_swapped, keeps_contract, mutated
 from hypothesis import given
@@ -50,6 +51,7 @@ _GOOD = yaml.safe_load(ONE_ARM_CUTS)
 @given(where=st.sampled_from(["agents", "scene", "actions", "wecook_plan", "table", "objects", "base", "pose",
                               "position", "robot", "size", "height", "pid", "after", "frames"]),
        value=json_like)
+@pytest.mark.slow
 def test_random_values_anywhere(tmp_path: Path, where: str, value: object) -> None:
     data = yaml.safe_load(ONE_ARM_CUTS)
     targets = {"agents": (data, "agents"), "scene": (data, "scene"), "actions": (data, "actions"),

@@ -53,6 +53,7 @@ def test_box_corrections_round_trip_and_fold_like_the_box_mode() -> None:
         parse({"op": "box_label", "track": 0, "label": "x"})
 
 
+@pytest.mark.slow
 def test_a_video_alone_gets_its_trees_from_drawn_boxes_kept_across_undo_redo_and_reopening(tmp_path: Path) -> None:
     """The demo's video and hands without its boxes; its boxes drawn back as a keyframe each plus the tracked
     rest give the trees the imported boxes give."""
@@ -84,6 +85,7 @@ def test_a_video_alone_gets_its_trees_from_drawn_boxes_kept_across_undo_redo_and
     assert [format_tree(t.tree) for t in analyse_session(path, write=False).analysis.trees] == trees
 
 
+@pytest.mark.slow
 def test_a_category_given_for_an_unknown_label_is_applied_and_no_longer_asked(tmp_path: Path) -> None:
     demo = Path(demo_dir())
     objects = tmp_path / "objects.csv"

@@ -187,11 +187,42 @@ def test_a_second_writer_is_refused(tmp_path: Path) -> None:
         ({"op": "set_status", "segment": 0, "status": "great"}, "status must be one of"),
         ({"op": "set_object_object", "segment": 0, "object": "knife", "targets": "pot"}, "list of object names"),
         ({"op": "set_hand_object", "segment": 0, "hand": "RH_P1", "object": ""}, "object name"),
+        ({"op": "set_hand_object", "segment": 0, "hand": "RH_P1"}, "missing field 'object'"),  # null, not absent
+        ({"op": "set_object_object", "segment": 0, "object": None, "targets": []}, "object must be an object name"),
+        ({"op": "set_verb", "segment": None, "hand": "RH_P1", "verb": "cut"}, "segment must be a frame index"),
+        ({"op": "box_keyframe", "track": 0, "frame": 1, "box": [0, 0, 5, 5]}, "track must be a drawn track id"),
+        ({"op": "box_keyframe", "track": 1, "frame": 1, "box": [0, 0, 0, 5]}, "x1 < x2"),
+        ({"op": "box_keyframe", "track": 1, "frame": 1, "box": [0, 0, 2e6, 5]}, "box .x1, y1, x2, y2. of pixels"),
+        ({"op": "box_keyframe", "track": 1, "frame": 1, "box": [0, 0, 5, 5], "label": ""}, "label must be an"),
+        ({"op": "box_label", "track": 1, "label": None}, "label must be an object name"),
+        ({"op": "box_tracked", "track": 1, "frames": [1], "boxes": "x"}, "boxes must be a list of boxes"),
+        ({"op": "box_tracked", "track": 1, "frames": [-1], "boxes": []}, "frames must be a list of frame indices"),
+        ({"op": "set_category", "label": "x", "category": "robot"}, "category must be one of"),
     ],
 )
 def test_malformed_corrections_are_refused(correction: dict[str, object], message: str) -> None:
     with pytest.raises(ValueError, match=message):
         check_correction(correction)
+
+
+@pytest.mark.parametrize(
+    "correction",
+    [
+        {"op": "set_hand_object", "segment": 0, "hand": "RH_P1", "object": None},
+        {"op": "set_verb", "segment": 0, "hand": "RH_P1", "verb": "cut", "end": None},
+        {"op": "box_keyframe", "track": 1, "frame": 1, "box": [0, 0, 5, 5]},
+        {"op": "box_keyframe", "track": 1, "frame": 1, "box": [0, 0, 5, 5], "label": None},
+        {"op": "box_tracked", "track": 1, "frames": [1], "boxes": [[0, 0, 5, 5]]},
+        {"op": "box_tracked", "track": 1, "frames": [], "boxes": [], "lost_at": None},
+    ],
+)
+def test_optional_fields_may_be_null_or_absent(correction: dict[str, object]) -> None:
+    from wecook_core.session.corrections import parse, to_record
+
+    parsed = parse(correction)
+    assert to_record(parsed) == {k: v for k, v in correction.items() if not (k == "end" and v is None)} | (
+        {"label": None} if correction["op"] == "box_keyframe" and "label" not in correction else {}) | (
+        {"lost_at": None} if correction["op"] == "box_tracked" and "lost_at" not in correction else {})
 
 
 def test_typed_corrections_round_trip_and_span_corrections_cover_their_action(tmp_path: Path) -> None:

@@ -221,6 +221,7 @@ def test_objects_jitter_a_little_when_they_lie_still() -> None:
 # ---------------------------------------------------------------------------------------- seeds, sizes
 
 
+@pytest.mark.slow
 def test_the_same_seed_gives_the_same_scenario_and_another_seed_another_script() -> None:
     a, b = synthesize(5), synthesize(5)
     assert a.tasks == b.tasks
@@ -251,6 +252,7 @@ def test_persons_are_numbered_left_to_right() -> None:
     assert np.median(left.shoulder[:, 1]) < np.median(right.shoulder[:, 1])
 
 
+@pytest.mark.slow
 def test_a_ten_minute_scenario_is_generated_quickly() -> None:
     import time
 
@@ -282,6 +284,7 @@ def test_bad_arguments_are_refused() -> None:
 # ----------------------------------------------------------------------------------------------- files
 
 
+@pytest.mark.slow
 def test_write_scenario_round_trips_through_the_readers(tmp_path: Path) -> None:
     s = synthesize(8, duration_s=7)
     out = write_scenario(s, tmp_path / "scenario", openpose=False)
@@ -305,6 +308,7 @@ def test_write_scenario_round_trips_through_the_readers(tmp_path: Path) -> None:
     assert decoded == s.frames
 
 
+@pytest.mark.slow
 def test_video_frames_draw_the_scene_the_same_with_and_without_the_cache() -> None:
     from wecook_core.synth.render import frames, render_frame
 
@@ -317,6 +321,7 @@ def test_video_frames_draw_the_scene_the_same_with_and_without_the_cache() -> No
     assert render_frame(s, 0)[y, x + 7, 2] > 150  # a red tomato where the scene says it lies
 
 
+@pytest.mark.slow
 def test_the_openpose_folder_describes_the_same_hands(tmp_path: Path) -> None:
     s = synthesize(9, duration_s=8)
     out = write_scenario(s, tmp_path / "op", video=False)
@@ -358,6 +363,7 @@ def test_the_synth_command_is_listed() -> None:
 # ------------------------------------------------------------------------------------------------ demo
 
 
+@pytest.mark.slow
 def test_the_bundled_demo_is_what_its_seed_generates() -> None:
     folder = demo_dir()
     for name in ("video.mp4", "objects.csv", "hands.csv", "truth.yaml", "README.md"):

@@ -59,6 +59,7 @@ async def open_and_collect(session: Path) -> tuple[WecookApp, list[str]]:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_missing_video_opens_with_a_notice_and_boxes(own_session: Path) -> None:
     video_of(own_session).unlink()
     app, notices = await open_and_collect(own_session)
@@ -69,6 +70,7 @@ async def test_missing_video_opens_with_a_notice_and_boxes(own_session: Path) ->
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_corrupt_video_opens_with_a_notice(own_session: Path) -> None:
     video_of(own_session).write_bytes(b"\x00garbage" * 1000)
     app, notices = await open_and_collect(own_session)
@@ -78,6 +80,7 @@ async def test_corrupt_video_opens_with_a_notice(own_session: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_changed_input_file_is_reported(own_session: Path) -> None:
     objects = own_session.parent.parent / "inputs" / "objects.csv"
     objects.write_text(objects.read_text().replace("bowl", "pot"))
@@ -87,6 +90,7 @@ async def test_changed_input_file_is_reported(own_session: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_torn_journal_line_is_reported_and_skipped(own_session: Path) -> None:
     from wecook_core.session.store import open_session
 
@@ -99,6 +103,7 @@ async def test_torn_journal_line_is_reported_and_skipped(own_session: Path) -> N
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_not_a_session_says_so(tmp_path: Path) -> None:
     folder = tmp_path / "nothing"
     folder.mkdir()
@@ -114,6 +119,7 @@ async def test_not_a_session_says_so(tmp_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_journal_written_by_another_wecook_is_refused_not_fatal(own_session: Path) -> None:
     from wecook_core.session.store import open_session
 
@@ -130,6 +136,7 @@ async def test_journal_written_by_another_wecook_is_refused_not_fatal(own_sessio
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_undo_and_redo_refused_by_the_journal_are_notices_not_tracebacks(own_session: Path) -> None:
     from wecook_core.session.store import open_session
 

@@ -36,6 +36,7 @@ def cell_of(view: FrameView, x: float, y: float) -> tuple[int, int]:
 
 @pytest.mark.parametrize("protocol", [None, "kitty"])
 @pilot_test
+@pytest.mark.slow
 async def test_a_click_selects_the_box_under_it_and_a_drag_draws_where_it_went(tmp_path: Path,
                                                                               protocol: str | None) -> None:
     video = tmp_path / "square.avi"

@@ -34,6 +34,7 @@ def make(tmp_path: Path) -> tuple[BoxApp, BoxScreen, list[tuple[float, float, fl
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_draw_with_keys_name_track_and_export(tmp_path: Path) -> None:
     app, screen, truth = make(tmp_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -70,6 +71,7 @@ async def test_draw_with_keys_name_track_and_export(tmp_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_a_mouse_drag_draws_a_box_and_a_second_box_is_separate(tmp_path: Path) -> None:
     app, screen, _ = make(tmp_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -94,6 +96,7 @@ async def test_a_mouse_drag_draws_a_box_and_a_second_box_is_separate(tmp_path: P
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_the_workbench_opens_box_mode_on_its_video(session_path: Path) -> None:
     from tui_driving import settle
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from tui_driving import pilot_test, settle
 from tui_fake import fake_workspace
 
@@ -20,6 +21,7 @@ def cell_of(view: FrameView, x: float, y: float) -> tuple[int, int]:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_clicks_on_boxes_and_hands_select_them(tmp_path: Path) -> None:
     opener, analyzer = fake_workspace(tmp_path)
     app = WecookApp(tmp_path / "kitchen", opener=opener, analyzer=analyzer)

@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import pytest
 from rich.segment import Segment
 from tui_driving import pilot_test, wait_for
 from tui_fake import fake_workspace, make_video
@@ -115,6 +116,7 @@ def test_overlay_draws_scaled_boxes_links_and_hands() -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_a_slow_decode_never_holds_up_the_keys(tmp_path: Path) -> None:
     opener, analyzer = fake_workspace(tmp_path)
     gate = threading.Event()
@@ -236,6 +238,7 @@ def test_prefetch_with_a_step_keeps_every_step_th_frame_with_the_right_pixels(tm
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_playback_that_lags_keeps_every_few_frames_and_shows_the_latest_kept(tmp_path: Path) -> None:
     opener, analyzer = fake_workspace(tmp_path)
     app = WecookApp(tmp_path / "kitchen", opener=opener, analyzer=analyzer)
@@ -271,6 +274,7 @@ async def test_playback_that_lags_keeps_every_few_frames_and_shows_the_latest_ke
         assert view.stride == 1  # a one-frame step: every frame again
 
 
+@pytest.mark.slow
 def test_prefetch_behind_the_cursor_decodes_the_nearest_frames_first(tmp_path: Path) -> None:
     """Stepping back wants the frame just below the cursor next: the first block read is the one below it."""
     source = FrameSource(make_video(tmp_path / "v.avi", frames=60))

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 from tui_driving import pilot_test, settle
 from tui_fake import fake_workspace
 
@@ -45,6 +46,7 @@ def test_the_picture_has_the_terminal_s_pixels_and_written_labels() -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_a_graphics_terminal_gets_the_picture_at_its_pixel_size(tmp_path: Path) -> None:
     opener, analyzer = fake_workspace(tmp_path)
     app = WecookApp(tmp_path / "kitchen", opener=opener, analyzer=analyzer)

@@ -57,6 +57,7 @@ def test_batch_missing_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     assert "none.txt" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_learn_and_evaluate_own_corpus(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     corpus = tmp_path / "mine.csv"
     corpus.write_text(CSV)
@@ -92,6 +93,7 @@ title: "Rice jars"
 """
 
 
+@pytest.mark.slow
 def test_extract_recipes_then_learn_from_them(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     recipes = tmp_path / "recipes"
     recipes.mkdir()

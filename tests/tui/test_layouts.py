@@ -18,6 +18,7 @@ def screen_text(app: WecookApp) -> list[str]:
 
 @pytest.mark.parametrize("size", [(80, 24), (200, 55), (300, 80)])
 @pilot_test
+@pytest.mark.slow
 async def test_nothing_needed_is_off_screen(tmp_path: Path, size: tuple[int, int]) -> None:
     opener, analyzer = fake_workspace(tmp_path)
     app = WecookApp(tmp_path / "kitchen", opener=opener, analyzer=analyzer)

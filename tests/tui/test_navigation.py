@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from tui_driving import pilot_test, settle, wait_for
 
 from wecook_tui.app import WecookApp
@@ -25,6 +26,7 @@ def test_go_to_reads_frames_times_and_segments() -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_go_to_key(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -43,6 +45,7 @@ async def test_go_to_key(session_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_previous_unreviewed(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -57,6 +60,7 @@ async def test_previous_unreviewed(session_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_search_actions_and_objects_from_the_palette(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -76,6 +80,7 @@ async def test_search_actions_and_objects_from_the_palette(session_path: Path) -
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_reopening_resumes_where_the_user_left_off(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -92,6 +97,7 @@ async def test_reopening_resumes_where_the_user_left_off(session_path: Path) -> 
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_a_click_on_the_timeline_moves_the_cursor(session_path: Path) -> None:
     from wecook_tui.widgets.timeline import LABEL_WIDTH, Timeline
 

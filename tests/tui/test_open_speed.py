@@ -5,6 +5,7 @@ from __future__ import annotations
 import threading
 from pathlib import Path
 
+import pytest
 from tui_driving import pilot_test, wait_for
 from tui_fake import fake_workspace
 
@@ -15,6 +16,7 @@ from wecook_tui.workspace import open_video
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_the_video_shows_before_the_session_is_open(tmp_path: Path) -> None:
     opener, analyzer = fake_workspace(tmp_path)
     gate = threading.Event()

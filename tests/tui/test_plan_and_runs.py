@@ -6,6 +6,7 @@ import json
 import sys
 from pathlib import Path
 
+import pytest
 import yaml
 from tui_driving import pilot_test, settle, wait_for
 
@@ -53,6 +54,7 @@ def hanging_execute(plan: Path, mcap: Path) -> list[str]:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_plan_review_and_export(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -81,6 +83,7 @@ async def test_plan_review_and_export(session_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_export_follows_corrections(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -103,6 +106,7 @@ async def test_export_follows_corrections(session_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_run_screen_shows_progress_summary_and_past_runs(session_path: Path) -> None:
     app = WecookApp(session_path)
     app.run_command = fake_execute
@@ -144,6 +148,7 @@ def test_run_events_fold_into_action_states() -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_stopping_a_run_is_clean_and_says_stopped(session_path: Path) -> None:
     app = WecookApp(session_path)
     app.run_command = hanging_execute
@@ -164,6 +169,7 @@ async def test_stopping_a_run_is_clean_and_says_stopped(session_path: Path) -> N
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_past_runs_show_their_table_and_log_and_enter_opens_one(session_path: Path) -> None:
     app = WecookApp(session_path)
     app.run_command = fake_execute

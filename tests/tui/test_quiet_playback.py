@@ -36,6 +36,7 @@ def test_the_keeper_writes_at_most_once_an_interval_and_the_last_frame_on_flush(
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_segment_changes_write_the_position_once_and_quitting_writes_the_last(
         session_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(PositionKeeper, "INTERVAL", 3600.0)  # every change below falls in one interval
@@ -56,6 +57,7 @@ async def test_segment_changes_write_the_position_once_and_quitting_writes_the_l
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_the_pending_position_is_written_once_the_interval_is_over(session_path: Path,
                                                                          monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(PositionKeeper, "INTERVAL", 0.3)
@@ -69,6 +71,7 @@ async def test_the_pending_position_is_written_once_the_interval_is_over(session
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_the_tree_is_rebuilt_only_when_the_segment_s_trees_change(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -89,6 +92,7 @@ async def test_the_tree_is_rebuilt_only_when_the_segment_s_trees_change(session_
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_leaving_without_q_writes_the_pending_position_too(session_path: Path,
                                                                 monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(PositionKeeper, "INTERVAL", 3600.0)

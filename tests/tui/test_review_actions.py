@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from tui_driving import journal, pick, pilot_test, settle
 
 from wecook_core.model import ActionKind, SegmentStatus
@@ -33,6 +34,7 @@ def longest_verb(app: WecookApp) -> tuple[str, tuple[int, int], list[int]]:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_a_verb_correction_acts_on_the_whole_action_or_on_one_segment(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -81,6 +83,7 @@ async def test_a_verb_correction_acts_on_the_whole_action_or_on_one_segment(sess
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_undo_and_redo_answer_and_jump_to_what_they_changed(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:

@@ -46,6 +46,7 @@ def summary(screen: RunScreen) -> str:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_the_run_screen_says_the_live_address_from_the_run_events(session_path: Path) -> None:
     app = WecookApp(session_path)
     app.run_command = fake_live

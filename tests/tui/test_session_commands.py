@@ -118,6 +118,7 @@ def test_new_with_mot_boxes_a_labels_file_and_a_forced_format(tmp_path: Path, ca
     assert session.load_observations().objects[0].label == "Whisk"
 
 
+@pytest.mark.slow
 def test_demo_without_a_terminal_prints_trees_graph_and_scores(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
     from wecook_tui.cli import main
 

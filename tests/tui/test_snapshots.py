@@ -36,12 +36,14 @@ def ready(app: WecookApp):  # type: ignore[no-untyped-def]
 
 
 @pytest.mark.parametrize("size", SIZES)
+@pytest.mark.slow
 def test_main_screen(snap_compare, tmp_path: Path, size: tuple[int, int]) -> None:  # type: ignore[no-untyped-def]
     app = fake_app(tmp_path)
     assert snap_compare(app, terminal_size=size, run_before=ready(app))
 
 
 @pytest.mark.parametrize("size", SIZES)
+@pytest.mark.slow
 def test_main_screen_after_review(snap_compare, tmp_path: Path,  # type: ignore[no-untyped-def]
                                   size: tuple[int, int]) -> None:
     app = fake_app(tmp_path)
@@ -55,6 +57,7 @@ def test_main_screen_after_review(snap_compare, tmp_path: Path,  # type: ignore[
 
 
 @pytest.mark.parametrize("size", SIZES)
+@pytest.mark.slow
 def test_help_screen(snap_compare, tmp_path: Path, fixed_key_path: None,  # type: ignore[no-untyped-def]
                      size: tuple[int, int]) -> None:
     app = fake_app(tmp_path)
@@ -66,6 +69,7 @@ def test_help_screen(snap_compare, tmp_path: Path, fixed_key_path: None,  # type
     assert snap_compare(app, terminal_size=size, run_before=run_before)
 
 
+@pytest.mark.slow
 def test_action_picker(snap_compare, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
     app = fake_app(tmp_path)
 

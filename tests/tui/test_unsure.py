@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from tui_driving import pilot_test, settle, wait_for
 from tui_scenario import write_inputs
 
@@ -36,6 +37,7 @@ def status_row(app: WecookApp) -> str:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_unsure_segments_are_marked_with_their_reason_and_visited_until_reviewed(tmp_path: Path) -> None:
     app = WecookApp(hands_missing(tmp_path))
     async with app.run_test(size=SIZE) as pilot:

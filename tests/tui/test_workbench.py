@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from tui_driving import journal, pick, pilot_test, settle, wait_for
 
 from wecook_core.model import SegmentStatus
@@ -26,6 +27,7 @@ def ops(session: Path) -> list[str]:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_opens_with_frame_timeline_and_inspector(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -46,6 +48,7 @@ async def test_opens_with_frame_timeline_and_inspector(session_path: Path) -> No
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_frame_stepping_keys(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -69,6 +72,7 @@ async def test_frame_stepping_keys(session_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_segment_keys_and_next_unreviewed(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -89,6 +93,7 @@ async def test_segment_keys_and_next_unreviewed(session_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_accept_and_reject_are_journaled_and_shown(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -111,6 +116,7 @@ async def test_accept_and_reject_are_journaled_and_shown(session_path: Path) -> 
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_change_action_picker_ranked_by_commonsense(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -138,6 +144,7 @@ async def test_change_action_picker_ranked_by_commonsense(session_path: Path) ->
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_change_object_picker_closest_first(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -166,6 +173,7 @@ async def test_change_object_picker_closest_first(session_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_change_object_object_link(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -200,6 +208,7 @@ async def test_change_object_object_link(session_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_picker_escape_records_nothing(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -210,6 +219,7 @@ async def test_picker_escape_records_nothing(session_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_split_and_merge(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -233,6 +243,7 @@ async def test_split_and_merge(session_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_undo_redo_unlimited_and_journaled(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -252,6 +263,7 @@ async def test_undo_redo_unlimited_and_journaled(session_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_play_pause(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -268,6 +280,7 @@ async def test_play_pause(session_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_next_hand_changes_what_pickers_act_on(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -292,6 +305,7 @@ async def test_next_hand_changes_what_pickers_act_on(session_path: Path) -> None
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_a_verb_for_a_hand_holding_nothing_is_refused_with_a_reason(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -311,6 +325,7 @@ async def test_a_verb_for_a_hand_holding_nothing_is_refused_with_a_reason(sessio
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_help_screen_and_command_palette_list_every_binding(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -327,6 +342,7 @@ async def test_help_screen_and_command_palette_list_every_binding(session_path: 
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_keys_remapped_from_the_key_file(session_path: Path, tmp_path: Path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
     keys = tmp_path / "keys.toml"
     keys.write_text('[keys]\naccept = "enter"\nno-such-binding = "f5"\n')
@@ -343,6 +359,7 @@ async def test_keys_remapped_from_the_key_file(session_path: Path, tmp_path: Pat
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_reopen_restores_corrections_undo_and_redo(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:
@@ -358,6 +375,7 @@ async def test_reopen_restores_corrections_undo_and_redo(session_path: Path) -> 
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_command_palette_runs_a_review_command(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=SIZE) as pilot:

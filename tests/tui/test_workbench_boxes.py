@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from tui_driving import journal, pick, pilot_test, settle, wait_for
 from tui_scenario import hand_path
 
@@ -32,6 +33,7 @@ async def name(pilot, app, label: str) -> None:  # type: ignore[no-untyped-def]
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_boxes_drawn_in_the_workbench_are_journaled_undone_from_review_and_give_trees(
         tmp_path: Path, scenario_inputs: tuple[Path, Path, Path]) -> None:
     path = video_alone(tmp_path, scenario_inputs)
@@ -90,6 +92,7 @@ async def test_boxes_drawn_in_the_workbench_are_journaled_undone_from_review_and
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_the_help_lists_the_box_mode(session_path: Path) -> None:
     app = WecookApp(session_path)
     async with app.run_test(size=(150, 60)) as pilot:
@@ -105,6 +108,7 @@ async def test_the_help_lists_the_box_mode(session_path: Path) -> None:
 
 
 @pilot_test
+@pytest.mark.slow
 async def test_labels_nothing_categorises_are_asked_and_the_answer_is_journaled(
         tmp_path: Path, scenario_inputs: tuple[Path, Path, Path]) -> None:
     video, objects, hands = scenario_inputs

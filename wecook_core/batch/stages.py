@@ -24,6 +24,7 @@ from wecook_core import __version__
 from wecook_core.batch.manifest import BatchItem
 from wecook_core.errors import InputError
 from wecook_core.files import write_atomic
+from wecook_core.session.paths import session_paths
 
 STAGES: tuple[str, ...] = ("hands", "import", "analyze", "export", "execute")
 """Every stage, in the order they run for one video."""
@@ -141,13 +142,13 @@ def _key(item: BatchItem, stage: str, root: Path, options: StageOptions) -> str:
     if stage in ("analyze", "export", "execute"):
         from wecook_core.knowledge.recognize import KNOWLEDGE_PATH
 
-        for name in ("session.yaml", "journal.jsonl"):
-            if (session / name).exists():
-                _file_hash(session / name, digest)
+        for path in (session_paths(session).session_file, session_paths(session).journal):
+            if path.exists():
+                _file_hash(path, digest)
         _file_hash(KNOWLEDGE_PATH, digest)
     if stage == "execute":
         digest.update(json.dumps({"seed": options.seed, "record": options.record}).encode())
-        plan = session / "plans" / "plan.yaml"
+        plan = session_paths(session).plan
         if plan.exists():
             _file_hash(plan, digest)
     return digest.hexdigest()[:32]
@@ -216,30 +217,15 @@ def _export(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any
 
 
 def _execute(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
-    from wecook_core.execution.run import execute_plan
-    from wecook_core.execution.schedule.observer import RunObserver
     from wecook_core.plan import read_plan
-    from wecook_core.recording.writer import McapRecorder
+    from wecook_core.recording.run import recorded_run
 
-    session = root / item.name
-    plan_path = session / "plans" / "plan.yaml"
-    plan = read_plan(plan_path)
-    record = session / "runs" / f"batch-seed{options.seed}.mcap"
-    observer: RunObserver
-    if options.record:
-        if record.exists():
-            shutil.move(record, record.with_suffix(f".{time.strftime('%Y%m%dT%H%M%S')}.mcap"))
-        observer = McapRecorder(record)
-    else:
-        from wecook_core.execution.schedule.fanout import FanOut
-
-        observer = FanOut()
-    try:
-        result = execute_plan(plan, observer, seed=options.seed)
-    finally:
-        close = getattr(observer, "close", None)
-        if close is not None:
-            close()
+    paths = session_paths(root / item.name)
+    plan = read_plan(paths.plan)
+    record = paths.runs / f"batch-seed{options.seed}.mcap"
+    if options.record and record.exists():  # an earlier batch's recording is kept aside, under its time
+        shutil.move(record, record.with_suffix(f".{time.strftime('%Y%m%dT%H%M%S')}.mcap"))
+    result = recorded_run(plan, record if options.record else None, seed=options.seed).result
     done = sum(a.status == "done" for a in result.actions)
     return {"actions": len(result.actions), "done": done, "arm_contacts": result.arm_contacts,
             "sim_time": round(result.sim_time, 3), "recording": str(record) if options.record else None,

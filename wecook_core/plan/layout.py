@@ -261,37 +261,25 @@ def p1_on_the_right(obs: Observations) -> bool:
     return float(np.median(np.concatenate(xs["P1"]))) > float(np.median(np.concatenate(xs["P2"])))
 
 
-def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_TABLE,
-                 robot: str = DEFAULT_ROBOT) -> Scene:
-    """Objects of the video laid out on the table.
+MIN_IMAGE_PARTS = 5
+"""The image's table area spans at least 1/this of the image on each axis (a few objects close together are
+not blown up to the whole table)."""
+ARM_BASE = 0.12
+"""Metres kept free at each end of the table when even :data:`ARM_CLEARANCE` leaves no room: the arm's base."""
+EDGE = 0.01
+"""Metres kept free along the table's long edges when the objects need the whole table."""
+DECIMALS = 4
+"""Positions on the table are rounded to 0.1 mm."""
+ARM_HALF = {frozenset({"P1"}): -1, frozenset({"P2"}): 1}
+"""The half of the table an object used by one person only stays on: -1 ``x <= 0`` (P1), +1 ``x >= 0`` (P2)."""
 
-    Mapping image -> table: each object's position is the centre of its median box over its first
-    :data:`FIRST_FRAMES` sightings. The image's table area is the bounding rectangle of those boxes (at least a
-    fifth of the image on each axis); it is scaled, each axis on its own, onto the reach region
-    ``[-reach_x, reach_x] x [-reach_y, reach_y]``: image left -> ``-x`` (P1's side), image top -> ``+y``;
-    turned half round (image right -> ``-x``, image top -> ``-y``) when P1's hands work right of P2's
-    (:func:`p1_on_the_right`): the table's ``-x`` end is P1's arm's.
-    An object that only one person's actions use is kept on that arm's half (``x <= 0`` for P1, ``x >= 0`` for
-    P2): a robot arm does not reach across the table as a person does.
-    Sizes come from the category (containers wide, tools long and thin, ingredients small), scaled from the
-    box by the mean of the two axis scales and clipped to sane limits. Objects on the table are then pushed
-    apart until no footprints overlap, :data:`GAP` apart (:data:`HAND_ROOM` across a tool, and all round what a
-    held tool works on where it lies, from anything tall enough to meet the gripper's palm), inside the reach
-    region and each on its arm's half; when they do not fit there, each object, biggest first, goes to the free
-    spot nearest its mapped place on the table (less :data:`ARM_CLEARANCE` at the arms' ends), the rules
-    loosening only as far as the table needs (see :func:`_settle`); ingredients that start in a container sit
-    inside it, a board held still lies along x with its food clear of the end the holder presses
-    (:mod:`wecook_core.plan.contents`).
-    """
-    first = {t.name: _first_box(t.frames, t.boxes) for t in obs.objects if len(t.frames)}
-    if not first:
-        return Scene(table=table)
-    names = sorted(first, key=lambda n: (float(first[n][0]), n))
-    boxes = np.array([first[n] for n in names])
+
+def _to_table(boxes: np.ndarray, obs: Observations, table: Table) -> tuple[np.ndarray, float]:
+    """The table positions (n, 2) of the centres of the image boxes (n, 4), and the mean metres per pixel."""
     width, height = float(obs.video.width or 1), float(obs.video.height or 1)
     lo = boxes[:, :2].min(axis=0)
     hi = boxes[:, 2:].max(axis=0)
-    minimum = np.array([width, height]) / 5
+    minimum = np.array([width, height]) / MIN_IMAGE_PARTS
     mid = (lo + hi) / 2
     span = np.maximum(hi - lo, minimum)
     lo = mid - span / 2
@@ -302,14 +290,17 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
     xy[:, 1] = -xy[:, 1]  # image y grows downwards; world +y is the image's top
     if p1_on_the_right(obs):  # P1's arm stands at -x: the video turned half round
         xy = -xy
-    users = _users(graph)
-    for k, name in enumerate(names):  # an object only one arm uses goes to that arm's half of the table
-        if users.get(name) == {"P1"}:
-            xy[k, 0] = min(xy[k, 0], 0.0)
-        elif users.get(name) == {"P2"}:
-            xy[k, 0] = max(xy[k, 0], 0.0)
-    m_per_px = float(scale.mean())
-    containing = containing_of(graph, obs, first)
+    return xy, float(scale.mean())
+
+
+def _side(users: Mapping[str, set[str]], name: str) -> int:
+    """The half of the table ``name`` stays on (:data:`ARM_HALF`), 0: either."""
+    return ARM_HALF.get(frozenset(users.get(name, ())), 0)
+
+
+def _sized(names: Sequence[str], boxes: np.ndarray, xy: np.ndarray, m_per_px: float,
+           obs: Observations) -> dict[str, SceneObject]:
+    """Each object at its table position with its category's shape, sized from its box."""
     objects: dict[str, SceneObject] = {}
     for k, name in enumerate(names):
         category = obs.categories.get(name, Category.INGREDIENT)
@@ -317,25 +308,35 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
         d = float(boxes[k, 3] - boxes[k, 1]) * m_per_px
         shape, size, yaw = _shape_for(name, category, w, d)
         objects[name] = SceneObject(name, category, shape, size, float(xy[k, 0]), float(xy[k, 1]), yaw)
-    for container in taken_from_by_hand(graph):  # a hand reaches into it: no deeper than the fingers reach
+    return objects
+
+
+def _fit_containers(objects: dict[str, SceneObject], graph: ActionGraph, containing: Mapping[str, str],
+                    held: Mapping[str, set[str]]) -> None:
+    """Containers a hand reaches into made no deeper than the fingers reach (:data:`HAND_DEPTH`); a board long
+    enough for what starts on it and the hands holding it, held along x (:func:`~.contents.fit_board`)."""
+    for container in taken_from_by_hand(graph):
         o = objects.get(container)
         if o is not None and o.category is Category.CONTAINER and o.size[2] > HAND_DEPTH:
             objects[container] = SceneObject(o.name, o.category, o.shape, (o.size[0], o.size[1], HAND_DEPTH),
                                              o.x, o.y, o.yaw)
-    held = holders(graph, containing)
-    for container in set(containing.values()) | set(held):  # a board long enough for what starts on it and the
-        o = objects.get(container)  # hands holding it, held along x
+    for container in set(containing.values()) | set(held):
+        o = objects.get(container)
         if o is not None and o.shape == "box" and o.category is Category.CONTAINER:
             items = [objects[n] for n, c in sorted(containing.items()) if c == container]
             objects[container] = fit_board(o, items, held.get(container, set()))
-    free = [n for n in names if n not in containing]
+
+
+def _place(objects: Mapping[str, SceneObject], free: Sequence[str], graph: ActionGraph, obs: Observations,
+           users: Mapping[str, set[str]], containing: Mapping[str, str], table: Table, robot: str) -> np.ndarray:
+    """Where the objects ``free`` (those not in a container) lie once apart: pushed apart in the reach region;
+    if they do not fit there, or something is out of an arm's reach, settled one by one (:func:`_settle`)."""
     centres = np.array([[objects[n].x, objects[n].y] for n in free])
     halves = np.array([objects[n].half_extents() for n in free])
     gaps = _gaps([objects[n] for n in free], worked(graph, obs.categories))
-    sides = np.array([{frozenset({"P1"}): -1, frozenset({"P2"}): 1}.get(frozenset(users.get(n, ())), 0)
-                      for n in free])
+    sides = np.array([_side(users, n) for n in free])
     inner = (table.size[0] / 2 - ARM_CLEARANCE, table.size[1] / 2 - GAP)
-    whole = (table.size[0] / 2 - 0.12, table.size[1] / 2 - 0.01)  # all but the arms' bases
+    whole = (table.size[0] / 2 - ARM_BASE, table.size[1] / 2 - EDGE)  # all but the arms' bases
     placed, ok = _push_apart(centres, halves, table.reach, gaps, sides)
     reaches = _reach_rule(free, users, containing, table, robot, obs.categories)
     if not ok:  # too crowded for the reach region: each object, biggest first, to the free spot nearest its place
@@ -344,9 +345,55 @@ def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_T
         # object (those both arms must reach first, then the biggest first) to the free spot nearest its place
         # that its arms reach
         placed = _settle(centres, halves, (inner, whole), gaps, sides, reach=reaches)
+    return placed
+
+
+def layout_scene(graph: ActionGraph, obs: Observations, table: Table = DEFAULT_TABLE,
+                 robot: str = DEFAULT_ROBOT) -> Scene:
+    """Objects of the video laid out on the table.
+
+    Mapping image -> table: each object's position is the centre of its median box over its first
+    :data:`FIRST_FRAMES` sightings. The image's table area is the bounding rectangle of those boxes (at least a
+    fifth of the image on each axis, :data:`MIN_IMAGE_PARTS`); it is scaled, each axis on its own, onto the reach region
+    ``[-reach_x, reach_x] x [-reach_y, reach_y]``: image left -> ``-x`` (P1's side), image top -> ``+y``;
+    turned half round (image right -> ``-x``, image top -> ``-y``) when P1's hands work right of P2's
+    (:func:`p1_on_the_right`): the table's ``-x`` end is P1's arm's.
+    An object that only one person's actions use is kept on that arm's half (``x <= 0`` for P1, ``x >= 0`` for
+    P2): a robot arm does not reach across the table as a person does.
+    Sizes come from the category (containers wide, tools long and thin, ingredients small), scaled from the
+    box by the mean of the two axis scales and clipped to sane limits. Objects on the table are then pushed
+    apart until no footprints overlap, :data:`GAP` apart (:data:`HAND_ROOM` across a tool, and all round what a
+    held tool works on where it lies, from anything tall enough to meet the gripper's palm), inside the reach
+    region and each on its arm's half; when they do not fit there, each object, biggest first, goes to the free
+    spot nearest its mapped place on the table (less :data:`ARM_CLEARANCE` at the arms' ends, then less
+    :data:`ARM_BASE` and :data:`EDGE`), the rules
+    loosening only as far as the table needs (see :func:`_settle`); ingredients that start in a container sit
+    inside it, a board held still lies along x with its food clear of the end the holder presses
+    (:mod:`wecook_core.plan.contents`).
+    """
+    first = {t.name: _first_box(t.frames, t.boxes) for t in obs.objects if len(t.frames)}
+    if not first:
+        return Scene(table=table)
+    names = sorted(first, key=lambda n: (float(first[n][0]), n))
+    boxes = np.array([first[n] for n in names])
+    xy, m_per_px = _to_table(boxes, obs, table)
+    users = _users(graph)
+    for k, name in enumerate(names):  # an object only one arm uses goes to that arm's half of the table
+        side = _side(users, name)
+        if side < 0:
+            xy[k, 0] = min(xy[k, 0], 0.0)
+        elif side > 0:
+            xy[k, 0] = max(xy[k, 0], 0.0)
+    containing = containing_of(graph, obs, first)
+    objects = _sized(names, boxes, xy, m_per_px, obs)
+    held = holders(graph, containing)
+    _fit_containers(objects, graph, containing, held)
+    free = [n for n in names if n not in containing]
+    placed = _place(objects, free, graph, obs, users, containing, table, robot)
     for n, (x, y) in zip(free, placed, strict=True):
         o = objects[n]
-        objects[n] = SceneObject(o.name, o.category, o.shape, o.size, round(float(x), 4), round(float(y), 4), o.yaw)
+        objects[n] = SceneObject(o.name, o.category, o.shape, o.size, round(float(x), DECIMALS),
+                                 round(float(y), DECIMALS), o.yaw)
     by_container: dict[str, list[str]] = {}
     for ingredient, container in sorted(containing.items()):
         by_container.setdefault(container, []).append(ingredient)

@@ -27,6 +27,7 @@ from mcap.writer import CompressionType, Writer
 from wecook_core.errors import InputError
 from wecook_core.execution.schedule.observer import RunEvent
 from wecook_core.recording import foxglove
+from wecook_core.recording.json_schema import schema_json, schema_problems
 
 
 @dataclass(frozen=True)
@@ -84,12 +85,38 @@ def _records(stream_reader: StreamReader) -> Iterator[Any]:
     yield from stream_reader.records
 
 
-def _sequential(path: Path) -> tuple[list[Any], str, int, bool]:
-    """Every record that can be read in order (chunks opened, CRCs checked), why reading stopped, the offset
-    after the last good record, and whether the footer was reached."""
+END_OF_FILE = "end of file"
+"""What :attr:`RecoverReport.stopped` says of a file read to its end."""
+
+
+@dataclass(frozen=True)
+class _Read:
+    """What one sequential pass over a recording read."""
+
+    records: list[Any]
+    """Every record that could be read in order (chunks opened, CRCs checked)."""
+    damage: str | None
+    """Why reading stopped before the end of the file (the error), or None when it read to the end."""
+    good: int
+    """The offset after the last good record."""
+    footer: bool
+    """The footer was reached: the file was finished."""
+
+
+def _read_error(error: Exception) -> str | None:
+    """The one-line name of a damaged or truncated file's read error, None for any other exception."""
+    if not (isinstance(error, _READ_ERRORS) or type(error).__module__.startswith(("zstandard", "lz4"))):
+        return None
+    name = type(error).__qualname__
+    if name == "error":
+        name = f"{type(error).__module__}.error"
+    return f"{name}: {error}" if str(error) else name
+
+
+def _sequential(path: Path) -> _Read:
     records: list[Any] = []
     good = 0
-    stopped = "end of file"
+    damage = None
     footer = False
     with open(path, "rb") as f:
         reader = StreamReader(f, validate_crcs=True)
@@ -100,55 +127,19 @@ def _sequential(path: Path) -> tuple[list[Any], str, int, bool]:
             except StopIteration:
                 break
             except Exception as error:
-                if isinstance(error, _READ_ERRORS) or type(error).__module__.startswith(("zstandard", "lz4")):
-                    name = type(error).__qualname__
-                    if name == "error":
-                        name = f"{type(error).__module__}.error"
-                    stopped = f"{name}: {error}" if str(error) else name
-                    break
-                raise
+                damage = _read_error(error)
+                if damage is None:
+                    raise
+                break
             records.append(record)
             good = f.tell()
             if isinstance(record, Footer):
                 footer = True
-    return records, stopped, good, footer
+    return _Read(records, damage, good, footer)
 
 
 SCHEMA_CHECKED = 200
 """Messages per topic checked against their channel's JSON Schema (the first ones)."""
-
-_KINDS: dict[str, type | tuple[type, ...]] = {"string": str, "number": (int, float), "integer": int,
-                                              "boolean": bool, "object": dict, "array": list, "null": type(None)}
-
-
-def schema_problems(value: Any, schema: dict[str, Any], where: str) -> list[str]:
-    """Where ``value`` breaks ``schema``, for the part of JSON Schema the recordings use: ``type`` (one or a
-    list), ``properties`` (no other keys allowed), ``items``, ``enum``, ``minimum`` / ``maximum``."""
-    expected = schema.get("type")
-    if expected is not None:
-        names = expected if isinstance(expected, list) else [expected]
-        if not any(isinstance(value, _KINDS[n]) and not (n in ("number", "integer") and isinstance(value, bool))
-                   for n in names):
-            return [f"{where}: {value!r} is not {expected}"]
-    problems = []
-    if "enum" in schema and value not in schema["enum"]:
-        problems.append(f"{where}: {value!r} not in {schema['enum']}")
-    if isinstance(value, dict) and "properties" in schema:
-        for key, item in value.items():
-            if key not in schema["properties"]:
-                problems.append(f"{where}.{key}: not in the schema")
-            else:
-                problems += schema_problems(item, schema["properties"][key], f"{where}.{key}")
-    if isinstance(value, list) and "items" in schema:
-        for k, item in enumerate(value):
-            problems += schema_problems(item, schema["items"], f"{where}[{k}]")
-    if isinstance(value, int | float) and not isinstance(value, bool):
-        if "minimum" in schema and value < schema["minimum"]:
-            problems.append(f"{where}: {value} < {schema['minimum']}")
-        if "maximum" in schema and value > schema["maximum"]:
-            problems.append(f"{where}: {value} > {schema['maximum']}")
-    return problems
-
 
 def _event_problems(events: list[dict[str, Any]]) -> tuple[list[str], dict[str, str]]:
     problems: list[str] = []
@@ -177,80 +168,98 @@ def _event_problems(events: list[dict[str, Any]]) -> tuple[list[str], dict[str, 
     return problems, state
 
 
-def _schema_json(schema: Schema) -> dict[str, Any]:
-    try:
-        data = json.loads(schema.data)
-    except ValueError:
-        return {}
-    return data if isinstance(data, dict) else {}
+@dataclass
+class _Scan:
+    """What the records of a recording hold, gathered in one pass (:func:`_scan`)."""
+
+    schemas: dict[int, Schema] = field(default_factory=dict)
+    channels: dict[int, Channel] = field(default_factory=dict)
+    counts: Counter[str] = field(default_factory=Counter)
+    """Topic -> messages."""
+    events: list[dict[str, Any]] = field(default_factory=list)
+    """The decoded ``/plan/events`` messages, in order."""
+    attachments: list[str] = field(default_factory=list)
+    metadata: dict[str, dict[str, str]] = field(default_factory=dict)
+    first_ns: int | None = None
+    last_ns: int | None = None
+    last_time: dict[str, int] = field(default_factory=dict)
+    """Topic -> log time of its last message."""
+    problems: list[str] = field(default_factory=list)
+
+    @property
+    def duration_s(self) -> float:
+        return (self.last_ns - self.first_ns) / 1e9 if self.first_ns is not None and self.last_ns is not None \
+            else 0.0
 
 
-def check_recording(path: str | Path) -> CheckReport:
-    """Check a recording; problems are listed in the report, never raised (a missing file raises InputError)."""
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(path, "no such recording")
-    problems: list[str] = []
-    records, stopped, good, footer = _sequential(path)
-    if not records:
-        return CheckReport(str(path), (f"not an MCAP file ({stopped})",), {}, 0.0)
-    if stopped != "end of file":
-        problems.append(f"unreadable after byte {good} of {path.stat().st_size}: {stopped}")
-    if not footer:
-        problems.append("no footer: the file was not finished (run `wecook runs recover`)")
-    summary = None
-    if footer:
-        try:
-            with open(path, "rb") as f:
-                summary = SeekingReader(f, validate_crcs=True).get_summary()
-        except Exception as error:
-            problems.append(f"summary unreadable: {error}")
-        if summary is None and not any("summary" in p for p in problems):
-            problems.append("no summary section")
-    schemas: dict[int, Schema] = {}
-    channels: dict[int, Channel] = {}
-    counts: Counter[str] = Counter()
-    last_time: dict[str, int] = {}
-    events: list[dict[str, Any]] = []
-    attachments: list[str] = []
-    metadata: dict[str, dict[str, str]] = {}
-    first_ns = last_ns = None
+def _scan(records: list[Any]) -> _Scan:
+    scan = _Scan()
     for record in records:
         if isinstance(record, Schema):
-            schemas[record.id] = record
+            scan.schemas[record.id] = record
         elif isinstance(record, Channel):
-            channels[record.id] = record
+            scan.channels[record.id] = record
         elif isinstance(record, Attachment):
-            attachments.append(record.name)
+            scan.attachments.append(record.name)
         elif isinstance(record, Metadata):
-            metadata[record.name] = dict(record.metadata)
+            scan.metadata[record.name] = dict(record.metadata)
         elif isinstance(record, Message):
-            channel = channels.get(record.channel_id)
-            if channel is None:
-                problems.append(f"message on unknown channel {record.channel_id}")
-                continue
-            topic = channel.topic
-            counts[topic] += 1
-            if topic in last_time and record.log_time < last_time[topic]:
-                problems.append(f"{topic}: log time goes back at message {counts[topic]}")
-            last_time[topic] = record.log_time
-            first_ns = record.log_time if first_ns is None else min(first_ns, record.log_time)
-            last_ns = record.log_time if last_ns is None else max(last_ns, record.log_time)
-            try:
-                decoded = json.loads(record.data)
-            except ValueError:
-                problems.append(f"{topic}: message {counts[topic]} is not JSON")
-                continue
-            if topic == "/plan/events":
-                events.append(decoded)
-            if counts[topic] <= SCHEMA_CHECKED and channel.schema_id in schemas:
-                wrong = schema_problems(decoded, _schema_json(schemas[channel.schema_id]),
-                                        f"{topic}[{counts[topic] - 1}]")
-                if wrong:
-                    problems.append(f"{wrong[0]} (schema {schemas[channel.schema_id].name})")
-    by_topic = {c.topic: c for c in channels.values()}
+            _scan_message(scan, record)
+    return scan
+
+
+def _scan_message(scan: _Scan, record: Message) -> None:
+    """One message counted, its log time checked, decoded, kept when an event, checked against its schema."""
+    channel = scan.channels.get(record.channel_id)
+    if channel is None:
+        scan.problems.append(f"message on unknown channel {record.channel_id}")
+        return
+    topic = channel.topic
+    scan.counts[topic] += 1
+    n = scan.counts[topic]
+    if topic in scan.last_time and record.log_time < scan.last_time[topic]:
+        scan.problems.append(f"{topic}: log time goes back at message {n}")
+    scan.last_time[topic] = record.log_time
+    scan.first_ns = record.log_time if scan.first_ns is None else min(scan.first_ns, record.log_time)
+    scan.last_ns = record.log_time if scan.last_ns is None else max(scan.last_ns, record.log_time)
+    try:
+        decoded = json.loads(record.data)
+    except ValueError:
+        scan.problems.append(f"{topic}: message {n} is not JSON")
+        return
+    if topic == "/plan/events":
+        scan.events.append(decoded)
+    schema = scan.schemas.get(channel.schema_id)
+    if n <= SCHEMA_CHECKED and schema is not None:
+        wrong = schema_problems(decoded, schema_json(schema), f"{topic}[{n - 1}]")
+        if wrong:
+            scan.problems.append(f"{wrong[0]} (schema {schema.name})")
+
+
+def _file_problems(path: Path, read: _Read) -> tuple[list[str], Any]:
+    """What is wrong with the file as a file (damage, no footer, no summary), and its summary (None: none)."""
+    problems = []
+    if read.damage is not None:
+        problems.append(f"unreadable after byte {read.good} of {path.stat().st_size}: {read.damage}")
+    if not read.footer:
+        problems.append("no footer: the file was not finished (run `wecook runs recover`)")
+        return problems, None
+    try:
+        with open(path, "rb") as f:
+            summary = SeekingReader(f, validate_crcs=True).get_summary()
+    except Exception as error:
+        return [*problems, f"summary unreadable: {error}"], None
+    if summary is None:
+        problems.append("no summary section")
+    return problems, summary
+
+
+def _topic_problems(scan: _Scan) -> list[str]:
+    """Required topics with messages, every known topic on its schema and encodings."""
+    problems = []
+    by_topic = {c.topic: c for c in scan.channels.values()}
     for topic in foxglove.REQUIRED_TOPICS:
-        if topic in by_topic and counts[topic] == 0:
+        if topic in by_topic and scan.counts[topic] == 0:
             problems.append(f"{topic}: no messages")
     for topic, schema_name in foxglove.TOPIC_SCHEMAS.items():
         channel = by_topic.get(topic)
@@ -258,24 +267,42 @@ def check_recording(path: str | Path) -> CheckReport:
             if topic in foxglove.REQUIRED_TOPICS:
                 problems.append(f"{topic}: no channel")
             continue
-        schema = schemas.get(channel.schema_id)
+        schema = scan.schemas.get(channel.schema_id)
         if schema is None or schema.name != schema_name:
             problems.append(f"{topic}: schema {schema.name if schema else None!r}, expected {schema_name!r}")
         elif schema.encoding != "jsonschema" or channel.message_encoding != "json":
             problems.append(f"{topic}: encoding {schema.encoding}/{channel.message_encoding}, expected "
                             "jsonschema/json")
-    if summary is not None and summary.statistics is not None \
-            and summary.statistics.message_count != sum(counts.values()):
-        problems.append(f"summary counts {summary.statistics.message_count} messages, the file holds "
-                        f"{sum(counts.values())}")
-    if "plan.yaml" not in attachments:
+    return problems
+
+
+def _content_problems(scan: _Scan, summary: Any) -> list[str]:
+    """The summary's count against the file's, the plan attachment, wecook's metadata."""
+    problems = []
+    total = sum(scan.counts.values())
+    if summary is not None and summary.statistics is not None and summary.statistics.message_count != total:
+        problems.append(f"summary counts {summary.statistics.message_count} messages, the file holds {total}")
+    if "plan.yaml" not in scan.attachments:
         problems.append("no plan.yaml attachment")
-    if "wecook" not in metadata:
+    if "wecook" not in scan.metadata:
         problems.append("no wecook metadata (versions, seed)")
-    event_problems, actions = _event_problems(events)
-    problems.extend(event_problems)
-    duration = (last_ns - first_ns) / 1e9 if first_ns is not None and last_ns is not None else 0.0
-    return CheckReport(str(path), tuple(problems), dict(counts), duration, actions, tuple(attachments), metadata)
+    return problems
+
+
+def check_recording(path: str | Path) -> CheckReport:
+    """Check a recording; problems are listed in the report, never raised (a missing file raises InputError)."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(path, "no such recording")
+    read = _sequential(path)
+    if not read.records:
+        return CheckReport(str(path), (f"not an MCAP file ({read.damage or END_OF_FILE})",), {}, 0.0)
+    problems, summary = _file_problems(path, read)
+    scan = _scan(read.records)
+    event_problems, actions = _event_problems(scan.events)
+    problems += scan.problems + _topic_problems(scan) + _content_problems(scan, summary) + event_problems
+    return CheckReport(str(path), tuple(problems), dict(scan.counts), scan.duration_s, actions,
+                       tuple(scan.attachments), scan.metadata)
 
 
 def recover_recording(path: str | Path, out: str | Path, *, replace: bool = False) -> RecoverReport:
@@ -357,7 +384,7 @@ def recover_recording(path: str | Path, out: str | Path, *, replace: bool = Fals
     damage = [d for d in found.damage if d.end > d.start]
     good = damage[0].start if damage else found.size
     return RecoverReport(str(path), str(out), dict(counts), holder["attachments"], holder["metadata"],
-                         found.footer and not damage, damage[0].what if damage else "end of file", good, found.size,
+                         found.footer and not damage, damage[0].what if damage else END_OF_FILE, good, found.size,
                          holder["closed"], finished=holder["finished"], lost=tuple(lost))
 
 

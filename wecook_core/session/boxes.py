@@ -89,16 +89,6 @@ OtherCorrection = BoxCorrection | SetCategory
 OTHER_TYPES: tuple[type[OtherCorrection], ...] = (SetBoxKeyframe, SetBoxLabel, DropBoxKeyframe, SetBoxTracked,
                                                   SetCategory)
 
-KINDS: dict[str, dict[str, str]] = {
-    "box_keyframe": {"track": "track", "frame": "frame", "box": "box", "label": "label?"},
-    "box_label": {"track": "track", "label": "name"},
-    "box_drop": {"track": "track", "frame": "frame"},
-    "box_tracked": {"track": "track", "frames": "frames", "boxes": "boxes", "lost_at": "frame?"},
-    "set_category": {"label": "name", "category": "category"},
-}
-"""These operations' fields and their kinds (checked by :func:`wecook_core.session.corrections.parse`)."""
-
-
 def tracked(track_id: int, result: BoxTrack) -> SetBoxTracked:
     """The correction recording what the tracker found for a track (boxes rounded as journaled)."""
     frames = tuple(sorted(result.tracked))

@@ -16,9 +16,9 @@ the segment starting at ``segment`` (what journals written before spans existed 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, fields
-from typing import Any, ClassVar
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import MISSING, dataclass, fields
+from typing import Any, ClassVar, get_args, get_type_hints
 
 from wecook_core.formats.fields import MAX_FRAME
 from wecook_core.model import HANDS, VERBS, Category, Corrections, Segment, SegmentStatus
@@ -102,38 +102,148 @@ TYPES: dict[str, type[Correction]] = {t.op: t for t in (SetHandObject, SetObject
                                                          Split, Merge, *boxes.OTHER_TYPES)}
 """Operation name -> its type."""
 
-KINDS: dict[str, dict[str, str]] = {
-    "set_hand_object": {"segment": "frame", "hand": "hand", "object": "name?", "end": "frame?"},
-    "set_object_object": {"segment": "frame", "object": "name", "targets": "names", "end": "frame?"},
-    "set_verb": {"segment": "frame", "hand": "hand", "verb": "verb", "end": "frame?"},
-    "set_status": {"segment": "frame", "status": "status", "end": "frame?"},
-    "split": {"frame": "frame"},
-    "merge": {"frame": "frame"},
-    **boxes.KINDS,
+@dataclass(frozen=True)
+class _Field:
+    """One field of an operation as the journal checks it."""
+
+    name: str
+    check: Callable[[Any], Any]
+    """The value checked and converted (a list to a tuple, a string to its enum), or :class:`_Bad`."""
+    required: bool
+    """It has no default: a record must give it."""
+    nullable: bool
+    """Its type admits None: a record may give null."""
+
+
+class _Bad(ValueError):
+    """A value not of its field's kind; ``expected`` says what the field takes."""
+
+    def __init__(self, expected: str) -> None:
+        super().__init__(expected)
+        self.expected = expected
+
+
+def _is_frame(value: Any) -> bool:
+    return not isinstance(value, bool) and isinstance(value, int) and 0 <= value <= MAX_FRAME
+
+
+def _is_name(value: Any) -> bool:
+    return isinstance(value, str) and bool(value) and len(value) <= MAX_NAME_CHARS
+
+
+def _frame(value: Any) -> int:
+    if not _is_frame(value):
+        raise _Bad(f"a frame index (int from 0 to {MAX_FRAME})")
+    return int(value)
+
+
+def _frames(value: Any) -> tuple[int, ...]:
+    if not isinstance(value, list | tuple) or not all(_is_frame(v) for v in value):
+        raise _Bad("a list of frame indices")
+    return tuple(value)
+
+
+def _track(value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_TRACK:
+        raise _Bad(f"a drawn track id (int from 1 to {MAX_TRACK})")
+    return value
+
+
+def _one_of(choices: Sequence[str], convert: Callable[[str], Any] = str) -> Callable[[Any], Any]:
+    def check(value: Any) -> Any:
+        if value not in choices:
+            raise _Bad("one of " + " ".join(choices))
+        return convert(value)
+    return check
+
+
+def _name(value: Any) -> str:
+    if not _is_name(value):
+        raise _Bad("an object name")
+    return str(value)
+
+
+def _names(value: Any) -> tuple[str, ...]:
+    if not isinstance(value, list | tuple) or not all(_is_name(v) for v in value):
+        raise _Bad("a list of object names")
+    return tuple(value)
+
+
+def _box(value: Any) -> tuple[float, float, float, float]:
+    """A box ``[x1, y1, x2, y2]`` of finite pixels with x1 < x2 and y1 < y2."""
+    if not isinstance(value, list | tuple) or len(value) != 4 or not all(
+            not isinstance(v, bool) and isinstance(v, int | float) and math.isfinite(v) and abs(v) < MAX_PIXEL
+            for v in value):
+        raise _Bad("a box [x1, y1, x2, y2] of pixels")
+    x1, y1, x2, y2 = (float(v) for v in value)
+    if not (x1 < x2 and y1 < y2):
+        raise _Bad("a box with x1 < x2 and y1 < y2")
+    return (x1, y1, x2, y2)
+
+
+def _boxes(value: Any) -> tuple[tuple[float, float, float, float], ...]:
+    if not isinstance(value, list | tuple):
+        raise _Bad("a list of boxes")
+    return tuple(_box(v) for v in value)
+
+
+MAX_TRACK = 1 << 20
+"""The largest id of a drawn track."""
+MAX_PIXEL = 1e6
+"""The largest coordinate of a drawn box, pixels (in either direction)."""
+
+CHECKS: dict[str, Callable[[Any], Any]] = {
+    "segment": _frame, "end": _frame, "frame": _frame, "lost_at": _frame, "frames": _frames,
+    "hand": _one_of(HANDS), "verb": _one_of(VERBS),
+    "status": _one_of([s.value for s in SegmentStatus], SegmentStatus),
+    "category": _one_of([c.value for c in Category], Category),
+    "object": _name, "label": _name, "targets": _names,
+    "track": _track, "box": _box, "boxes": _boxes,
 }
-"""Each operation's fields and the kind of value each takes (``?``: optional, may be null or absent)."""
+"""How the value of each field of the operations is checked, by the field's name (the same name means the same
+kind of value in every operation); whether it may be absent or null comes from the dataclass."""
+
+
+def _fields(kind: type[Correction]) -> tuple[_Field, ...]:
+    hints = get_type_hints(kind)
+    return tuple(_Field(f.name, CHECKS[f.name],
+                        required=f.default is MISSING and f.default_factory is MISSING,
+                        nullable=type(None) in get_args(hints[f.name])) for f in fields(kind))
+
+
+FIELDS: dict[str, tuple[_Field, ...]] = {op: _fields(kind) for op, kind in TYPES.items()}
+"""Each operation's fields as a record gives them, read off its dataclass."""
 
 
 def parse(record: Mapping[str, Any]) -> Correction:
     """The correction a record ``{"op": ..., fields}`` describes, or ValueError saying what is wrong."""
     op = record.get("op")
-    if op not in KINDS:
-        raise ValueError(f"unknown correction op {op!r}; expected one of {', '.join(KINDS)}")
-    spec = KINDS[op]
-    extra = set(record) - set(spec) - {"op"}
+    if op not in FIELDS:
+        raise ValueError(f"unknown correction op {op!r}; expected one of {', '.join(FIELDS)}")
+    spec = FIELDS[op]
+    extra = set(record) - {f.name for f in spec} - {"op"}
     if extra:
         raise ValueError(f"{op}: unexpected fields {', '.join(sorted(extra))}")
     values: dict[str, Any] = {}
-    for name, kind in spec.items():
-        if name not in record:
-            if kind.endswith("?") and kind != "name?":
+    for field in spec:
+        if field.name not in record:
+            if not field.required:
                 continue
-            raise ValueError(f"{op}: missing field {name!r}")
-        values[name] = _check_value(op, name, kind, record[name])
+            raise ValueError(f"{op}: missing field {field.name!r}")
+        values[field.name] = _check_value(op, field, record[field.name])
     end = values.get("end")
     if end is not None and end <= values["segment"]:
         raise ValueError(f"{op}: end must be after segment, got [{values['segment']}, {end})")
     return TYPES[op](**values)
+
+
+def _check_value(op: str, field: _Field, value: Any) -> Any:
+    if value is None and field.nullable:
+        return None
+    try:
+        return field.check(value)
+    except _Bad as bad:
+        raise ValueError(f"{op}: {field.name} must be {bad.expected}, got {value!r}") from None
 
 
 def to_record(correction: Correction) -> dict[str, Any]:
@@ -149,79 +259,6 @@ def to_record(correction: Correction) -> dict[str, Any]:
             value = [list(v) if isinstance(v, tuple) else v for v in value]
         record[f.name] = value
     return record
-
-
-def _check_value(op: str, name: str, kind: str, value: Any) -> Any:
-    def bad(expected: str) -> ValueError:
-        return ValueError(f"{op}: {name} must be {expected}, got {value!r}")
-
-    if kind == "frame?" and value is None:
-        return None
-    if kind in ("frame", "frame?"):
-        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_FRAME:
-            raise bad(f"a frame index (int from 0 to {MAX_FRAME})")
-        return value
-    if kind == "hand":
-        if value not in HANDS:
-            raise bad("one of " + " ".join(HANDS))
-        return value
-    if kind == "verb":
-        if value not in VERBS:
-            raise bad("one of " + " ".join(VERBS))
-        return value
-    if kind == "track":
-        if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_TRACK:
-            raise bad(f"a drawn track id (int from 1 to {MAX_TRACK})")
-        return value
-    if kind == "box":
-        return _box(value, bad)
-    if kind == "boxes":
-        if not isinstance(value, list | tuple):
-            raise bad("a list of boxes")
-        return tuple(_box(v, bad) for v in value)
-    if kind == "frames":
-        if not isinstance(value, list | tuple) or not all(
-                not isinstance(v, bool) and isinstance(v, int) and 0 <= v <= MAX_FRAME for v in value):
-            raise bad("a list of frame indices")
-        return tuple(value)
-    if kind == "category":
-        if value not in {c.value for c in Category}:
-            raise bad("one of " + " ".join(c.value for c in Category))
-        return Category(value)
-    if kind == "label?" and value is None:
-        return None
-    if kind == "status":
-        if value not in {s.value for s in SegmentStatus}:
-            raise bad("one of " + " ".join(s.value for s in SegmentStatus))
-        return SegmentStatus(value)
-    if kind in ("name", "name?", "label?"):
-        if value is None and kind == "name?":
-            return None
-        if not isinstance(value, str) or not value or len(value) > MAX_NAME_CHARS:
-            raise bad("an object name")
-        return value
-    if kind == "names":
-        if not isinstance(value, list | tuple) \
-                or not all(isinstance(v, str) and v and len(v) <= MAX_NAME_CHARS for v in value):
-            raise bad("a list of object names")
-        return tuple(value)
-    raise AssertionError(kind)
-
-
-MAX_TRACK = 1 << 20
-"""The largest id of a drawn track."""
-
-
-def _box(value: Any, bad: Any) -> tuple[float, float, float, float]:
-    """A box ``[x1, y1, x2, y2]`` of finite pixels with x1 < x2 and y1 < y2, or ``bad``'s error."""
-    if not isinstance(value, list | tuple) or len(value) != 4 or not all(
-            not isinstance(v, bool) and isinstance(v, int | float) and math.isfinite(v) and abs(v) < 1e6
-            for v in value):
-        raise bad("a box [x1, y1, x2, y2] of pixels")
-    x1, y1, x2, y2 = (float(v) for v in value)
-    if not (x1 < x2 and y1 < y2):
-        raise bad("a box with x1 < x2 and y1 < y2")
-    return (x1, y1, x2, y2)
 
 
 def covered(correction: SegmentCorrection, segments: Sequence[Segment] | None) -> tuple[int, ...]:

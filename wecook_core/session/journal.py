@@ -47,14 +47,14 @@ from typing import Any
 
 from wecook_core.files import read_bytes
 from wecook_core.model import Corrections, Segment
-from wecook_core.session.corrections import KINDS, TYPES, Correction, parse, to_record
+from wecook_core.session.corrections import TYPES, Correction, parse, to_record
 from wecook_core.session.corrections import fold as fold_corrections
 
 TORN_SUFFIX = ".torn"
 """Torn bytes cut off the journal go to a file named like it with this suffix added."""
 
-OPS = KINDS
-"""Correction operations and their fields (field -> kind of value), from :mod:`wecook_core.session.corrections`."""
+OPS = TYPES
+"""Correction operations and their types, from :mod:`wecook_core.session.corrections`."""
 
 MAX_JOURNAL_BYTES = 256 << 20
 """The largest journal read (256 MiB, some million corrections); a larger one is an InputError."""

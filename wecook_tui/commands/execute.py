@@ -86,48 +86,6 @@ def recording_path(record: Path | None, plan_path: Path, *, force: bool = False)
     return create_new(record, what="recording")
 
 
-def staging_path(target: Path) -> Path:
-    """Where a run replacing the recording ``target`` (``--force``) is written until it ends: a new hidden file
-    beside it, so that the old recording stays whole until the new one replaces it (:func:`settle_recording`)."""
-    import os
-    import tempfile
-
-    fd, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part.mcap", dir=target.parent)
-    os.close(fd)
-    return Path(name)
-
-
-def settle_recording(written: Path, target: Path, *, keep: bool) -> None:
-    """The end of a recording written to ``written`` for ``target``: with ``keep``, made durable and moved onto
-    ``target`` (replacing what was there in one step); else removed (``target`` is left as it was)."""
-    import os
-
-    from wecook_core.files import fsync_dir
-    from wecook_core.recording.writer import layout_path
-
-    if written == target and keep:
-        return
-    if not keep:  # a new file of this run, or the hidden one beside the target
-        written.unlink(missing_ok=True)
-        layout_path(written).unlink(missing_ok=True)
-        return
-    with written.open("rb") as handle:
-        os.fsync(handle.fileno())
-    os.chmod(written, 0o666 & ~_umask())  # as a file created the ordinary way (mkstemp makes it private)
-    os.replace(written, target)
-    if layout_path(written).exists():
-        os.replace(layout_path(written), layout_path(target))
-    fsync_dir(target.parent)
-
-
-def _umask() -> int:
-    import os
-
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
 @dataclass
 class ActionRow:
     id: str
@@ -306,8 +264,6 @@ def run_execute(args: argparse.Namespace) -> int:
     from rich.console import Console
 
     from wecook_core.errors import InputError
-    from wecook_core.execution.schedule.fanout import FanOut
-    from wecook_core.execution.schedule.observer import RunEvent
     from wecook_core.plan import read_plan
 
     plan = read_plan(args.plan)  # validates: a bad plan is an InputError before anything runs
@@ -316,68 +272,36 @@ def run_execute(args: argparse.Namespace) -> int:
     for line in plan_findings(plan):  # what will fail, said before the run
         print(f"wecook: warning: {args.plan}: {line}", file=sys.stderr)
     try:
-        from wecook_core.execution.run import execute_plan
+        import wecook_core.execution.run  # noqa: F401 (the simulator loads)
+        from wecook_core.recording.run import recorded_run
     except ImportError as error:
         raise InputError(None, f"the executor is not available ({error})") from None
     console = Console(stderr=args.jsonl)  # --jsonl: stdout carries only JSON lines
     live = console.is_terminal
     progress = Progress(plan, console, live=live, jsonl=args.jsonl)
     observers: list[Any] = [progress]
-    recorder = None
     record_path: Path | None = None
-    written: Path | None = None
-    """Where the recording goes while the run lasts: ``record_path``, or a file beside it that replaces it at the
-    end when ``--force`` replaces an existing recording."""
+    replacing = False
+    """``--force`` replaces an existing recording: the run is written beside it until it ends."""
     if not args.no_record:
-        from wecook_core.recording.writer import McapRecorder
-
         force = getattr(args, "force", False)
         replacing = force and args.record is not None and (args.record.exists() or args.record.is_symlink())
         record_path = recording_path(args.record, args.plan, force=force)
-        written = staging_path(record_path) if replacing else record_path
-        recorder = McapRecorder(written)
-        observers.insert(0, recorder)
     server = _live_server(args, console)
     if server is not None:
         observers.append(server)
         progress.live_url = server.url
-    clock = time.perf_counter()
-    result = None
-    ended = unstarted = False
-    """The run ended (or was stopped) with its story told: its recording is kept; it never started: it is not."""
-    _interrupt_on_sigterm()
-    try:
-        result = execute_plan(plan, _with_camera(FanOut(*observers), args.camera_hz), seed=args.seed,
-                              realtime=args.realtime, images=not args.camera_hz, timeout=args.timeout,
-                              stop_at_first_failure=args.stop_at_first_failure)
-    except KeyboardInterrupt:
-        for row in progress.rows.values():  # close the story in the recording and on the terminal
-            if row.status == "running":
-                event = RunEvent("action_failed", row.id, agent=row.agents.split(",")[0], detail="interrupted")
-                if recorder is not None:
-                    recorder.on_event(progress.sim_time, event)
-                progress.on_event(progress.sim_time, event)
-        if recorder is not None:
-            recorder.on_event(progress.sim_time, RunEvent("run_end", detail="interrupted"))
-        ended = True
-        raise
-    except InputError:  # the run could not start (a robot PyBullet cannot load): no recording of it is kept
-        unstarted = True
-        raise
-    finally:
+
+    def over() -> None:
         progress.stop()
         if server is not None:
             server.close()
-        if recorder is not None and written is not None and record_path is not None:
-            recorder.close()
-            ended = ended or result is not None
-            # a crash mid-run keeps a new recording (it can be recovered), never a half-made replacement
-            settle_recording(written, record_path, keep=ended or (written == record_path and not unstarted))
-            if ended:
-                console.print(f"recording: {record_path}")
-            elif written != record_path or unstarted:
-                console.print(f"no recording: {record_path} left as it was" if written != record_path
-                              else "no recording")
+
+    clock = time.perf_counter()
+    _interrupt_on_sigterm()
+    result = recorded_run(plan, record_path, observers, replace=replacing, camera_hz=args.camera_hz, over=over,
+                          say=console.print, seed=args.seed, realtime=args.realtime, images=not args.camera_hz,
+                          timeout=args.timeout, stop_at_first_failure=args.stop_at_first_failure).result
     wall = time.perf_counter() - clock
     rows = list(progress.rows.values())
     merge_result(progress.rows, result)
@@ -420,15 +344,6 @@ def _rate(text: str) -> float:
     if not 0 <= hz < float("inf"):
         raise argparse.ArgumentTypeError(f"not a rate in Hz (0 or more): {text!r}")
     return hz
-
-
-def _with_camera(observer: Any, hz: float) -> Any:
-    """``--camera-hz``: the observer wrapped by a camera rendering at ``hz`` images per simulated second."""
-    if not hz:
-        return observer
-    from wecook_core.recording.camera import CameraObserver
-
-    return CameraObserver(observer, hz)
 
 
 class RunStopped(KeyboardInterrupt):

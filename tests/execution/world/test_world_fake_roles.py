@@ -105,6 +105,7 @@ def test_a_handover_mid_air_goes_grasp_meet_take_let_go_then_put_down_in_that_or
     assert w.scene.pose("knife")[0, 3] > 0.0  # put down on the receiver's side
 
 
+@pytest.mark.slow
 def test_a_failed_role_is_recovered_the_object_put_back_near_where_it_was_picked_up():
     w = world()
     action = PlanAction("a1", ("P1",), "stir", "spoon", (), "bowl")

@@ -95,6 +95,7 @@ def test_first_breakpoint_is_the_brute_force_best_split(features):
     assert result.objective_by_k[0] == pytest.approx(direct_objective(x, (), lamb), rel=1e-10)
 
 
+@pytest.mark.slow
 def test_adjustment_leaves_no_breakpoint_with_a_better_place():
     rng = np.random.default_rng(5)
     x = np.concatenate([rng.normal(m, s, (60, 2)) for m, s in [(0, 1), (3, 0.2), (-1, 2), (1, 0.5)]])
@@ -200,6 +201,7 @@ def test_union_merges_near_simultaneous_cuts_of_different_hands():
     assert union_breakpoints([(10, 20)], 1000, 1) == [10, 20]
 
 
+@pytest.mark.slow
 def test_segments_are_never_slivers():
     frames = 2400
     rng = np.random.default_rng(7)
