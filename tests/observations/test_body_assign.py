@@ -62,6 +62,10 @@ def test_a_hand_is_given_only_to_a_wrist_it_is_next_to_and_the_model_sees() -> N
     assert hinted[0].arm.body == (320.0, 100.0)
     unseen = skeleton(0, ((400, 100), (240, 100)), ((420, 200), (220, 200)), ((380, 300), (260, 300)), seen=0.3)
     assert all(h.arm is None for h in hint_hands(hands, [unseen], SIZE, BodyParams()))
+    # A "body" imagined inside the hand (shoulders, elbows, wrists all within it): its arm is shorter than the
+    # hand, so it is no arm.
+    tiny = skeleton(0, ((265, 330), (255, 332)), ((266, 318), (258, 320)), ((264, 310), (259, 309)))
+    assert hint_hands(hands[:1], [tiny], SIZE, BodyParams())[0].arm is None
     # Two hands by one wrist: only the nearer ends it.
     pair = hint_hands([hand(0, (250, 300)), hand(0, (275, 310))], [body], SIZE, BodyParams())
     assert pair[0].arm is not None and pair[1].arm is None

@@ -8,18 +8,23 @@ elbows and wrists; a hand detector gives hands with no person and a handedness g
    a hand and a wrist within ``wrist_gate`` hand sizes (the hand box's diagonal) may go together, and the
    pairing of a frame's hands and wrists is the one of least total distance (each wrist ends one hand); a wrist
    the model itself sees less than ``min_visibility`` is no evidence (on top-down footage the model guesses
-   arms it cannot see);
+   arms it cannot see: on tasty-a it reports a body in 245 of 269 frames with only the arms in view, its
+   wrists often a hand or more from any hand);
 2. **an arm's side comes from where the body faces, not from the model's left and right labels**: the hands
    work in front of the body, so the body faces from its shoulders' midpoint towards its wrists' midpoint, and
    looking that way the right shoulder is on the right. In image coordinates (x right, y down) for a body seen
    from above or from the front, the right of a facing ``f`` is ``(-f_y, f_x)``: a cook filmed from above whose
    arms enter from the bottom edge has their right arm on the image's right, a cook facing the camera with the
    hands below the shoulders has it on the image's left. The pose model's labels assume a body seen from the
-   front; on tasty-a (top-down, arms from the bottom edge) they named 23 of 30 hands near a wrist wrongly, this
-   rule 22 of 30 rightly. Only when the facing is too short to tell (the wrists less than ``min_facing``
-   shoulder widths in front of the shoulders, or the shoulders seen edge-on, under ``min_shoulder_width`` of the
-   frame diagonal apart) are the model's labels kept;
-3. the arm's evidence weighs as much as the model sees its wrist (its visibility, 0-1); MediaPipe's handedness
+   front; on tasty-a (top-down, arms from the bottom edge) they gave 20 of the 21 hands on a well-seen wrist
+   the other side than tasty-a's hands.csv, this rule 6 of 21. Only when the facing is too short to tell (the
+   wrists less than ``min_facing`` shoulder widths in front of the shoulders, or the shoulders seen edge-on,
+   under ``min_shoulder_width`` of the frame diagonal apart) are the model's labels kept;
+3. **an arm is longer than its hand**: upper arm and forearm (about 0.3 and 0.26 m) are each longer than a
+   hand (about 0.19 m), so a shoulder-elbow-wrist path under ``min_arm`` hand sizes, even allowing for an arm
+   pointing at the camera, is no arm but a body the model imagined in the hand itself (it does so in a video
+   of two hand photos on a plain background: a "body" with shoulders 11 px apart inside a 100 px hand);
+4. the arm's evidence weighs as much as the model sees its wrist (its visibility, 0-1); MediaPipe's handedness
    is left to :mod:`wecook_core.observations.hand_assign` as the tie-breaker of hands no arm claims.
 
 Pure: landmark arrays in (a frozen :class:`Skeleton` per body and frame), hands with an :class:`ArmHint` out.
@@ -77,10 +82,14 @@ class ArmHint:
 
 @dataclass(frozen=True)
 class BodyParams:
-    wrist_gate: float = 1.0
-    """A hand goes with a wrist at most this many hand sizes (its box diagonal) from its centre."""
-    min_visibility: float = 0.5
-    """A wrist the model sees less than this is no evidence."""
+    wrist_gate: float = 0.5
+    """A hand goes with a wrist at most this many hand sizes (its box diagonal) from its centre: about where a
+    hand's centre lies from its own wrist."""
+    min_visibility: float = 0.8
+    """A wrist the model sees less than this is no evidence (tasty-a, before the arm-length rule: at 0.5, 39
+    of 62 hands on a wrist got hands.csv's side; at 0.8, 18 of 26)."""
+    min_arm: float = 1.0
+    """The shoulder-elbow-wrist path must be at least this many sizes of the hand it ends."""
     min_facing: float = 0.25
     """The wrists' midpoint must lie at least this many shoulder widths in front of the shoulders for the body's
     facing (and so its sides) to be read from them."""
@@ -110,27 +119,30 @@ def hint_hands(hands: Sequence[HandDetection], skeletons: Sequence[Skeleton], si
     """One frame's hands, each with the :class:`ArmHint` of the arm it ends when one does (rule 1), in the same
     order; ``size`` is the frame's (width, height) pixels."""
     diagonal = float(np.hypot(*size))
-    arms: list[tuple[np.ndarray, ArmHint]] = []
+    arms: list[tuple[np.ndarray, float, ArmHint]] = []
     for skeleton in skeletons:
         sides = arm_sides(skeleton, diagonal, params, mirrored)
-        for wrist, side in ((L_WRIST, sides[0]), (R_WRIST, sides[1])):
+        j = skeleton.joints
+        for (shoulder, elbow, wrist), side in (((L_SHOULDER, L_ELBOW, L_WRIST), sides[0]),
+                                               ((R_SHOULDER, R_ELBOW, R_WRIST), sides[1])):
             seen = float(skeleton.visibility[wrist])
+            length = float(np.hypot(*(j[elbow] - j[shoulder])) + np.hypot(*(j[wrist] - j[elbow])))
             if seen >= params.min_visibility:
-                arms.append((skeleton.joints[wrist], ArmHint(side, seen, skeleton.shoulder_centre)))
+                arms.append((j[wrist], length, ArmHint(side, seen, skeleton.shoulder_centre)))
     if not arms or not hands:
         return list(hands)
     cost = np.full((len(hands), len(arms)), np.inf)
     for i, hand in enumerate(hands):
         x1, y1, x2, y2 = hand.box
-        gate = params.wrist_gate * float(np.hypot(x2 - x1, y2 - y1))
-        for j, (joint, _) in enumerate(arms):
+        extent = float(np.hypot(x2 - x1, y2 - y1))
+        for k, (joint, length, _) in enumerate(arms):
             distance = float(np.hypot(hand.xy[0] - joint[0], hand.xy[1] - joint[1]))
-            if distance <= gate:
-                cost[i, j] = distance
+            if distance <= params.wrist_gate * extent and length >= params.min_arm * extent:
+                cost[i, k] = distance
     finite = np.where(np.isfinite(cost), cost, 1e12)
     rows, cols = linear_sum_assignment(finite)
     out = list(hands)
     for i, j in zip(rows.tolist(), cols.tolist(), strict=True):
         if np.isfinite(cost[i, j]):
-            out[i] = replace(hands[i], arm=arms[j][1])
+            out[i] = replace(hands[i], arm=arms[j][2])
     return out
