@@ -33,18 +33,25 @@ Pure: landmark arrays in (a frozen :class:`Skeleton` per body and frame), hands 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-if TYPE_CHECKING:
-    from wecook_core.observations.hand_assign import HandDetection
-
 JOINTS = ("left_shoulder", "right_shoulder", "left_elbow", "right_elbow", "left_wrist", "right_wrist")
 """The joints a :class:`Skeleton` holds, in this order; left and right as the pose model labels them."""
 L_SHOULDER, R_SHOULDER, L_ELBOW, R_ELBOW, L_WRIST, R_WRIST = range(6)
+
+
+class Hand(Protocol):
+    """What is read of a detected hand (:class:`~.hand_assign.HandDetection` is one)."""
+
+    @property
+    def xy(self) -> tuple[float, float]: ...
+
+    @property
+    def box(self) -> tuple[float, float, float, float]: ...
 
 
 @dataclass(frozen=True, eq=False)
@@ -114,10 +121,10 @@ def arm_sides(skeleton: Skeleton, diagonal: float, params: BodyParams, mirrored:
     return ("LH", "RH") if model_right_is_right else ("RH", "LH")
 
 
-def hint_hands(hands: Sequence[HandDetection], skeletons: Sequence[Skeleton], size: tuple[int, int],
-               params: BodyParams, mirrored: bool = False) -> list[HandDetection]:
-    """One frame's hands, each with the :class:`ArmHint` of the arm it ends when one does (rule 1), in the same
-    order; ``size`` is the frame's (width, height) pixels."""
+def hint_hands(hands: Sequence[Hand], skeletons: Sequence[Skeleton], size: tuple[int, int],
+               params: BodyParams, mirrored: bool = False) -> list[ArmHint | None]:
+    """For each of one frame's hands, in order, the :class:`ArmHint` of the arm it ends, or None (rule 1);
+    ``size`` is the frame's (width, height) pixels."""
     diagonal = float(np.hypot(*size))
     arms: list[tuple[np.ndarray, float, ArmHint]] = []
     for skeleton in skeletons:
@@ -129,8 +136,9 @@ def hint_hands(hands: Sequence[HandDetection], skeletons: Sequence[Skeleton], si
             length = float(np.hypot(*(j[elbow] - j[shoulder])) + np.hypot(*(j[wrist] - j[elbow])))
             if seen >= params.min_visibility:
                 arms.append((j[wrist], length, ArmHint(side, seen, skeleton.shoulder_centre)))
+    out: list[ArmHint | None] = [None] * len(hands)
     if not arms or not hands:
-        return list(hands)
+        return out
     cost = np.full((len(hands), len(arms)), np.inf)
     for i, hand in enumerate(hands):
         x1, y1, x2, y2 = hand.box
@@ -141,8 +149,7 @@ def hint_hands(hands: Sequence[HandDetection], skeletons: Sequence[Skeleton], si
                 cost[i, k] = distance
     finite = np.where(np.isfinite(cost), cost, 1e12)
     rows, cols = linear_sum_assignment(finite)
-    out = list(hands)
     for i, j in zip(rows.tolist(), cols.tolist(), strict=True):
         if np.isfinite(cost[i, j]):
-            out[i] = replace(hands[i], arm=arms[j][2])
+            out[i] = arms[j][2]
     return out

@@ -31,7 +31,7 @@ Pure: detections in, :class:`~wecook_core.model.HandTrack` out; nothing here rea
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
@@ -294,8 +294,9 @@ def assign_hands(
     params = params or AssignParams()
     clean = [deduplicate(f, params.duplicate_iou) for f in frames]
     if skeletons:
-        clean = [hint_hands(f, skeletons.get(f[0].frame, ()), size, params.body, params.mirrored) if f else f
-                 for f in clean]
+        clean = [[replace(d, arm=arm) for d, arm in
+                  zip(f, hint_hands(f, skeletons.get(f[0].frame, ()), size, params.body, params.mirrored),
+                      strict=True)] if f else f for f in clean]
     tracklets = track(clean, fps, size, params)
     count = persons if persons is not None else count_persons(tracklets, fps, params)
     if count not in (1, 2):
