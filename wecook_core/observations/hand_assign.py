@@ -1,22 +1,28 @@
-"""Naming detected hands ``LH_P1 RH_P1 LH_P2 RH_P2`` from per-frame detections, by tracking and position.
+"""Naming detected hands ``LH_P1 RH_P1 LH_P2 RH_P2`` from per-frame detections, by the body they are on.
 
 A hand detector (MediaPipe's) reports per frame a set of hands, each with a handedness guess and a score, but
 no identity; its handedness assumes a mirrored (selfie) image and it sometimes reports one hand twice or both
-hands with the same side. So the names are not taken from one frame but from the whole video:
+hands with the same side. As OpenPose does for the paper, a hand is named by the arm it ends when a pose model
+found the body (:mod:`~wecook_core.observations.body_assign`: the person and the arm's side), the handedness
+being the tie-breaker where no arm claims it. The names are not taken from one frame but from the whole video:
 
 1. **duplicates** in a frame (boxes overlapping by more than ``duplicate_iou``) are one hand: the best scored
-   stays;
+   stays; **arms**: with the frame's skeletons, each hand is given the arm whose wrist it ends, if any;
 2. **tracklets**: frame by frame, detections join the tracklets seen within ``max_gap_seconds`` by
-   :func:`scipy.optimize.linear_sum_assignment` on the centre distance (plus ``label_cost`` when the
-   detection's handedness disagrees with the tracklet's); a detection farther than the hand can move in the
-   time since (``max_speed`` frame diagonals a second, at least its own size) starts a tracklet;
+   :func:`scipy.optimize.linear_sum_assignment` on the centre distance, plus ``arm_cost`` when the detection
+   was found on the other side's arm than the tracklet so far, or (no arm to compare) ``label_cost`` when its
+   handedness disagrees with the tracklet's: where hands cross, distance cannot tell them apart; a detection
+   farther than the hand can move in the time since (``max_speed`` frame diagonals a second, at least its own
+   size) starts a tracklet;
 3. **persons**: two when at least ``two_person_fraction`` of the frames with hands show more than two hands
-   that each last ``min_track_seconds``, else one (or as given); with two, tracklets are split by their mean x
-   into the two groups that are tightest (exact 1-D two-means), P1 the left one, P2 the right one (DESIGN.md:
-   persons from left to right);
-4. **sides**: each tracklet's side is its score-weighted vote of handedness (un-mirrored unless the video is
-   mirrored); tracklets are given sides most confident first, and one whose side is already taken at the same
-   time by its person's other tracklet takes the other side;
+   that each last ``min_track_seconds``, else one (or as given); with two, tracklets are split by where their
+   person is (the shoulders of the bodies they were found on, else the hand's own place) into the two groups
+   that are tightest along the line the persons stand on (exact 1-D two-means), P1 the one further left, P2
+   the other (DESIGN.md: persons from left to right);
+4. **sides**: each tracklet's side is the visibility-weighted vote of the arms it was found on, else its
+   score-weighted vote of handedness (un-mirrored unless the video is mirrored); tracklets are given sides
+   most confident first (those on arms first), and one whose side is already taken at the same time by its
+   person's other tracklet takes the other side;
 5. per hand name and frame, the best scored detection stays.
 
 Pure: detections in, :class:`~wecook_core.model.HandTrack` out; nothing here reads a video.
@@ -24,13 +30,14 @@ Pure: detections in, :class:`~wecook_core.model.HandTrack` out; nothing here rea
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass, field
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from wecook_core.model import HANDS, HandTrack
+from wecook_core.observations.body_assign import ArmHint, BodyParams, Skeleton, hint_hands
 
 _INFEASIBLE = 1e9
 
@@ -48,6 +55,8 @@ class HandDetection:
     """Centre, pixels."""
     box: tuple[float, float, float, float]
     """``x1 y1 x2 y2`` pixels."""
+    arm: ArmHint | None = None
+    """The body's arm this hand ends, when a pose model found one (:func:`~.body_assign.hint_hands`)."""
 
 
 @dataclass(frozen=True)
@@ -59,6 +68,9 @@ class AssignParams:
     label_cost: float = 0.1
     """Matching a detection to a tracklet whose handedness so far disagrees with it costs as much as this
     distance, in frame diagonals: enough to keep crossing hands apart, too little to swap distant ones."""
+    arm_cost: float = 0.3
+    """Matching a detection found on one side's arm to a tracklet whose arms so far are the other side's costs
+    as much as this distance, in frame diagonals: the body is surer than the handedness, so more."""
     max_gap_seconds: float = 1.0
     """A tracklet not seen for longer than this ends."""
     two_person_fraction: float = 0.05
@@ -67,7 +79,10 @@ class AssignParams:
     min_track_seconds: float = 1.0
     """A hand seen for less than this (first to last detection) does not count towards a second person."""
     mirrored: bool = False
-    """The video is mirrored (a selfie camera): the detector's handedness is then taken as it is."""
+    """The video is mirrored (a selfie camera): the detector's handedness is then taken as it is, and the
+    body's sides swap."""
+    body: BodyParams = field(default_factory=BodyParams)
+    """How hands are given to the arms of the bodies a pose model found."""
 
 
 @dataclass(frozen=True)
@@ -101,8 +116,25 @@ class _Tracklet:
             total += d.score if right else -d.score
         return total
 
+    def arm_vote(self) -> float:
+        """Positive: found on the person's right arm; negative: left; weighted by the wrist's visibility."""
+        return sum((d.arm.weight if d.arm.side == "RH" else -d.arm.weight) for d in self.detections
+                   if d.arm is not None)
+
+    def side_vote(self, mirrored: bool) -> tuple[float, float]:
+        """(arm vote, handedness vote): the body decides; the handedness only where no arm was found."""
+        return self.arm_vote(), self.vote(mirrored)
+
     def mean_x(self) -> float:
         return float(np.mean([d.xy[0] for d in self.detections]))
+
+    def anchor(self) -> tuple[float, float]:
+        """Where the tracklet's person is: the mean shoulder centre of the bodies it was found on, else the
+        hand's own mean place."""
+        bodies = [d.arm.body for d in self.detections if d.arm is not None]
+        points = bodies or [d.xy for d in self.detections]
+        x, y = np.mean(np.asarray(points, dtype=np.float64), axis=0)
+        return float(x), float(y)
 
 
 def iou(a: Sequence[float], b: Sequence[float]) -> float:
@@ -148,9 +180,15 @@ def track(
                 distance = float(np.hypot(d.xy[0] - t.last.xy[0], d.xy[1] - t.last.xy[1]))
                 reach = max(params.max_speed * diagonal * seconds, _diagonal(d.box))
                 if distance <= reach:
-                    # Where hands cross, distance cannot tell them apart; the detector's handedness can.
-                    disagrees = (t.vote(True) >= 0) != (d.label.lower() == "right")
-                    costs[i, j] = distance / diagonal + (params.label_cost if disagrees else 0.0)
+                    # Where hands cross, distance cannot tell them apart; the arm they end can, and else
+                    # the detector's handedness.
+                    arm = t.arm_vote()
+                    if d.arm is not None and arm != 0:
+                        penalty = params.arm_cost if (arm > 0) != (d.arm.side == "RH") else 0.0
+                    else:
+                        disagrees = (t.vote(True) >= 0) != (d.label.lower() == "right")
+                        penalty = params.label_cost if disagrees else 0.0
+                    costs[i, j] = distance / diagonal + penalty
         matched: set[int] = set()
         if active:
             rows, cols = linear_sum_assignment(costs)
@@ -185,12 +223,22 @@ def count_persons(tracklets: Sequence[_Tracklet], fps: float, params: AssignPara
 
 
 def split_persons(tracklets: Sequence[_Tracklet], persons: int) -> dict[int, str]:
-    """Tracklet index -> ``P1``/``P2``: the tightest split by mean x (weighted by length), P1 on the left."""
+    """Tracklet index -> ``P1``/``P2``: the tightest split (weighted by length) of where their persons are
+    (:meth:`_Tracklet.anchor`: the body's shoulders where one was found, which stay apart where the hands of
+    two people reach past each other), along the line the persons are spread on (the anchors' principal axis:
+    side by side, or across a table); P1 is the group further left in the image."""
     if persons == 1 or len(tracklets) < 2:
         return {t.index: "P1" for t in tracklets}
-    ordered = sorted(tracklets, key=lambda t: t.mean_x())
-    xs = np.array([t.mean_x() for t in ordered])
-    weights = np.array([len(t.detections) for t in ordered], dtype=np.float64)
+    anchors = np.array([t.anchor() for t in tracklets])
+    weights_all = np.array([len(t.detections) for t in tracklets], dtype=np.float64)
+    centred = anchors - np.average(anchors, axis=0, weights=weights_all)
+    _, vectors = np.linalg.eigh((centred * weights_all[:, None]).T @ centred)
+    axis = vectors[:, -1]
+    projected = centred @ axis
+    order = np.argsort(projected, kind="stable")
+    ordered = [tracklets[i] for i in order.tolist()]
+    xs = projected[order]
+    weights = weights_all[order]
     best, best_cost = 1, np.inf
     for k in range(1, len(ordered)):
         cost = 0.0
@@ -199,18 +247,24 @@ def split_persons(tracklets: Sequence[_Tracklet], persons: int) -> dict[int, str
             cost += float(np.sum(w * (part - mean) ** 2))
         if cost < best_cost:
             best, best_cost = k, cost
-    return {t.index: ("P1" if i < best else "P2") for i, t in enumerate(ordered)}
+    first = float(np.average(anchors[order[:best], 0], weights=weights[:best]))
+    second = float(np.average(anchors[order[best:], 0], weights=weights[best:]))
+    left = ("P1", "P2") if first <= second else ("P2", "P1")
+    return {t.index: (left[0] if i < best else left[1]) for i, t in enumerate(ordered)}
 
 
 def assign_sides(tracklets: Sequence[_Tracklet], persons: dict[int, str], mirrored: bool) -> dict[int, str]:
-    """Tracklet index -> hand name: each tracklet's voted side unless its person's other tracklet holds that
-    side at the same time; the most confident tracklets choose first."""
+    """Tracklet index -> hand name: each tracklet's voted side (its arms', else its handedness') unless its
+    person's other tracklet holds that side at the same time; the most confident tracklets choose first, those
+    found on an arm before those only the handedness names."""
     taken: dict[str, set[int]] = {}
     names: dict[int, str] = {}
-    order = sorted(tracklets, key=lambda t: (-abs(t.vote(mirrored)), t.index))
+    votes = {t.index: t.side_vote(mirrored) for t in tracklets}
+    order = sorted(tracklets, key=lambda t: (-abs(votes[t.index][0]), -abs(votes[t.index][1]), t.index))
     for t in order:
         person = persons[t.index]
-        voted = "RH" if t.vote(mirrored) >= 0 else "LH"
+        arm, hand = votes[t.index]
+        voted = "RH" if (arm > 0 if arm != 0 else hand >= 0) else "LH"
         other = "LH" if voted == "RH" else "RH"
         frames = t.frames()
         side = voted
@@ -231,12 +285,18 @@ def assign_hands(
     params: AssignParams | None = None,
     *,
     persons: int | None = None,
+    skeletons: Mapping[int, Sequence[Skeleton]] | None = None,
 ) -> tuple[tuple[HandTrack, ...], tuple[AssignedHand, ...]]:
     """Hand tracks named by person and side from per-frame detections (``frames`` in frame order, one list
     per frame that was read), and every kept detection with its name. ``size`` is (width, height) pixels;
-    ``persons`` (1 or 2) forces the number of persons."""
+    ``persons`` (1 or 2) forces the number of persons; ``skeletons`` (frame -> the bodies a pose model found
+    in it) gives hands to arms first (:mod:`~wecook_core.observations.body_assign`)."""
     params = params or AssignParams()
     clean = [deduplicate(f, params.duplicate_iou) for f in frames]
+    if skeletons:
+        clean = [[replace(d, arm=arm) for d, arm in
+                  zip(f, hint_hands(f, skeletons.get(f[0].frame, ()), size, params.body, params.mirrored),
+                      strict=True)] if f else f for f in clean]
     tracklets = track(clean, fps, size, params)
     count = persons if persons is not None else count_persons(tracklets, fps, params)
     if count not in (1, 2):

