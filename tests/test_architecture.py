@@ -19,7 +19,7 @@ The layers, top to bottom (a layer may import any layer below it, never one abov
       .repairs                         objects hidden in hands, holds by unseen hands
       .association                     per-frame links, what each hand holds, per-segment summaries
       .segmentation                    GGS on each hand, shot cuts
-      .params, .label_runs             the tunables; runs in per-frame labels
+      .params, .label_runs, .geometry  the tunables; runs in per-frame labels; box geometry
     wecook_core.trees                the grammar, trees in bracket notation, tree files, the action graph
     wecook_core.observations         boxes and hands imported (or detected) into one checked value
     wecook_core.knowledge            the commonsense tables, object categories, learning them from corpora
@@ -55,7 +55,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("wecook_core.perception.repairs",),
     ("wecook_core.perception.association",),
     ("wecook_core.perception.segmentation",),
-    ("wecook_core.perception.params", "wecook_core.perception.label_runs"),
+    ("wecook_core.perception.params", "wecook_core.perception.label_runs", "wecook_core.perception.geometry"),
     ("wecook_core.trees",),
     ("wecook_core.observations",),
     ("wecook_core.knowledge",),

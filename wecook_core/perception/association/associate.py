@@ -36,15 +36,18 @@ from wecook_core.perception.association.frame_links import (
     BLOCK_FRAMES,
     FrameBoxes,
     FrameLinks,
-    box_area,
-    box_centres,
-    box_gap,
-    box_intersection,
     crop,
     crop_links,
     frame_boxes,
     frame_links,
     links_of,
+)
+from wecook_core.perception.geometry import (
+    box_area,
+    box_centres,
+    box_diagonal,
+    box_gap,
+    box_intersection,
     video_diagonal,
 )
 from wecook_core.perception.label_runs import NONE, dominant, kept_runs, longest_runs, runs
@@ -140,7 +143,7 @@ def near_objects(
     own = boxes.objects[:, held, :]
     seen = np.flatnonzero(rows & np.isfinite(own[:, 0]))
     middle = own[seen[len(seen) // 2]] if len(seen) else None
-    size = float(np.hypot(middle[2] - middle[0], middle[3] - middle[1])) if middle is not None else 0.0
+    size = float(box_diagonal(middle)) if middle is not None else 0.0
     stay = max(params.dwell_fraction * video_diagonal, params.dwell_own_fraction * size)
     near = (gap <= params.near_fraction * video_diagonal) & rows[:, None] & dwelling(
         own, rate.dwell_frames, stay)[:, None]

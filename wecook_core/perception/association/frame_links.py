@@ -14,6 +14,7 @@ import numpy as np
 
 from wecook_core.model import HANDS, Category, Observations
 from wecook_core.perception.association.holding import held_objects
+from wecook_core.perception.geometry import box_area, box_centres, box_diagonal, box_intersection
 from wecook_core.perception.label_runs import NONE
 from wecook_core.perception.params import DEFAULT_FPS
 
@@ -96,40 +97,6 @@ def _scatter(out: np.ndarray, frames: np.ndarray, values: np.ndarray, start: int
         for k in range(values.shape[1]):
             out[todo, k] = np.interp(t, near_frames, near_values[:, k])
 
-
-def box_area(boxes: np.ndarray) -> np.ndarray:
-    return np.clip(boxes[..., 2] - boxes[..., 0], 0, None) * np.clip(boxes[..., 3] - boxes[..., 1], 0, None)
-
-
-def box_intersection(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Intersection areas of broadcast box arrays ``a[..., 4]`` and ``b[..., 4]`` (NaN where either is absent)."""
-    width = np.minimum(a[..., 2], b[..., 2]) - np.maximum(a[..., 0], b[..., 0])
-    height = np.minimum(a[..., 3], b[..., 3]) - np.maximum(a[..., 1], b[..., 1])
-    return np.clip(width, 0, None) * np.clip(height, 0, None)
-
-
-def box_gap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Euclidean distance between two boxes' closest points (0 when they overlap); NaN where absent."""
-    dx = np.clip(np.maximum(a[..., 0], b[..., 0]) - np.minimum(a[..., 2], b[..., 2]), 0, None)
-    dy = np.clip(np.maximum(a[..., 1], b[..., 1]) - np.minimum(a[..., 3], b[..., 3]), 0, None)
-    return np.hypot(dx, dy)
-
-
-def video_diagonal(obs: Observations) -> float:
-    """Image diagonal in pixels (from the video's size, else from the boxes' extent)."""
-    if obs.video.width > 0 and obs.video.height > 0:
-        return float(np.hypot(obs.video.width, obs.video.height))
-    width, height = 1.0, 1.0
-    for boxes in [t.boxes for t in obs.objects] + [t.boxes for t in obs.hands]:
-        if len(boxes):
-            width = max(width, float(np.max(boxes[:, 2])))
-            height = max(height, float(np.max(boxes[:, 3])))
-    return float(np.hypot(width, height))
-
-
-def box_centres(boxes: np.ndarray) -> np.ndarray:
-    """Centres ``(..., 2)`` of boxes ``(..., 4)`` given as x1, y1, x2, y2."""
-    return np.stack([(boxes[..., 0] + boxes[..., 2]) / 2, (boxes[..., 1] + boxes[..., 3]) / 2], axis=-1)
 
 
 @dataclass(frozen=True, eq=False)
@@ -245,6 +212,6 @@ def _drop_passing(container: np.ndarray, objects: np.ndarray, window: int, fract
     relative = (centre[after, columns] - centre[after, holders]) - (centre[before, columns] - centre[before, holders])
     box = objects[rows, holders]
     with np.errstate(invalid="ignore"):
-        size = np.hypot(box[:, 2] - box[:, 0], box[:, 3] - box[:, 1])
+        size = box_diagonal(box)
         passing = np.linalg.norm(relative, axis=1) > fraction * size
     container[rows[passing], columns[passing]] = NONE

@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from wecook_core.perception.geometry import box_diagonal
 from wecook_core.perception.label_runs import NONE
 
 TIE = 0.01
@@ -78,7 +79,7 @@ def motion_coherence(hands: np.ndarray, objects: np.ndarray, overlap: np.ndarray
     index = np.arange(length)
     hand_centres, object_centres = centres(hands), centres(objects)
     with np.errstate(invalid="ignore"):
-        hand_size = np.hypot(hands[..., 2] - hands[..., 0], hands[..., 3] - hands[..., 1])
+        hand_size = box_diagonal(hands)
     moving = np.zeros(hands.shape[:2], dtype=bool)
     together = np.zeros((*hands.shape[:2], objects.shape[1]), dtype=bool)
     informative = together.copy()
@@ -139,7 +140,7 @@ def _carried(hand_step: np.ndarray, object_centres: np.ndarray, objects: np.ndar
         object_step = object_centres[b] - object_centres[a]
         ox, oy = object_step[..., 0], object_step[..., 1]
         travel = np.sqrt(ox * ox + oy * oy)  # np.linalg.norm's arithmetic, bit for bit
-        size = np.hypot(objects[..., 2] - objects[..., 0], objects[..., 3] - objects[..., 1])
+        size = box_diagonal(objects)
         seen = np.isfinite(travel)
         if shot is not None:
             seen &= (shot[a] == shot[b])[:, None]
@@ -195,8 +196,8 @@ def emission_costs(
     # tie-breaks: closer centres, smaller boxes, a container before the ingredient it holds
     own, other = hands[rows, hand], objects[rows, column]
     with np.errstate(invalid="ignore", divide="ignore"):
-        hand_size = np.hypot(own[:, 2] - own[:, 0], own[:, 3] - own[:, 1])
-        object_size = np.hypot(other[:, 2] - other[:, 0], other[:, 3] - other[:, 1])
+        hand_size = box_diagonal(own)
+        object_size = box_diagonal(other)
         dx = (own[:, 0] + own[:, 2]) / 2 - (other[:, 0] + other[:, 2]) / 2
         dy = (own[:, 1] + own[:, 3]) / 2 - (other[:, 1] + other[:, 3]) / 2
         distance = np.sqrt(dx * dx + dy * dy)  # np.linalg.norm of the centres' difference, bit for bit
@@ -263,7 +264,7 @@ def riding(objects: np.ndarray, container: np.ndarray, window: int, moving_fract
     centre = centres(objects)
     box = objects[rows, columns]
     with np.errstate(invalid="ignore"):
-        size = np.hypot(box[:, 2] - box[:, 0], box[:, 3] - box[:, 1])
+        size = box_diagonal(box)
         for a, b in ((np.maximum(rows - window, 0), rows), (rows, np.minimum(rows + window, length - 1))):
             own = centre[b, columns] - centre[a, columns]
             travel = np.hypot(own[:, 0], own[:, 1])

@@ -44,7 +44,8 @@ from wecook_core.model import (
     Segmentation,
     person_of,
 )
-from wecook_core.perception.association.associate import Timeline, associate_segments, dwelling_points, video_diagonal
+from wecook_core.perception.association.associate import Timeline, associate_segments, dwelling_points
+from wecook_core.perception.geometry import video_diagonal
 from wecook_core.perception.label_runs import longest_runs, runs
 from wecook_core.perception.recognition.motion import Role
 from wecook_core.perception.recognition.resting import SpanCache, acting_links

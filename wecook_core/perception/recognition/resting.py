@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from wecook_core.model import HANDS, Associations, Observations, Segment
-from wecook_core.perception.association.frame_links import box_intersection
+from wecook_core.perception.geometry import box_diagonal, box_intersection
 from wecook_core.perception.recognition.motion import median_of
 from wecook_core.perception.recognition.transfers import hold_spans
 
@@ -77,7 +77,7 @@ def at_rest(obs: Observations, name: str, hold: tuple[int, int], segment: Segmen
     seen = boxes[during]
     centre = np.array([median_of((seen[:, 0] + seen[:, 2]) / 2), median_of((seen[:, 1] + seen[:, 3]) / 2)])
     ends = _centres(boxes[[inside[0], inside[-1]]])
-    size = median_of(np.hypot(seen[:, 2] - seen[:, 0], seen[:, 3] - seen[:, 1]))
+    size = median_of(box_diagonal(seen))
     return bool(np.min(np.linalg.norm(ends - centre, axis=1)) <= REST_FRACTION * size)
 
 

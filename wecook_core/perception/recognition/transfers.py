@@ -12,8 +12,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from wecook_core.model import HANDS, Category, Observations, person_of
-from wecook_core.perception.association.associate import Timeline, video_diagonal
-from wecook_core.perception.association.frame_links import box_gap, frame_boxes
+from wecook_core.perception.association.associate import Timeline
+from wecook_core.perception.association.frame_links import frame_boxes
+from wecook_core.perception.geometry import box_gap, video_diagonal
 from wecook_core.perception.label_runs import NONE, kept_runs
 from wecook_core.perception.params import frames
 

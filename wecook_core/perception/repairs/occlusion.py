@@ -31,13 +31,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from wecook_core.model import Category
-from wecook_core.perception.association.frame_links import (
-    box_area,
-    box_centres,
-    box_intersection,
-    frame_boxes,
-    video_diagonal,
-)
+from wecook_core.perception.association.frame_links import frame_boxes
+from wecook_core.perception.geometry import box_area, box_centres, box_diagonal, box_intersection, video_diagonal
 from wecook_core.perception.repairs.unseen import moving_objects, shot_index
 
 if TYPE_CHECKING:
@@ -66,7 +61,7 @@ def hidden_by_hands(obs: Observations, params: Params, shots: Sequence[int] = ()
     moving = moving_objects(objects, rate.dwell_frames, params.moving_fraction, shot, most)
     hand_centres = box_centres(hands)
     with np.errstate(invalid="ignore"):
-        hand_size = np.hypot(hands[..., 2] - hands[..., 0], hands[..., 3] - hands[..., 1])
+        hand_size = box_diagonal(hands)
     takes_other = _takes_other(objects, hands, moving, hand_size)
     carried: dict[int, list[tuple[int, list[int], list[np.ndarray]]]] = {}
     for k in range(len(obs.objects)):
@@ -125,7 +120,7 @@ def _takes_other(objects: np.ndarray, hands: np.ndarray, moving: np.ndarray, han
     """bool ``(frames, hands, objects)``: on that frame the hand overlaps a moving object no bigger than it
     other than that object (the hand now carries something else)."""
     with np.errstate(invalid="ignore"):
-        size = np.hypot(objects[..., 2] - objects[..., 0], objects[..., 3] - objects[..., 1])
+        size = box_diagonal(objects)
         touching = box_intersection(hands[:, :, None, :], objects[:, None, :, :]) > 0
         small = size[:, None, :] <= hand_size[:, :, None]
     carrying = touching & small & moving[:, None, :]
@@ -138,7 +133,7 @@ def _covering_hand(box: np.ndarray, hands: np.ndarray, hand_size: np.ndarray, fr
     """``(frame, hand)``: the first of ``frames`` where a detected hand no smaller than ``box`` covers at least
     ``least`` of it (the hand that shows up around it), else None."""
     area = max(float(box_area(box)), MIN_AREA)
-    size = float(np.hypot(box[2] - box[0], box[3] - box[1]))
+    size = float(box_diagonal(box))
     for frame in frames:
         with np.errstate(invalid="ignore"):
             covered = np.nan_to_num(box_intersection(hands[frame], box[None, :]) / area)

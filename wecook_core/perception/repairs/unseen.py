@@ -34,14 +34,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from wecook_core.model import HANDS, Category, Observations, person_of
-from wecook_core.perception.association.frame_links import (
-    UnseenHold,
-    box_centres,
-    box_gap,
-    box_intersection,
-    frame_boxes,
-    video_diagonal,
-)
+from wecook_core.perception.association.frame_links import UnseenHold, frame_boxes
+from wecook_core.perception.geometry import box_centres, box_diagonal, box_gap, box_intersection, video_diagonal
 from wecook_core.perception.label_runs import runs
 from wecook_core.perception.params import frames
 
@@ -67,7 +61,7 @@ def moving_objects(objects: np.ndarray, window: int, fraction: float, shot: np.n
     index = np.arange(length)
     centre = box_centres(objects)
     with np.errstate(invalid="ignore"):
-        size = np.hypot(objects[..., 2] - objects[..., 0], objects[..., 3] - objects[..., 1])
+        size = box_diagonal(objects)
     moving = np.zeros(objects.shape[:2], dtype=bool)
     for a, b in ((np.maximum(index - window, 0), index), (index, np.minimum(index + window, length - 1))):
         same = (shot[a] == shot[b])[:, None]
@@ -147,7 +141,7 @@ def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = ()) -
     if len(rows):
         box = objects[rows, columns]
         with np.errstate(invalid="ignore"):
-            size = np.hypot(box[:, 2] - box[:, 0], box[:, 3] - box[:, 1])
+            size = box_diagonal(box)
             gap = box_gap(boxes.hand_boxes[rows], box[:, None, :])
             seen = (gap <= SEEN_WITHIN * size[:, None]).any(axis=1)
         unseen[rows[~seen], columns[~seen]] = True
@@ -193,7 +187,7 @@ def _nearest_hand(track: np.ndarray, hands: np.ndarray, start: int, end: int, sh
             continue
         box = track[frames]
         with np.errstate(invalid="ignore"):
-            size = np.hypot(box[:, 2] - box[:, 0], box[:, 3] - box[:, 1])
+            size = box_diagonal(box)
             gap = box_gap(hands[frames], box[:, None, :]) / size[:, None]
         gap = np.where(np.isfinite(gap) & (gap <= 1.0), gap, np.inf)
         if not np.isfinite(gap).any():
