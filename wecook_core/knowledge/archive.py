@@ -10,6 +10,12 @@ a whole collection is held out, never a sentence or a recipe of a book learned f
 The old books hyphenate what is one word now ("sauce-pan", "stew-pan"): the noun lookup tries the words
 joined (``saucepan``), and :data:`OLD_SPELLINGS` names the object classes of the old words the category
 tables do not know.
+
+No NLP library parses the steps: none that is well kept installs from PyPI with its English model inside.
+spaCy's models (en_core_web_sm) are published on GitHub, not PyPI (the PyPI copies are third-party re-uploads);
+NLTK's tagger, TextBlob's corpora and Stanza's models are downloaded at run time; lemminflect and simplemma
+ship their data but only lemmatise, which the verb list and its gerunds already cover. The clause reader of
+:mod:`wecook_core.knowledge.instructions` is extended instead.
 """
 
 from __future__ import annotations
