@@ -118,3 +118,21 @@ def test_learn_bad_corpus_is_one_line(tmp_path: Path, capsys: pytest.CaptureFixt
     assert main(["knowledge", "learn", "--corpus", str(corpus), "-o", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert "bad.csv:line 2" in err and len(err.strip().splitlines()) == 1
+
+
+def test_extract_the_recipe_archive_then_learn(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    import gzip
+
+    archive = tmp_path / "open-recipe-archive.jsonl.gz"
+    recipes = [{"id": f"book{b}/r{i}", "ingredients": ["2 lemons", "sugar"],
+                "steps": ["Cut the lemons with a knife.", "Squeeze them over the sugar in a bowl."]}
+               for b in range(3) for i in range(2)]
+    with gzip.open(archive, "wt", encoding="utf-8") as f:
+        f.writelines(json.dumps(r) + "\n" for r in recipes)
+    out = tmp_path / "archive.csv"
+    assert main(["knowledge", "extract", str(archive), "-o", str(out)]) == 0
+    assert "wrote 12 records" in capsys.readouterr().out
+    text = out.read_text()
+    assert "# licence: Unlicense" in text and "squeeze,lemon;sugar;bowl,book0/r0" in text
+    assert main(["knowledge", "learn", "--corpus", str(out), "-o", str(tmp_path / "t")]) == 0
+    assert "squeeze 6" in capsys.readouterr().out

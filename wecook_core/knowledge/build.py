@@ -6,6 +6,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from wecook_core.knowledge.archive import ARCHIVE_LICENCE, ARCHIVE_SOURCE, is_archive, read_archive
 from wecook_core.knowledge.categories import (
     CATEGORIES_PATH,
     DERIVED_PATH,
@@ -29,15 +30,23 @@ from wecook_core.knowledge.instructions import is_recipe_folder, noun_table
 from wecook_core.knowledge.learning import fold, learn
 from wecook_core.knowledge.recognize import PRIORS, Knowledge, save_knowledge
 from wecook_core.knowledge.report import EXPECTED, source_markdown
+from wecook_core.knowledge.synonyms import load_synonyms
 from wecook_core.model import Category
 from wecook_core.resources import ASSETS_DIR, shared_dir
 
 KNOWLEDGE_DIR = ASSETS_DIR / "knowledge"
-__all__ = ["EXPECTED", "KNOWLEDGE_DIR", "RECIPES_PATH", "Built", "build", "default_corpora", "default_corpus",
-           "extract_recipes", "read_corpora", "recipe_nouns"]
+__all__ = ["ARCHIVE_LICENCE", "ARCHIVE_PATH", "EXPECTED", "KNOWLEDGE_DIR", "RECIPES_PATH", "Built", "build",
+           "default_archive", "default_corpora", "default_corpus", "extract_archive", "extract_recipes",
+           "read_corpora", "recipe_nouns"]
 
 RECIPES_PATH = KNOWLEDGE_DIR / "recipes.csv"
 """The (verb, objects) records extracted from the public-domain recipes (``wecook knowledge extract``)."""
+ARCHIVE_PATH = Path("open-recipe-archive.csv")
+"""Where ``wecook knowledge extract`` writes the records of the Open Recipe Archive by default (the current
+folder: the shipped tables do not learn from them, see :func:`default_corpora`): the records whose verb folds
+into wecook's actions and that name an object (re-extract after changing the synonyms)."""
+ARCHIVE_ORIGIN = ("Open Recipe Archive (github.com/AdamBouhmad/open-recipe-archive, commit ae3bd2c, "
+                  "collections/*/recipes/*.md; ../shared/data/recipes/open-recipe-archive.jsonl.gz)")
 RECIPES_LICENCE = "Unlicense (public domain dedication)"
 RECIPES_ORIGIN = ("Public Domain Recipes (publicdomainrecipes.com; github.com/ronaldl29/public-domain-recipes, "
                   "content/, commit 61b488e of 2026-03-02), the continuation of based.cooking")
@@ -48,9 +57,19 @@ def default_corpus() -> Path:
     return shared_dir() / "data" / "epic-kitchens"
 
 
+def default_archive() -> Path:
+    """The team's copy of the Open Recipe Archive, read in place."""
+    return shared_dir() / "data" / "recipes"
+
+
 def default_corpora() -> list[Path]:
     """What `wecook knowledge learn` reads by default: the EPIC-KITCHENS annotations and the shipped
-    records of the recipe instructions."""
+    records of the recipe instructions (Public Domain Recipes).
+
+    The Open Recipe Archive (:func:`default_archive`) is learned from only when named (``--corpus``): pooled
+    with EPIC it outweighs the videos ten to one, and as the archive's text hardly names tools, its
+    few knives and spoons took over the tools' verbs (knife + meat + board ranked roll, spoon + pot transfer),
+    and the shared scenarios dropped (SOURCE.md, "Open Recipe Archive")."""
     return [default_corpus(), RECIPES_PATH]
 
 
@@ -74,12 +93,17 @@ def read_corpora(paths: Sequence[Path], *, context: int = 0, held_s: float = HEL
         if path.is_dir():
             if _is_epic(path):
                 corpora.append(read_epic(path, context=context, held_s=held_s, is_tool=tool_names()))
+            elif is_archive(path):
+                corpora.append(read_archive(path, recipe_nouns()))
             elif is_recipe_folder(path):
                 corpora.append(read_recipes(path, recipe_nouns()))
             else:
                 corpora.append(read_corpus(path))
         else:
-            corpora.append(read_csv(path) if path.is_file() else read_corpus(path))
+            if is_archive(path):
+                corpora.append(read_archive(path, recipe_nouns()))
+            else:
+                corpora.append(read_csv(path) if path.is_file() else read_corpus(path))
     return merge(corpora)
 
 
@@ -99,6 +123,23 @@ def extract_recipes(root: Path, out: Path, *, origin: str = "", licence: str = "
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return len(corpus.records)
+
+
+def extract_archive(path: Path, out: Path, *, origin: str = ARCHIVE_ORIGIN, licence: str = ARCHIVE_LICENCE) -> int:
+    """Write the records of the Open Recipe Archive whose verb folds into wecook's actions and that name an
+    object, as a CSV corpus (``action,objects,group``, group ``collection/recipe``); returns their number."""
+    corpus = read_archive(path, recipe_nouns())
+    folder = load_synonyms()
+    kept = [r for r in corpus.records if r.objects and folder.fold(r.action) is not None]
+    lines = [f"# corpus: {ARCHIVE_SOURCE}",
+             f"# source: {origin}; (verb, objects) of each clause of the recipes' steps whose verb folds into "
+             f"wecook's actions, of {len(corpus.records)} clauses, extracted by `wecook knowledge extract` "
+             "(wecook_core.knowledge.archive)",
+             f"# licence: {licence}", "action,objects,group"]
+    lines += [f"{r.action},{';'.join(r.objects)},{r.group}" for r in kept]
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return len(kept)
 
 
 def _is_epic(path: Path) -> bool:

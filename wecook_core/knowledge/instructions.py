@@ -38,15 +38,16 @@ VERBS: frozenset[str] = frozenset({
     "coat", "combine", "cook", "cool", "core", "cover", "crack", "cream", "crimp", "crumble", "crush", "cube",
     "cut", "debone", "deglaze", "dice", "dip", "discard", "dissolve", "distribute", "divide", "drain", "drizzle",
     "dredge", "drop", "dry", "dunk", "dust", "empty", "fill", "fillet", "finish", "flatten", "flip", "fluff", "fold",
-    "form", "freeze", "fry", "garnish", "glaze", "grate", "grease", "grill", "grind", "halve", "heat", "insert",
-    "juice", "julienne", "knead", "ladle", "layer", "leave", "let", "line", "marinate", "mash", "measure", "melt",
+    "form", "freeze", "fry", "garnish", "glaze", "grate", "grease", "grill", "grind", "halve", "heat", "immerse",
+    "insert", "juice", "julienne", "knead", "ladle", "layer", "leave", "let", "line", "marinate", "mash", "measure",
+    "melt",
     "microwave", "mince", "mix", "moisten", "move", "pare", "pat", "peel", "pepper", "pierce", "pinch", "place",
-    "poach", "pound", "pour", "preheat", "prepare", "press", "pull", "puree", "put", "quarter", "reduce",
+    "plunge", "poach", "pound", "pour", "preheat", "prepare", "press", "pull", "puree", "put", "quarter", "reduce",
     "refrigerate", "remove", "repeat", "reserve", "rest", "return", "rinse", "roast", "roll", "rub", "salt",
     "saute", "scatter", "scoop", "scramble", "scrape", "sear", "season", "separate", "serve", "set", "shake",
     "shape", "shred", "sieve", "sift", "simmer", "skewer", "skim", "skin", "slice", "smash", "smear", "smooth",
     "soak", "spoon", "spray", "spread", "sprinkle", "squeeze", "squish", "stack", "steam", "steep", "stir",
-    "strain", "stuff", "sweeten", "take", "tear", "thread", "tie", "toast", "top", "toss", "transfer", "trim",
+    "strain", "strew", "stuff", "sweeten", "take", "tear", "thread", "tie", "toast", "top", "toss", "transfer", "trim",
     "tuck", "turn", "twist", "unroll", "unwrap", "use", "warm", "wash", "whip", "whisk", "wipe", "wrap", "zest"
 })
 """Imperative cooking verbs that open a clause. Only the ones that fold into wecook's actions become
@@ -128,14 +129,46 @@ def _is_verb(words: Sequence[str], i: int, start: int) -> str | None:
     return None
 
 
+_LONGEST: dict[int, tuple[Mapping[str, str], int, dict[tuple[str, ...], str | None]]] = {}
+
+
+def _table(nouns: Mapping[str, str]) -> tuple[int, dict[tuple[str, ...], str | None]]:
+    """The longest phrase of a noun table (in words) and a memo of its phrase lookups, kept per table (a
+    recipe corpus asks the same table hundreds of thousands of times)."""
+    known = _LONGEST.get(id(nouns))
+    if known is None or known[0] is not nouns:
+        known = (nouns, max([2, *(k.count("_") + 1 for k in nouns)]), {})  # 2: "sauce-pan" is tried joined
+        _LONGEST.clear()
+        _LONGEST[id(nouns)] = known
+    return known[1], known[2]
+
+
+def _lookup(words: Sequence[str], nouns: Mapping[str, str]) -> str | None:
+    """The noun a phrase of words names: as written (``sauce_pan``), singular or plural, else the words
+    joined into one (``saucepan``, ``stewpan``): the old books hyphenate what is now one word ("sauce-pan",
+    "stew-pan"), and the tokens split the hyphen."""
+    if "," in words:
+        return None
+    phrase = "_".join(words)
+    name = next((nouns[v] for v in variants(phrase) if v in nouns), None)
+    if name is None and len(words) > 1:
+        joined = "".join(words)
+        name = next((nouns[v] for v in variants(joined) if v in nouns), None)
+    return name
+
+
 def _nouns(words: Sequence[str], nouns: Mapping[str, str], longest: int) -> list[str]:
     """Known nouns in ``words``, longest phrase first, whole words only, singular or plural."""
     found: list[str] = []
+    memo = _table(nouns)[1]
     i = 0
     while i < len(words):
         for n in range(min(longest, len(words) - i), 0, -1):
-            phrase = "_".join(words[i:i + n])
-            name = next((nouns[v] for v in variants(phrase) if v in nouns), None) if "," not in phrase else None
+            phrase = tuple(words[i:i + n])
+            if phrase in memo:
+                name = memo[phrase]
+            else:
+                name = memo[phrase] = _lookup(phrase, nouns)
             if name is not None:
                 found.append(name)
                 i += n
@@ -157,12 +190,35 @@ def _sense(verb: str, clause: Sequence[str]) -> str:
     return verb
 
 
+PRONOUNS: frozenset[str] = frozenset({"them", "it", "they", "these", "all", "both", "mixture"})
+"""Words by which a clause names ingredients it does not repeat ("add them", "stir it well", "pour the
+mixture into a dish"): a clause with one of them after its verb takes the ingredients named last before it
+in the recipe (:func:`extract`, with the recipe's ingredient list)."""
+
+
+def _refers(clause: Sequence[str]) -> int:
+    """How a clause's words (after its verb, up to the next verb) name ingredients by a pronoun: 2 when the
+    pronoun is the verb's object ("squeeze them over the sugar", "pour the mixture into a dish"), 1 when one
+    comes later ("stir until they are soft"), 0 when none does."""
+    words = [w for w in clause if w not in _ADVERBS and w != "the"]
+    if words and words[0] in PRONOUNS:
+        return 2
+    return int(any(w in PRONOUNS for w in clause))
+
+
 def clause_records(sentence: str, nouns: Mapping[str, str]) -> list[tuple[str, tuple[str, ...]]]:
     """The (verb, objects) of a sentence's clauses, in order (see the module docstring)."""
+    return [(verb, objects) for verb, objects, _ in _clauses(sentence, nouns)]
+
+
+def _clauses(sentence: str, nouns: Mapping[str, str]) -> list[tuple[str, tuple[str, ...], int]]:
+    """(verb, objects, how the clause names ingredients by a pronoun, :func:`_refers`) of a sentence's
+    clauses."""
     words = tokens(sentence)
-    longest = max((k.count("_") + 1 for k in nouns), default=1)
+    longest = _table(nouns)[0]
     verbs = [(i, v) for i in range(len(words)) if (v := _is_verb(words, i, 0)) is not None]
     records: list[tuple[str, list[str]]] = []
+    refers: list[int] = []
     for k, (i, verb) in enumerate(verbs):
         end = verbs[k + 1][0] if k + 1 < len(verbs) else len(words)
         objects = _nouns(words[i + 1:end], nouns, longest)
@@ -171,16 +227,37 @@ def clause_records(sentence: str, nouns: Mapping[str, str]) -> list[tuple[str, t
         if k == 0:
             objects = _nouns(words[:i], nouns, longest) + objects
         records.append((_sense(verb, words[i + 1:end]), objects))
+        refers.append(_refers(words[i + 1:end]))
     for k in range(len(records) - 2, -1, -1):  # "peel and cut the apples": peel shares cut's objects
         i, next_i = verbs[k][0], verbs[k + 1][0]
         if not records[k][1] and all(w in _BOUNDARIES or w in _ADVERBS for w in words[i + 1:next_i]):
             records[k] = (records[k][0], list(records[k + 1][1]))
-    return [(verb, tuple(dict.fromkeys(objects))) for verb, objects in records]
+    return [(verb, tuple(dict.fromkeys(objects)), r) for (verb, objects), r in zip(records, refers, strict=True)]
 
 
-def extract(steps: Iterable[str], nouns: Mapping[str, str]) -> list[tuple[str, tuple[str, ...]]]:
-    """(verb, objects) of every clause of the steps, in order."""
-    return [record for step in steps for sentence in sentences(step) for record in clause_records(sentence, nouns)]
+def extract(steps: Iterable[str], nouns: Mapping[str, str],
+            ingredients: Sequence[str] = ()) -> list[tuple[str, tuple[str, ...]]]:
+    """(verb, objects) of every clause of the steps, in order.
+
+    ``ingredients``: the lines of the recipe's ingredient list. When given, a clause whose verb's object is a
+    pronoun ("add them", "squeeze them over the sugar", :data:`PRONOUNS`), or that has one and names no
+    ingredient, takes the ingredients of the list that the clauses before it named last (in this step or an
+    earlier one): "Put the gooseberries into a saucepan. When they are soft, pulp them through a sieve."
+    """
+    listed = set(_nouns([w for line in ingredients for w in (*tokens(line), ",")], nouns,
+                        _table(nouns)[0])) if ingredients else set()
+    found: list[tuple[str, tuple[str, ...]]] = []
+    last: list[str] = []
+    for step in steps:
+        for sentence in sentences(step):
+            for verb, objects, refers in _clauses(sentence, nouns):
+                named = [o for o in objects if o in listed]
+                if last and (refers == 2 or (refers and not named)):
+                    objects = tuple(dict.fromkeys((*last, *objects)))
+                if named:
+                    last = named
+                found.append((verb, objects))
+    return found
 
 
 # -------------------------------------------------------------------------------------- Markdown recipes

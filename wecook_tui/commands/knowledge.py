@@ -37,7 +37,10 @@ def register(sub: Any) -> None:
                                              "on publicdomainrecipes.com or based.cooking; a folder holding "
                                              "`content/` works too), extract the verb and objects of every clause "
                                              "of their directions, and write them as a CSV corpus.")
-    extract.add_argument("recipes", type=Path, metavar="FOLDER", help="folder of Markdown recipes")
+    extract.add_argument("recipes", type=Path, metavar="PATH", nargs="?", default=None,
+                         help="the Open Recipe Archive (its folder or .jsonl.gz; default: "
+                              "../shared/data/recipes, written to ./open-recipe-archive.csv) or a folder of "
+                              "Markdown recipes")
     extract.add_argument("-o", "--out", type=Path, default=None,
                          help="CSV to write (default: the shipped assets/knowledge/recipes.csv)")
     extract.add_argument("--origin", default=None,
@@ -137,16 +140,33 @@ def run_learn(args: argparse.Namespace) -> int:
 
 def run_extract(args: argparse.Namespace) -> int:
     from wecook_core.errors import InputError
-    from wecook_core.knowledge.build import RECIPES_LICENCE, RECIPES_ORIGIN, RECIPES_PATH, extract_recipes
+    from wecook_core.knowledge.archive import ARCHIVE_LICENCE, is_archive
+    from wecook_core.knowledge.build import (
+        ARCHIVE_ORIGIN,
+        ARCHIVE_PATH,
+        RECIPES_LICENCE,
+        RECIPES_ORIGIN,
+        RECIPES_PATH,
+        default_archive,
+        extract_archive,
+        extract_recipes,
+    )
     from wecook_core.knowledge.instructions import is_recipe_folder
 
-    if not is_recipe_folder(args.recipes):
-        raise InputError(args.recipes, "expected a folder of Markdown recipes with a `## Directions` list")
+    source = args.recipes or default_archive()
+    if is_archive(source):
+        out = args.out or ARCHIVE_PATH
+        count = extract_archive(source, out, origin=args.origin or ARCHIVE_ORIGIN,
+                                licence=args.licence or ARCHIVE_LICENCE)
+        print(f"wrote {count} records to {out}")
+        return 0
+    if not is_recipe_folder(source):
+        raise InputError(source, "expected a folder of Markdown recipes with a `## Directions` list")
     out = args.out or RECIPES_PATH
     shipped = out.resolve() == RECIPES_PATH.resolve()
-    origin = args.origin if args.origin is not None else (RECIPES_ORIGIN if shipped else str(args.recipes))
+    origin = args.origin if args.origin is not None else (RECIPES_ORIGIN if shipped else str(source))
     licence = args.licence if args.licence is not None else (RECIPES_LICENCE if shipped else "")
-    count = extract_recipes(args.recipes, out, origin=origin, licence=licence)
+    count = extract_recipes(source, out, origin=origin, licence=licence)
     print(f"wrote {count} records to {out}" + ("" if licence else " (no licence declared: pass --licence)"))
     return 0
 

@@ -1,0 +1,105 @@
+"""The Open Recipe Archive as a corpus: one (verb, objects) record per clause of its direction steps.
+
+The archive (``../shared/data/recipes/open-recipe-archive.jsonl.gz``, the Unlicense) is one JSON object a
+line: ``id`` (``collection/slug``), ``collection``, ``source`` (the book), ``ingredients`` (lines) and ``steps``
+(the numbered directions). Each step is read by :func:`wecook_core.knowledge.instructions.extract` with the
+recipe's ingredient list, so "add them" takes the ingredients named last. A record's group is the recipe's id,
+whose ``collection/`` prefix is the unit of held-out splits (:func:`wecook_core.knowledge.evaluation.split`:
+a whole collection is held out, never a sentence or a recipe of a book learned from).
+
+The old books hyphenate what is one word now ("sauce-pan", "stew-pan"): the noun lookup tries the words
+joined (``saucepan``), and :data:`OLD_SPELLINGS` names the object classes of the old words the category
+tables do not know.
+
+No NLP library parses the steps: none that is well kept installs from PyPI with its English model inside.
+spaCy's models (en_core_web_sm) are published on GitHub, not PyPI (the PyPI copies are third-party re-uploads);
+NLTK's tagger, TextBlob's corpora and Stanza's models are downloaded at run time; lemminflect and simplemma
+ship their data but only lemmatise, which the verb list and its gerunds already cover. The clause reader of
+:mod:`wecook_core.knowledge.instructions` is extended instead.
+"""
+
+from __future__ import annotations
+
+import gzip
+import json
+from collections.abc import Iterator, Mapping
+from pathlib import Path
+from typing import Any
+
+from wecook_core.errors import InputError
+from wecook_core.knowledge.corpus import Corpus, Record
+from wecook_core.knowledge.instructions import extract
+
+ARCHIVE_SOURCE = "open-recipe-archive"
+ARCHIVE_FILE = "open-recipe-archive.jsonl.gz"
+ARCHIVE_LICENCE = "Unlicense (public domain dedication)"
+
+OLD_SPELLINGS: Mapping[str, str] = {
+    "stewpan": "pan", "stew_pan": "pan", "fryingpan": "frying_pan", "frying_pan": "frying_pan",
+    "spider": "frying_pan", "skillet": "frying_pan", "griddle": "pan", "kettle": "pot", "stewpot": "pot",
+    "porringer": "bowl", "basin": "bowl", "pipkin": "pot", "dripping_pan": "tray", "baking_pan": "tray",
+    "baking_dish": "dish", "pie_dish": "dish", "gravy_boat": "jug", "sauceboat": "jug", "tureen": "bowl",
+    "cloth": "towel", "napkin": "towel", "muslin": "towel", "rolling_pin": "rolling_pin", "paste_board": "board",
+    "pasteboard": "board", "skimmer": "ladle", "egg_beater": "whisk", "eggbeater": "whisk",
+}
+"""Old cookbook words -> the object class they are (a stew-pan is a pan, a spider a frying pan, a basin a bowl),
+added to the noun table where it does not know the word; only classes the table has are kept."""
+
+
+def is_archive(path: Path) -> bool:
+    """Whether ``path`` is the archive's JSON lines (``*.jsonl`` or ``*.jsonl.gz``) or a folder holding it."""
+    if path.is_dir():
+        return (path / ARCHIVE_FILE).is_file()
+    return path.is_file() and path.name.endswith((".jsonl", ".jsonl.gz"))
+
+
+def archive_file(path: Path) -> Path:
+    return path / ARCHIVE_FILE if path.is_dir() else path
+
+
+def with_old_spellings(nouns: Mapping[str, str]) -> dict[str, str]:
+    """The noun table with :data:`OLD_SPELLINGS` whose class it has (a table entry wins)."""
+    table = dict(nouns)
+    for word, name in OLD_SPELLINGS.items():
+        if name in table.values() or name in table:
+            table.setdefault(word, table.get(name, name))
+    return table
+
+
+def recipes(path: Path) -> Iterator[dict[str, Any]]:
+    """The archive's recipes, in file order; InputError naming the line of a malformed one."""
+    file = archive_file(path)
+    opener = gzip.open if file.name.endswith(".gz") else open
+    try:
+        with opener(file, "rt", encoding="utf-8") as lines:
+            for number, line in enumerate(lines, start=1):
+                if not line.strip():
+                    continue
+                try:
+                    recipe = json.loads(line)
+                except json.JSONDecodeError as error:
+                    raise InputError(file, f"invalid JSON: {error.msg}", place=f"line {number}") from None
+                if not isinstance(recipe, dict) or not isinstance(recipe.get("id"), str) \
+                        or not isinstance(recipe.get("steps"), list):
+                    raise InputError(file, "expected an object with an `id` and a list of `steps`",
+                                     place=f"line {number}")
+                yield recipe
+    except (OSError, EOFError, UnicodeDecodeError) as error:
+        raise InputError(file, f"cannot read the recipe archive: {error}") from None
+
+
+def read_archive(path: Path, nouns: Mapping[str, str]) -> Corpus:
+    """The archive as a corpus: every clause of every recipe's steps, grouped by recipe id."""
+    table = with_old_spellings(nouns)
+    found: list[Record] = []
+    count = 0
+    for recipe in recipes(path):
+        count += 1
+        steps = [str(s) for s in recipe["steps"]]
+        ingredients = [str(i) for i in recipe.get("ingredients") or ()]
+        for verb, objects in extract(steps, table, ingredients):
+            found.append(Record(verb, objects, recipe["id"], source=ARCHIVE_SOURCE))
+    if not found:
+        raise InputError(archive_file(path), "no recipe steps found")
+    return Corpus(records=tuple(found), sources=(f"{archive_file(path).name} ({count} recipes, {len(found)} clauses)",),
+                  licences=(ARCHIVE_LICENCE,))
