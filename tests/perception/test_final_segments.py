@@ -45,3 +45,19 @@ def test_final_segments_makes_every_cut_once() -> None:
     cut = final_segments(ggs, (60, 198), unseen, params, 30.0, corrections)
     # GGS's 100 merged away; the user's 40; the shot 60; the hold's edges 130 and 170; 198 too near the end
     assert [(s.start, s.end) for s in cut.segments] == [(0, 40), (40, 60), (60, 130), (130, 170), (170, 200)]
+
+
+def test_an_analysis_converts_its_durations_to_frames_once(monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """Every stage gets the frame counts the pipeline worked out (``rate=``); none converts seconds again."""
+    from wecook_core.perception.pipeline import analyze
+
+    calls: list[float] = []
+    real = Params.at
+
+    def counted(self: Params, fps: float):  # type: ignore[no-untyped-def]
+        calls.append(fps)
+        return real(self, fps)
+
+    monkeypatch.setattr(Params, "at", counted)
+    analyze(_demo(), load_knowledge(), Params(), shots=(SHOT,))
+    assert calls == [_demo().video.fps]

@@ -144,12 +144,19 @@ class Params:
             min_action_frames=frames(self.min_action_s, fps),
             hold_switch_frames=self.hold_switch_s * (fps if fps > 0 else DEFAULT_FPS),
             decode_step=frames(DECODE_S, fps),
+            min_segment=frames(self.min_segment_s, fps),
+            rejoin=frames(self.rejoin_s, fps, least=0),
+            unseen_bridge=frames(self.unseen_bridge_s, fps),
+            unseen_hand=frames(self.unseen_hand_s, fps),
+            mover_window=frames(self.mover_window_s, fps),
         )
 
 
 @dataclass(frozen=True)
 class FrameParams:
-    """:class:`Params`' durations in frames of one video (:meth:`Params.at`); never stored."""
+    """:class:`Params`' durations in frames of one video (:meth:`Params.at`); never stored. The pipeline
+    converts once per analysis and hands this to every stage (``rate=``); a stage called alone converts
+    itself."""
 
     min_frames: int
     fill_gap: int
@@ -160,6 +167,11 @@ class FrameParams:
     hold_switch_frames: float
     decode_step: int
     """Frames per bin of the held-object decoder (:data:`DECODE_S`)."""
+    min_segment: int = 1
+    rejoin: int = 0
+    unseen_bridge: int = 1
+    unseen_hand: int = 1
+    mover_window: int = 1
 
 
 MAX_BREAKPOINTS = 1000

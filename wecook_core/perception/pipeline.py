@@ -35,7 +35,7 @@ from wecook_core.model import (
     TreeSpan,
 )
 from wecook_core.perception.association.frame_links import UnseenHold
-from wecook_core.perception.params import DEFAULT_FPS, Params, frames
+from wecook_core.perception.params import DEFAULT_FPS, FrameParams, Params, frames
 
 if TYPE_CHECKING:
     from wecook_core.knowledge.recognize import Knowledge
@@ -140,15 +140,17 @@ class Repaired:
     unseen: tuple[UnseenHold, ...]
 
 
-def repaired(obs: Observations, params: Params, shots: Sequence[int] = ()) -> Repaired:
+def repaired(obs: Observations, params: Params, shots: Sequence[int] = (), *, rate: FrameParams | None = None,
+             ) -> Repaired:
     """``obs`` repaired where real observations miss (:mod:`wecook_core.perception.repairs`), with the shot cuts
     and the holds of hands the detector did not see."""
     from wecook_core.perception.repairs.occlusion import hidden_by_hands
     from wecook_core.perception.repairs.unseen import unseen_holds
 
     cuts = tuple(sorted(set(shots)))
-    fixed = hidden_by_hands(obs, params, cuts)
-    return Repaired(fixed, cuts, tuple(unseen_holds(fixed, params, cuts)))
+    rate = rate or params.at(obs.video.fps)
+    fixed = hidden_by_hands(obs, params, cuts, rate=rate)
+    return Repaired(fixed, cuts, tuple(unseen_holds(fixed, params, cuts, rate=rate)))
 
 
 def unsure_segments(obs: Observations, segments: Sequence[Segment], unseen: Sequence[UnseenHold],
@@ -230,29 +232,30 @@ def analyze(
     params = params or Params()
     corrections = corrections or Corrections()
     seconds: dict[str, float] = {}
+    rate = params.at(obs.video.fps)  # every duration in frames, once per analysis, handed to every stage
     clock = time.perf_counter()
     if segmentation is None:
         segmentation = segment_hands(obs, segmentation_params(obs, params))
     if repairs is None:
-        repairs = repaired(obs, params, shots)
+        repairs = repaired(obs, params, shots, rate=rate)
     obs, shots, unseen = repairs.observations, repairs.shots, repairs.unseen
     segmentation = final_segments(segmentation, shots, unseen, params, obs.video.fps, corrections)
     seconds["segment"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
     associations, timeline = associate_segments(obs, segmentation.segments, params, corrections,
-                                                shots=shots, unseen=unseen)
+                                                shots=shots, unseen=unseen, rate=rate)
     seconds["associate"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
-    segment_actions = recognize_actions(obs, segmentation, associations, knowledge, params, corrections, timeline)
+    segment_actions = recognize_actions(obs, segmentation, associations, knowledge, params, corrections, timeline,
+                                        rate=rate)
     seconds["actions"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
     rejected = {start for start, status in corrections.status.items() if status is SegmentStatus.REJECTED}
     actions = merge_actions(segment_actions, obs.categories, rejected,
-                            min_hold=params.at(obs.video.fps).min_action_frames,
-                            rejoin=frames(params.rejoin_s, obs.video.fps, least=0), shots=shots)
+                            min_hold=rate.min_action_frames, rejoin=rate.rejoin, shots=shots)
     unsure = unsure_segments(obs, segmentation.segments, unseen, params.seen_share)
     actions = _without_thin_holds(actions, segmentation.segments, unsure)
     trees = tree_spans(actions)

@@ -55,7 +55,7 @@ from wecook_core.perception.params import DEFAULT_FPS
 
 if TYPE_CHECKING:
     from wecook_core.perception.association.frame_links import UnseenHold
-    from wecook_core.perception.params import Params
+    from wecook_core.perception.params import FrameParams, Params
 
 
 # ------------------------------------------------------------------------------------------- segments
@@ -83,6 +83,7 @@ def associations_of(
     links: FrameLinks,
     segment: Segment,
     params: Params,
+    rate: FrameParams,
     video_diagonal: float,
     corrections: Corrections | None = None,
     window: Segment | None = None,
@@ -96,7 +97,7 @@ def associations_of(
     window = window or segment
     lo, hi = window.start - links.start, window.end - links.start
     names = links.boxes.names
-    min_frames = min(params.at(links.boxes.fps).min_frames, hi - lo)  # a link that lasts a whole short segment counts
+    min_frames = min(rate.min_frames, hi - lo)  # a link that lasts a whole short segment counts
     containment: dict[str, str] = {}
     for column, category in enumerate(links.boxes.categories):
         if category is Category.INGREDIENT:
@@ -119,7 +120,7 @@ def associations_of(
         if corrections is not None and (segment.start, name) in corrections.object_object:
             object_object[name] = tuple(corrections.object_object[(segment.start, name)])
         elif name not in object_object:
-            near = near_objects(links, best, params, rows, video_diagonal)
+            near = near_objects(links, best, params, rate, rows, video_diagonal)
             object_object[name] = tuple(names[k] for k in near)
             if not near and name in containment:
                 object_object[name] = (containment[name],)
@@ -127,7 +128,7 @@ def associations_of(
 
 
 def near_objects(
-    links: FrameLinks, held: int, params: Params, rows: np.ndarray, video_diagonal: float
+    links: FrameLinks, held: int, params: Params, rate: FrameParams, rows: np.ndarray, video_diagonal: float
 ) -> tuple[int, ...]:
     """Containers and ingredients near object column ``held`` for ``min_link_s`` consecutive frames (and at
     least ``min_share`` of the frames) among ``rows`` (a boolean mask over the rows of ``links``), closest
@@ -139,7 +140,6 @@ def near_objects(
     passing by on the way somewhere is not acting. Tools and the held object itself are never linked."""
     boxes = links.boxes
     gap = box_gap(boxes.objects[:, held : held + 1, :], boxes.objects)
-    rate = params.at(boxes.fps)
     own = boxes.objects[:, held, :]
     seen = np.flatnonzero(rows & np.isfinite(own[:, 0]))
     middle = own[seen[len(seen) // 2]] if len(seen) else None
@@ -211,13 +211,14 @@ def associate_segments(
     *,
     shots: Sequence[int] = (),
     unseen: Sequence[UnseenHold] = (),
+    rate: FrameParams | None = None,
 ) -> tuple[tuple[Associations, ...], Timeline]:
     """Associations of each segment, with the user's corrections applied, and the whole video's per-frame
     links. Works one segment at a time: memory holds one segment's boxes, not the video's. ``shots``: shot
     cuts, across which no motion is compared; ``unseen``: holds by hands the detector missed
     (:mod:`wecook_core.perception.repairs.unseen`), written in where their hand holds nothing."""
     diagonal = video_diagonal(obs)
-    rate = params.at(obs.video.fps)
+    rate = rate or params.at(obs.video.fps)
     names = tuple(track.name for track in obs.objects)
     categories = tuple(Category(obs.categories.get(name, Category.INGREDIENT)) for name in names)
     total = frame_count(obs, segments)
@@ -232,7 +233,8 @@ def associate_segments(
         while last + 1 < len(segments) and segments[last + 1].end - segments[first].start <= BLOCK_FRAMES:
             last += 1
         start, end = segments[first].start, segments[last].end
-        links = frame_links(obs, start, end, params, since if previous_end == start else None, shots=shots)
+        links = frame_links(obs, start, end, params, since if previous_end == start else None, shots=shots,
+                            rate=rate)
         since, previous_end = links.since, end
         written = None  # the block's held labels with the unseen holds written in (a new array: links stay frozen)
         for hold in unseen:
@@ -251,7 +253,7 @@ def associate_segments(
             # the frames after it are known
             short = len(segment) < rate.min_frames
             associations.append(None if short else associations_of(
-                crop_links(links, segment.start, segment.end), segment, params, diagonal, corrections))
+                crop_links(links, segment.start, segment.end), segment, params, rate, diagonal, corrections))
         first = last + 1
     for i, segment in enumerate(segments):
         if associations[i] is None:
@@ -260,7 +262,7 @@ def associate_segments(
             rows = slice(window.start, window.end)
             boxes = frame_boxes(obs, window.start, window.end, rate.fill_gap)
             around = FrameLinks(boxes, container[rows].astype(np.int32), held[rows].astype(np.int32), None)
-            associations[i] = associations_of(around, segment, params, diagonal, corrections, window)
+            associations[i] = associations_of(around, segment, params, rate, diagonal, corrections, window)
     done = tuple(a for a in associations if a is not None)
     if corrections is not None:
         for segment, association in zip(segments, done, strict=True):

@@ -19,7 +19,7 @@ from wecook_core.perception.label_runs import NONE
 from wecook_core.perception.params import DEFAULT_FPS
 
 if TYPE_CHECKING:
-    from wecook_core.perception.params import Params
+    from wecook_core.perception.params import FrameParams, Params
 
 
 @dataclass(frozen=True)
@@ -126,16 +126,17 @@ class FrameLinks:
 
 def frame_links(
     obs: Observations, start: int, end: int, params: Params, since: np.ndarray | None = None,
-    block: FrameBoxes | None = None, shots: Sequence[int] = (),
+    block: FrameBoxes | None = None, shots: Sequence[int] = (), rate: FrameParams | None = None,
 ) -> FrameLinks:
     """Ingredient-container and hand-object links of every frame of ``[start, end)``; ``since`` carries the
     held-object smoother's state on from the frame before ``start`` (:attr:`FrameLinks.since` of the previous range).
     ``block``: boxes already gathered for frames that include ``[start, end)``."""
+    rate = rate or params.at(obs.video.fps)
     if block is not None and block.start <= start and end <= block.end:
         boxes = crop(block, start, end)
     else:
-        boxes = frame_boxes(obs, start, end, params.at(obs.video.fps).fill_gap)
-    return links_of(boxes, params, since, shots)
+        boxes = frame_boxes(obs, start, end, rate.fill_gap)
+    return links_of(boxes, params, rate, since, shots)
 
 
 def crop_links(links: FrameLinks, start: int, end: int) -> FrameLinks:
@@ -156,7 +157,7 @@ def crop(boxes: FrameBoxes, start: int, end: int) -> FrameBoxes:
                       boxes.hand_boxes[a:b], boxes.fps)
 
 
-def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None,
+def links_of(boxes: FrameBoxes, params: Params, rate: FrameParams, since: np.ndarray | None = None,
              shots: Sequence[int] = ()) -> FrameLinks:
     cats = np.array([str(c) for c in boxes.categories])
     length, n_objects = boxes.objects.shape[:2]
@@ -179,7 +180,7 @@ def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None,
         best = np.argmax(score, axis=2)
         found = np.take_along_axis(score, best[..., None], axis=2)[..., 0] > 0
         container[:, ingredients] = np.where(found, containers[best], NONE)
-        _drop_passing(container, objects, params.at(boxes.fps).dwell_frames, params.pass_fraction)
+        _drop_passing(container, objects, rate.dwell_frames, params.pass_fraction)
 
     # hand-object: what moves with the hand among the boxes it overlaps, smoothed over time
     # (wecook_core.perception.association.holding)
@@ -188,7 +189,6 @@ def links_of(boxes: FrameBoxes, params: Params, since: np.ndarray | None = None,
     last = since
     if n_objects and length:
         overlap = box_intersection(hands[:, :, None, :], objects[:, None, :, :]) > 0
-        rate = params.at(boxes.fps)
         held, last = held_objects(
             hands, objects, overlap, container, window=rate.dwell_frames, moving_fraction=params.moving_fraction,
             coherent_fraction=params.coherent_fraction, switch=rate.hold_switch_frames, start=since,

@@ -59,7 +59,7 @@ from wecook_core.perception.recognition.transfers import (
 
 if TYPE_CHECKING:
     from wecook_core.knowledge.recognize import Knowledge
-    from wecook_core.perception.params import Params
+    from wecook_core.perception.params import FrameParams, Params
 
 HAND_VERBS: tuple[str, ...] = ("squeeze", "peel", "roll", "wrap")
 """Verbs a bare hand performs on the ingredient it holds."""
@@ -236,14 +236,14 @@ def _hand_share(ranker: Ranker, ingredient: str) -> float:
 
 
 def hand_still(obs: Observations, hand: str, segment: Segment, params: Params, diagonal: float,
-               long: bool = False) -> bool:
+               long: bool = False, *, rate: FrameParams | None = None) -> bool:
     """The hand stays put (:func:`~wecook_core.associate.dwelling` within ``still_fraction`` of the image
     diagonal) for ``min_link_s`` (``long``: ``min_action_s``) without a break in the segment: it works what it
     holds, it does not just grasp it on the way somewhere."""
     track = obs.hand(hand)
     if track is None:
         return False
-    rate = params.at(obs.video.fps)
+    rate = rate or params.at(obs.video.fps)
     window = rate.dwell_frames
     lo, hi = segment.start - window, segment.end + window
     a, b = np.searchsorted(track.frames, [lo, hi])
@@ -333,7 +333,7 @@ def _before_handover(acts: dict[str, Action], handover: HandoverEvent, segment: 
         acts[handover.giver] = Action(ActionKind.GRASP, handover.giver, segment.start, segment.end, held=handover.obj)
 
 
-def _same_object_holding(acts: dict[str, Action], assoc: Associations, timeline: Timeline, params: Params,
+def _same_object_holding(acts: dict[str, Action], assoc: Associations, timeline: Timeline, rate: FrameParams,
                          partners: set[str]) -> None:
     """Both persons' hands on one object without a handover: the one who grasped it first holds it."""
     segment = assoc.segment
@@ -350,7 +350,7 @@ def _same_object_holding(acts: dict[str, Action], assoc: Associations, timeline:
 
         def grasped(hand: str, column: int = column) -> int:
             labels = timeline.held[: segment.end, HANDS.index(hand)]
-            spans = hold_spans(labels, column, params.at(timeline.fps).min_frames)
+            spans = hold_spans(labels, column, rate.min_frames)
             return spans[-1][0] if spans else segment.start
 
         ordered = sorted(hands, key=lambda h: (grasped(h), HANDS.index(h)))
@@ -370,22 +370,25 @@ def recognize_actions(
     params: Params,
     corrections: Corrections | None = None,
     timeline: Timeline | None = None,
+    *,
+    rate: FrameParams | None = None,
 ) -> tuple[SegmentActions, ...]:
     """Each segment's actions, from its associations and the whole video's per-frame links (``timeline``,
     recomputed from ``segmentation`` when not given). ``corrections.verbs`` replace recognised verbs."""
+    rate = rate or params.at(obs.video.fps)
     if timeline is None:
-        _, timeline = associate_segments(obs, segmentation.segments, params, corrections)
+        _, timeline = associate_segments(obs, segmentation.segments, params, corrections, rate=rate)
     corrections = corrections or Corrections()
     categories = obs.categories
     diagonal = video_diagonal(obs)
-    transfers = transfer_events(obs, timeline, params)
-    handovers = handover_events(timeline, params)
+    transfers = transfer_events(obs, timeline, params, rate)
+    handovers = handover_events(timeline, params, rate)
     hold_runs = {hand: runs(timeline.held[:, column]) for column, hand in enumerate(HANDS)}
     ranker = Ranker(knowledge)
     motion_cache: dict[tuple[str, int, int, Role], frozenset[str] | None] = {}
     result = []
     spans: SpanCache = {}
-    min_frames = params.at(obs.video.fps).min_frames
+    min_frames = rate.min_frames
     for assoc in associations:
         assoc = acting_links(assoc, obs, timeline, min_frames, spans)
         segment = assoc.segment
@@ -394,7 +397,7 @@ def recognize_actions(
         partners: set[str] = set()
         for hand in HANDS:
             verb = corrections.verbs.get((segment.start, hand))
-            still = partial(hand_still, obs, hand, segment, params, diagonal)
+            still = partial(hand_still, obs, hand, segment, params, diagonal, rate=rate)
             action, ranking = individual_action(hand, assoc, categories, ranker, still=still, verb=verb,
                                                 hand_share=params.hand_share,
                                                 moves=partial(_moves, obs, segment, timeline, hold_runs, motion_cache,
@@ -420,7 +423,7 @@ def recognize_actions(
                                               held=handover.obj, partner=receiver)
                 partners.add(handover.receiver)
         _holding(acts, assoc, categories, partners)
-        _same_object_holding(acts, assoc, timeline, params, partners)
+        _same_object_holding(acts, assoc, timeline, rate, partners)
         ordered = tuple(acts[h] for h in HANDS if h in acts and h not in partners)
         result.append(SegmentActions(segment, ordered, rankings, tuple(h for h in HANDS if h in partners)))
     return tuple(result)

@@ -16,10 +16,9 @@ from wecook_core.perception.association.associate import Timeline
 from wecook_core.perception.association.frame_links import frame_boxes
 from wecook_core.perception.geometry import box_gap, video_diagonal
 from wecook_core.perception.label_runs import NONE, kept_runs
-from wecook_core.perception.params import frames
 
 if TYPE_CHECKING:
-    from wecook_core.perception.params import Params
+    from wecook_core.perception.params import FrameParams, Params
 
 
 @dataclass(frozen=True)
@@ -70,15 +69,16 @@ def hold_spans(labels: np.ndarray, value: int, min_frames: int) -> list[tuple[in
     return [(s, e) for s, e in spans if e - s >= min_frames]
 
 
-def transfer_events(obs: Observations, timeline: Timeline, params: Params) -> tuple[TransferEvent, ...]:
+def transfer_events(obs: Observations, timeline: Timeline, params: Params, rate: FrameParams | None = None,
+                    ) -> tuple[TransferEvent, ...]:
     """Every change of an ingredient's container that a hand caused, over the whole video: the hand that
     touches it, or holds what carries it (within ``near_fraction`` of the image diagonal of it), on
     ``mover_share`` of the frames from ``mover_window_s`` before it leaves its container to ``mover_window_s``
     after it enters the next."""
     diagonal = video_diagonal(obs)
     near = params.near_fraction * diagonal
-    rate = params.at(obs.video.fps)
-    window = frames(params.mover_window_s, obs.video.fps)
+    rate = rate or params.at(obs.video.fps)
+    window = rate.mover_window
     events = []
     total = len(timeline.held)
     for column, category in enumerate(timeline.categories):
@@ -90,7 +90,7 @@ def transfer_events(obs: Observations, timeline: Timeline, params: Params) -> tu
                 continue
             lo = max(0, end1 - window)
             hi = min(total, start2 + window)
-            event = _mover(obs, timeline, column, lo, hi, near, params, source)
+            event = _mover(obs, timeline, column, lo, hi, near, params, rate, source)
             if event is None:
                 continue
             hand, carrier, span_start, span_end = event
@@ -119,7 +119,7 @@ def _arrival_end(
 
 def _mover(
     obs: Observations, timeline: Timeline, ingredient: int, lo: int, hi: int, near: float, params: Params,
-    source: int = NONE,
+    rate: FrameParams, source: int = NONE,
 ) -> tuple[int, int, int, int] | None:
     """(hand column, carrier column or NONE, start and end of the carrier's hold) of the hand that moved an
     ingredient during ``[lo, hi)``, or None when no hand did. Where the ingredient is not seen it rides in
@@ -128,7 +128,6 @@ def _mover(
     found on tasty-a, the garlic hidden in the small dish the hand brings over the pan, frames 63-78)."""
     if hi <= lo:
         return None
-    rate = params.at(obs.video.fps)
     boxes = frame_boxes(obs, lo, hi, rate.fill_gap)
     ingredient_boxes = boxes.objects[:, ingredient, :]
     hidden = ~np.isfinite(ingredient_boxes[:, 0])
@@ -164,10 +163,10 @@ def _mover(
     return hand, carrier, start, end
 
 
-def handover_events(timeline: Timeline, params: Params) -> tuple[HandoverEvent, ...]:
+def handover_events(timeline: Timeline, params: Params, rate: FrameParams | None = None) -> tuple[HandoverEvent, ...]:
     """Every object that passed from one person's hand to the other's over the whole video."""
     events = []
-    rate = params.at(timeline.fps)
+    rate = rate or params.at(timeline.fps)
     for column in range(len(timeline.names)):
         spans = [
             (hand, start, end)

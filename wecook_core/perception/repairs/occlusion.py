@@ -39,7 +39,7 @@ if TYPE_CHECKING:
     from collections.abc import Sequence
 
     from wecook_core.model import Observations
-    from wecook_core.perception.params import Params
+    from wecook_core.perception.params import FrameParams, Params
 
 MIN_AREA = 1e-9
 """Square pixels: the least area a box is divided by (a box of zero area covers nothing; not a tunable)."""
@@ -47,13 +47,14 @@ BOX_DECIMALS = 1
 """Carried-on boxes are rounded to this many decimals of a pixel: finer than any detector's or annotator's box."""
 
 
-def hidden_by_hands(obs: Observations, params: Params, shots: Sequence[int] = ()) -> Observations:
+def hidden_by_hands(obs: Observations, params: Params, shots: Sequence[int] = (), *,
+                    rate: FrameParams | None = None) -> Observations:
     """``obs`` with each object's track carried on where the hand carrying it hides it (module docstring);
     ``obs`` itself when no object is hidden so."""
     total = int(obs.video.frame_count)
     if total <= 1 or not obs.objects or not obs.hands:
         return obs
-    rate = params.at(obs.video.fps)
+    rate = rate or params.at(obs.video.fps)
     boxes = frame_boxes(obs, 0, total, rate.fill_gap)
     objects, hands = boxes.objects, boxes.hand_boxes
     shot = shot_index(total, shots)

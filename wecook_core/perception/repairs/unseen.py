@@ -37,10 +37,9 @@ from wecook_core.model import HANDS, Category, Observations, person_of
 from wecook_core.perception.association.frame_links import UnseenHold, frame_boxes
 from wecook_core.perception.geometry import box_centres, box_diagonal, box_gap, box_intersection, video_diagonal
 from wecook_core.perception.label_runs import runs
-from wecook_core.perception.params import frames
 
 if TYPE_CHECKING:
-    from wecook_core.perception.params import Params
+    from wecook_core.perception.params import FrameParams, Params
 
 SEEN_WITHIN = 1.0
 """A moving object is seen by a detected hand whose box comes within this many of the object's own box
@@ -101,12 +100,13 @@ def _carried_containers(moving: np.ndarray, objects: np.ndarray, cats: Sequence[
             moving[near[together], c] = True
 
 
-def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = ()) -> tuple[UnseenHold, ...]:
+def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = (), *, rate: FrameParams | None = None,
+                 ) -> tuple[UnseenHold, ...]:
     """Every hold of an object by a hand the detector does not see (see the module docstring)."""
     total = int(obs.video.frame_count)
     if total <= 0 or not obs.objects:
         return ()
-    rate = params.at(obs.video.fps)
+    rate = rate or params.at(obs.video.fps)
     boxes = frame_boxes(obs, 0, total, rate.fill_gap)
     objects = boxes.objects
     shot = shot_index(total, shots)
@@ -146,8 +146,7 @@ def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = ()) -
             seen = (gap <= SEEN_WITHIN * size[:, None]).any(axis=1)
         unseen[rows[~seen], columns[~seen]] = True
     holds = []
-    bridge = frames(params.unseen_bridge_s, obs.video.fps)
-    reach = frames(params.unseen_hand_s, obs.video.fps)
+    bridge, reach = rate.unseen_bridge, rate.unseen_hand
     for k, name in enumerate(boxes.names):
         spans = _spans(unseen[:, k], bridge, rate.min_frames)
         for start, end in spans:
