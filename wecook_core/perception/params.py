@@ -133,6 +133,11 @@ class Params:
     """Seconds before and after a hold by an unseen hand in which the hand seen nearest the object is the one
     that moved it (:mod:`wecook_core.perception.repairs.unseen`)."""
 
+    tool_reach_fraction: float = 0.5
+    """A tool whose box stops short of a hand by at most this fraction of the hand's diagonal may be held by it
+    (a long handle, a box drawn on the working end), but only where it moves with the hand
+    (:func:`wecook_core.perception.association.frame_links.links_of`)."""
+
     def at(self, fps: float) -> FrameParams:
         """The durations of these parameters in frames of a video at ``fps``."""
         return FrameParams(
@@ -182,7 +187,7 @@ MAX_PARAM_FRAMES = 10**6
 """The largest value of a whole-number parameter."""
 _FRACTIONS = frozenset({"contain_fraction", "min_share", "near_fraction", "dwell_fraction", "hand_share",
                         "still_fraction", "dwell_own_fraction", "moving_fraction", "coherent_fraction",
-                        "mover_share", "seen_share", "moving_cap_fraction", "cover_fraction"})
+                        "mover_share", "seen_share", "tool_reach_fraction", "moving_cap_fraction", "cover_fraction"})
 _UPPER: dict[str, float] = {"k_max": MAX_BREAKPOINTS, "k_per_minute": MAX_BREAKPOINTS_PER_MINUTE,
                             "seed": 2**63 - 1, "lamb": 1e6, "min_segment_s": 3600.0}
 

@@ -3,7 +3,7 @@ from __future__ import annotations
 import numpy as np
 from handmade_scenes import BOARD, TOMATO, at, cutting, observations, still
 
-from wecook_core.model import Category, Corrections, Segment, Segmentation
+from wecook_core.model import HANDS, Category, Corrections, Segment, Segmentation
 from wecook_core.perception.association.associate import (
     NONE,
     associate,
@@ -255,3 +255,40 @@ def test_a_tool_works_the_ingredient_it_is_in_not_the_one_it_grazes():
     (assoc,) = associate(obs, one_segment(obs), Params())
     assert assoc.hand_object == {"RH_P1": "spoon"}
     assert assoc.object_object["spoon"][0] == "spinach", assoc.object_object
+
+
+def _circle(box, centre_dx: float, radius: float, first: int, end: int, step: int = 3):
+    """Pieces moving ``box`` round a circle of ``radius`` px, a quarter turn every ``step`` frames."""
+    import math
+
+    pieces = []
+    for i, frame in enumerate(range(first, end, step)):
+        a, b = math.pi / 2 * i, math.pi / 2 * (i + 1)
+        pieces.append((frame, min(frame + step, end), at(box, centre_dx + radius * math.cos(a), radius * math.sin(a)),
+                       at(box, centre_dx + radius * math.cos(b), radius * math.sin(b))))
+    return pieces
+
+
+def test_a_spatula_boxed_on_its_head_short_of_the_hand_is_held_while_it_stirs_with_it():
+    """The box was drawn on the spatula's head, a little short of the hand on its handle: the hand goes round
+    with it over the still bowl. What moves with the hand is held; the bowl it passes over is not."""
+    bowl = (100, 100, 500, 420)
+    head = (260, 240, 300, 280)
+    hand = (300, 170, 360, 230)  # 10 px from the head box: a short gap, well under half the hand's diagonal
+    obs = observations(90, {
+        "bowl": (Category.CONTAINER, [still(0, 90, bowl)]),
+        "spatula": (Category.TOOL, _circle(head, 0, 40, 0, 90)),
+    }, {"RH_P1": _circle(hand, 0, 40, 0, 90)})
+    links = frame_links(obs, 0, 90, Params())
+    names = links.boxes.names
+    held = [names[i] if i >= 0 else None for i in links.held[10:80, HANDS.index("RH_P1")]]
+    assert held.count("spatula") > len(held) // 2, held
+    assert "bowl" not in held, held
+
+
+def test_a_still_hand_beside_a_knife_it_does_not_touch_holds_nothing():
+    knife = (200, 300, 300, 315)
+    hand = (310, 280, 360, 330)  # 10 px right of the knife's end, still
+    obs = observations(60, {"knife": (Category.TOOL, [still(0, 60, knife)])}, {"RH_P1": [still(0, 60, hand)]})
+    links = frame_links(obs, 0, 60, Params())
+    assert (links.held[:, HANDS.index("RH_P1")] == NONE).all()

@@ -14,7 +14,7 @@ import numpy as np
 
 from wecook_core.model import HANDS, Category, Observations
 from wecook_core.perception.association.holding import held_objects
-from wecook_core.perception.geometry import box_area, box_centres, box_diagonal, box_intersection
+from wecook_core.perception.geometry import box_area, box_centres, box_diagonal, box_gap, box_intersection
 from wecook_core.perception.label_runs import NONE
 from wecook_core.perception.params import DEFAULT_FPS
 
@@ -189,12 +189,33 @@ def links_of(boxes: FrameBoxes, params: Params, rate: FrameParams, since: np.nda
     last = since
     if n_objects and length:
         overlap = box_intersection(hands[:, :, None, :], objects[:, None, :, :]) > 0
+        reach_only = _tools_within_reach(hands, objects, cats, overlap, params.tool_reach_fraction)
         held, last = held_objects(
             hands, objects, overlap, container, window=rate.dwell_frames, moving_fraction=params.moving_fraction,
             coherent_fraction=params.coherent_fraction, switch=rate.hold_switch_frames, start=since,
             step=rate.decode_step, shot=np.searchsorted(np.asarray(sorted(shots), dtype=np.int64),
-                                                        np.arange(boxes.start, boxes.end), side="right"))
+                                                        np.arange(boxes.start, boxes.end), side="right"),
+            reach_only=reach_only)
     return FrameLinks(boxes, container, held, last)
+
+
+def _tools_within_reach(hands: np.ndarray, objects: np.ndarray, cats: np.ndarray, overlap: np.ndarray,
+                        fraction: float) -> np.ndarray | None:
+    """bool ``(frames, hands, objects)``: tools whose box does not overlap the hand's but comes within
+    ``fraction`` of the hand's diagonal of it, added to ``overlap`` in place. A tool is held by its handle, and
+    its box may stop short of the hand (a long handle, a box drawn on the blade or the spatula's head): what
+    moves with the hand is held, and the decoder allows such a tool only where it does. None when there is none."""
+    tools = np.flatnonzero(cats == Category.TOOL)
+    if not len(tools) or fraction <= 0:
+        return None
+    with np.errstate(invalid="ignore"):
+        near = box_gap(hands[:, :, None, :], objects[:, None, tools, :]) <= fraction * box_diagonal(hands)[:, :, None]
+    reach_only = np.zeros_like(overlap)
+    reach_only[:, :, tools] = near & ~overlap[:, :, tools]
+    if not reach_only.any():
+        return None
+    overlap |= reach_only
+    return reach_only
 
 
 def _drop_passing(container: np.ndarray, objects: np.ndarray, window: int, fraction: float) -> None:

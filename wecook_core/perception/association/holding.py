@@ -180,10 +180,13 @@ def emission_costs(
     moving_fraction: float,
     coherent_fraction: float,
     shot: np.ndarray | None = None,
+    reach_only: np.ndarray | None = None,
 ) -> np.ndarray:
     """float64 ``(frames, hands, 1 + objects)``: state 0 is "nothing", state ``1 + k`` object column ``k``;
     ``inf`` where impossible. ``overlap``: bool ``(frames, hands, objects)``; ``contained``: bool, the same
-    shape: the object is an ingredient whose container the hand overlaps too."""
+    shape: the object is an ingredient whose container the hand overlaps too. ``reach_only``: bool, the same
+    shape: the boxes do not overlap but the object is a tool within reach of the hand; there it may be held
+    only where it moves with the hand (common fate), never by default."""
     length, n_hands = hands.shape[:2]
     n_objects = objects.shape[1]
     _, together, informative = motion_coherence(hands, objects, overlap, window, moving_fraction,
@@ -193,6 +196,9 @@ def emission_costs(
     rows, hand, column = np.nonzero(overlap)
     object_cost = np.where(informative[rows, hand, column],
                            np.where(together[rows, hand, column], MOVING_WITH, STAYING), MOVING_WITH)
+    if reach_only is not None:
+        moved_with = informative[rows, hand, column] & together[rows, hand, column]
+        object_cost = np.where(reach_only[rows, hand, column] & ~moved_with, np.inf, object_cost)
     # tie-breaks: closer centres, smaller boxes, a container before the ingredient it holds
     own, other = hands[rows, hand], objects[rows, column]
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -318,6 +324,7 @@ def held_objects(
     start: np.ndarray | None = None,
     step: int = 1,
     shot: np.ndarray | None = None,
+    reach_only: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """int32 ``(frames, hands)``: the object column each hand holds on each frame (:data:`NONE`: nothing),
     and the forward costs to pass on as ``start`` of the next block of frames.
@@ -333,7 +340,7 @@ def held_objects(
     holder = np.maximum(container, 0)
     contained = ((container >= 0)[:, None, :] & overlap[rows, :, holder].transpose(0, 2, 1))[:, :, columns]
     costs = emission_costs(hands, objects[:, columns], overlap[:, :, columns], contained, window, moving_fraction,
-                           coherent_fraction, shot)
+                           coherent_fraction, shot, None if reach_only is None else reach_only[:, :, columns])
     _ride_in_containers(costs, container, overlap, columns,
                         riding(objects, container, window, moving_fraction, coherent_fraction, shot))
     length = len(costs)
