@@ -97,28 +97,19 @@ def _analyse(tally: Tally, name: str, obs: Observations, truth: Sequence[TreeSpa
 
 def _count_loose(tally: Tally, analysis: Analysis, truth: Sequence[TreeSpan]) -> None:
     """The trees right with hands ignored, and those found where no hand was seen (and how many are right)."""
-    from wecook_core.perception.evaluation import evaluate, loose
+    from wecook_core.perception.evaluation import evaluate, has_action, loose
 
-    tally.loose["correct"] += round(loose(analysis.trees, truth)["hands ignored"].recall * len(
-        [t for t in truth if _counts(t)]))
+    tally.loose["correct"] += loose(analysis.trees, truth)["hands ignored"].correct
     unseen = [(h.start, h.end) for h in analysis.unseen]
 
     def without_hand(tree: TreeSpan) -> bool:
         covered = sum(max(0, min(b, tree.end) - max(a, tree.start)) for a, b in unseen)
         return 2 * covered >= tree.end - tree.start
 
-    found = [t for t in analysis.trees if _counts(t) and without_hand(t)]
-    tally.no_hand["predicted"] += len(found)
-    if found:
-        tally.no_hand["correct"] += round(evaluate(found, truth).precision * len(found))
-
-
-def _counts(tree: TreeSpan) -> bool:
-    """A tree the scores count: one with an action or a collaboration."""
-    from wecook_core.trees.notation import format_tree
-
-    text = format_tree(tree.tree)
-    return "(A " in text or "(C " in text
+    found = [t for t in analysis.trees if has_action(t.tree) and without_hand(t)]
+    scores = evaluate(found, truth)
+    tally.no_hand["predicted"] += scores.predicted
+    tally.no_hand["correct"] += scores.correct
 
 
 def score(seeds: Iterable[int], persons: int = 2, tally: Tally | None = None) -> Tally:
