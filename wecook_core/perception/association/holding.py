@@ -295,20 +295,19 @@ def _ride_in_containers(costs: np.ndarray, container: np.ndarray, overlap: np.nd
     ``columns[k]``."""
     if not len(columns):
         return
-    where = {int(c): k for k, c in enumerate(columns)}
+    state_of = np.zeros(container.shape[1], dtype=np.intp)
+    state_of[columns] = 1 + np.arange(len(columns))
     for k, column in enumerate(columns):
         holders = container[:, column]
-        frames = np.flatnonzero(holders >= 0)
+        frames = np.flatnonzero((holders >= 0) & rides[:, column])
         if not len(frames):
             continue
-        keep = rides[frames, column]
-        frames, holder = frames[keep], holders[frames[keep]]
+        holder = holders[frames]
         for h in range(costs.shape[1]):
             both = overlap[frames, h, holder] & overlap[frames, h, column]
-            for frame, c in zip(frames[both].tolist(), holder[both].tolist(), strict=True):
-                state = 1 + where[c]
-                costs[frame, h, state] = min(costs[frame, h, state], costs[frame, h, 1 + k])
-                costs[frame, h, 1 + k] = np.inf
+            at, states = frames[both], state_of[holder[both]]  # one container per frame: no index repeats
+            costs[at, h, states] = np.minimum(costs[at, h, states], costs[at, h, 1 + k])
+            costs[at, h, 1 + k] = np.inf
 
 
 def held_objects(
