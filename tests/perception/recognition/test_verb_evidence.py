@@ -6,13 +6,14 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
+import pytest
 from handmade_scenes import HAND_AWAY, at, observations, still
 
-from wecook_core.model import ActionKind, Category, Segment, Segmentation
+from wecook_core.model import ActionKind, Associations, Category, Segment, Segmentation
 from wecook_core.perception.association.associate import associate_segments
 from wecook_core.perception.params import Params
 from wecook_core.perception.pipeline import analyze
-from wecook_core.perception.recognition.actions import afforded, recognize_actions
+from wecook_core.perception.recognition.actions import afforded, individual_action, recognize_actions
 from wecook_core.perception.recognition.motion import motion_of, verbs_of
 from wecook_core.trees.notation import format_tree
 
@@ -162,3 +163,21 @@ def test_a_sheet_of_foil_laid_over_a_dish_wraps_it() -> None:
                   (90, 110, hand_over, at(hand_over, 10, 60)), (110, 120, at(hand_over, 10, 60), HAND_AWAY)]})
     trees = [format_tree(t.tree) for t in analyze(obs, tables, Params()).trees]
     assert "(HP (HP (H RH_P1) (O foil)) (AP (A wrap) (O dish)))" in trees, trees
+
+
+@pytest.mark.parametrize(("ingredient", "container", "verb"), [
+    ("chicken", "bowl", "dip"), ("salt", "bowl", "sprinkle"), ("spinach", "pan", "dip"), ("oil", "pot", "pour"),
+    ("bread", "cup", "dip"), ("pepper", "pan", "sprinkle"), ("water", "pan", "pour"),
+])
+def test_a_held_ingredient_over_a_container_is_named_by_what_it_is_not_by_what_receives_it(
+        knowledge, ingredient: str, container: str, verb: str) -> None:
+    """Rule C3a: held over a container, and its own motion saying nothing (``moves`` None), the ingredient
+    decides between pour, sprinkle and dip. The container receives all three; the recipes name a destination
+    with pour far more often ("pour into a bowl") than with sprinkle or dip, and with it in the ranking every
+    ingredient over a bowl or a pan was poured (the old code: chicken, salt, spinach and bread)."""
+    links = Associations(Segment(0, 60), {"RH_P1": ingredient}, {ingredient: (container,)}, {})
+    categories = {ingredient: Category.INGREDIENT, container: Category.CONTAINER}
+    action, ranking = individual_action("RH_P1", links, categories, knowledge)
+    assert action is not None and (action.held, action.targets, action.verb) == (ingredient, (container,), verb), \
+        ranking
+    assert {v for v, _ in ranking} == {"pour", "sprinkle", "dip"}

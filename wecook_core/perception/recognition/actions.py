@@ -187,13 +187,16 @@ def individual_action(
         # the user named a verb for a hand that only holds: the hand works the object it holds
         return Action(ActionKind.HAND, hand, segment.start, segment.end, verb=verb, targets=(held,)), ()
     objects = targets if kind is ActionKind.HAND else (held, *targets)
+    poured = allowed is HELD_VERBS
     moved = None
     if moves is not None:
-        moved = moves(held, "hand" if kind is ActionKind.HAND else "held" if allowed is HELD_VERBS else "tool")
+        moved = moves(held, "hand" if kind is ActionKind.HAND else "held" if poured else "tool")
     if moved is not None:
         narrowed = [v for v in (allowed if allowed is not None else ranker.knowledge.verbs) if v in moved]
         allowed = narrowed or allowed
-    ranking = ranker.rank(objects, allowed)
+    # a held ingredient is ranked by itself: it decides whether it is poured, sprinkled or dipped, and any
+    # container receives all three (rule C3a)
+    ranking = ranker.rank((held,) if poured else objects, allowed)
     chosen = verb or (ranking[0][0] if ranking else None)
     if chosen is None:
         return grasp, ranking
