@@ -24,9 +24,10 @@ def skeleton(frame: int, shoulders: tuple[Point, Point], elbows: tuple[Point, Po
     return Skeleton(frame, joints, np.full(6, seen))
 
 
-def hand(frame: int, xy: Point, label: str = "Left", half: float = 25.0) -> HandDetection:
+def hand(frame: int, xy: Point, label: str = "Left", half: float = 25.0,
+         pointing: Point | None = None) -> HandDetection:
     x, y = xy
-    return HandDetection(frame, label, 0.9, (x, y), (x - half, y - half, x + half, y + half))
+    return HandDetection(frame, label, 0.9, (x, y), (x - half, y - half, x + half, y + half), pointing=pointing)
 
 
 def centres(tracks) -> dict[str, tuple[float, float]]:
@@ -104,6 +105,40 @@ def test_a_cook_filmed_from_above_with_the_arms_from_the_bottom_edge() -> None:
     assert got["RH_P1"][0] > 320 and got["LH_P1"][0] < 320
     old, _ = assign_hands(frames, FPS, SIZE)
     assert centres(old)["RH_P1"][0] < 320
+
+
+def test_a_body_imagined_facing_the_camera_over_forearms_from_the_bottom_edge_is_faced_by_its_hands() -> None:
+    # As the pose model does on top-down footage with only the forearms in view (kfc-b): shoulders placed
+    # mid-frame as for a body facing the camera (its "left" shoulder on the image's right) and wrists either
+    # at the shoulders or guessed beyond the bottom edge, unseen. The hands point up, away from the cook at the
+    # bottom edge: the hand on the image's right is the cook's right. The handedness says nothing.
+    up = (0.0, -1.0)
+    for wrists, seen in ((((400, 262), (240, 262)), 0.9), (((400, 560), (240, 560)), 0.1)):
+        frames, skeletons = [], {}
+        for f in range(15):
+            body = skeleton(f, ((400, 250), (240, 250)), ((420, 400), (220, 400)), wrists)
+            body = Skeleton(f, body.joints, np.array([0.95, 0.95, 0.6, 0.6, seen, seen]))
+            skeletons[f] = [body]
+            frames.append([hand(f, (400, 240), "Left", pointing=up), hand(f, (240, 240), "Left", pointing=up)])
+        tracks, _ = assign_hands(frames, FPS, SIZE, skeletons=skeletons)
+        got = centres(tracks)
+        assert got["RH_P1"][0] > 320 and got["LH_P1"][0] < 320, wrists
+    # Without the hands' pointing (the old code) the model's labels named them the mirror way.
+    plain = [[hand(f, (400, 240)), hand(f, (240, 240))] for f in range(15)]
+    old, _ = assign_hands(plain, FPS, SIZE, skeletons={f: [skeleton(f, ((400, 250), (240, 250)),
+                                                                     ((420, 400), (220, 400)),
+                                                                     ((400, 262), (240, 262)))]
+                                                       for f in range(15)})
+    assert centres(old)["RH_P1"][0] < 320
+
+
+def test_hands_pointing_opposite_ways_tell_no_facing() -> None:
+    # A cook facing the camera, the hands pointing at each other (kneading): their mean pointing is short, so
+    # the wrists (seen, below the shoulders) give the facing: the right shoulder is on the image's left.
+    body = skeleton(0, ((400, 100), (240, 100)), ((420, 200), (220, 200)), ((380, 300), (260, 300)))
+    hands = [hand(0, (262, 318), pointing=(1.0, 0.0)), hand(0, (378, 318), pointing=(-1.0, 0.0))]
+    hinted = hint_hands(hands, [body], SIZE, BodyParams())
+    assert [h.side if h else None for h in hinted] == ["RH", "LH"]
 
 
 def test_crossing_hands_stay_on_their_arms() -> None:

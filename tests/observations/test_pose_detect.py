@@ -69,3 +69,35 @@ def test_tasty_a_one_cook_from_above_keeps_its_sides() -> None:
             on_arm += a.detection.arm is not None
     assert compared >= 100 and on_arm > 0
     assert same / compared >= 0.8
+
+
+@pytest.mark.slow
+def test_kfc_b_forearms_from_the_bottom_edge_are_named_by_the_way_the_hands_point() -> None:
+    """kfc-b, 736-860: a cook filmed from above, only the forearms in view from the bottom edge, the left hand on
+    the bowl's rim and the right one stirring. The pose model places a body facing the camera over them, and by
+    its facing the hands were named the mirror way on every frame showing both (rule H1 of RULES.md); the way
+    the hands point (up, away from the cook) names the one on the image's right the right hand."""
+    import contextlib
+
+    from wecook_core.observations.hand_assign import assign_hands
+    from wecook_core.observations.hands_detect import HandDetector
+
+    frames, _, fps, size = read_frames(_clip("kfc-b"))
+    per_frame, bodies = [], {}
+    with contextlib.ExitStack() as stack:
+        hands = stack.enter_context(HandDetector(DetectParams()))
+        poses = stack.enter_context(PoseDetector(fps))
+        for index, image in frames:
+            if index >= 860:
+                break
+            if index >= 736:
+                per_frame.append(hands.detect(index, image))
+                bodies[index] = poses.detect(index, image)
+    _, assigned = assign_hands([f for f in per_frame if f], fps, size, persons=1, skeletons=bodies)
+    by_frame = collections.defaultdict(list)
+    for a in assigned:
+        by_frame[a.detection.frame].append(a)
+    both = [sorted(pair, key=lambda a: a.detection.xy[0]) for pair in by_frame.values() if len(pair) == 2]
+    assert len(both) >= 20
+    right_order = sum([a.hand for a in pair] == ["LH_P1", "RH_P1"] for pair in both)
+    assert right_order >= 0.9 * len(both), (right_order, len(both))

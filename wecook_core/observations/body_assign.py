@@ -17,9 +17,15 @@ elbows and wrists; a hand detector gives hands with no person and a handedness g
    arms enter from the bottom edge has their right arm on the image's right, a cook facing the camera with the
    hands below the shoulders has it on the image's left. The pose model's labels assume a body seen from the
    front; on tasty-a (top-down, arms from the bottom edge) they gave 20 of the 21 hands on a well-seen wrist
-   the other side than tasty-a's hands.csv, this rule 6 of 21. Only when the facing is too short to tell (the
-   wrists less than ``min_facing`` shoulder widths in front of the shoulders, or the shoulders seen edge-on,
-   under ``min_shoulder_width`` of the frame diagonal apart) are the model's labels kept;
+   the other side than tasty-a's hands.csv, this rule 6 of 21. The hands themselves tell it better where the
+   hand detector gives their landmarks: a working hand points away from its body (wrist to knuckles), so the
+   body faces the way its hands point, when they agree (their mean unit vector at least ``min_pointing``
+   long); the wrists' place is then not needed. On top-down footage with only the forearms in view the
+   model places shoulders at the wrists or the wrists beyond the frame's edge, as a body facing the camera
+   (kfc-b: both hands shown on 159 frames, and the model's labels named them the mirror way on all of them).
+   Without the hands' pointing the facing is read from the wrists, when the model sees both and they lie at
+   least ``min_facing`` shoulder widths in front of the shoulders. Only when neither tells, or the shoulders are
+   seen edge-on (under ``min_shoulder_width`` of the frame diagonal apart), are the model's labels kept;
 3. **an arm is longer than its hand**: upper arm and forearm (about 0.3 and 0.26 m) are each longer than a
    hand (about 0.19 m), so a shoulder-elbow-wrist path under ``min_arm`` hand sizes, even allowing for an arm
    pointing at the camera, is no arm but a body the model imagined in the hand itself (it does so in a video
@@ -52,6 +58,9 @@ class Hand(Protocol):
 
     @property
     def box(self) -> tuple[float, float, float, float]: ...
+
+    @property
+    def pointing(self) -> tuple[float, float] | None: ...
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,23 +111,50 @@ class BodyParams:
     facing (and so its sides) to be read from them."""
     min_shoulder_width: float = 0.02
     """Shoulders closer than this fraction of the frame diagonal are seen edge-on: their order tells no side."""
+    min_pointing: float = 0.5
+    """The hands' mean pointing (unit vectors wrist to knuckles) must be at least this long to give the body's
+    facing (rule 2): 0.5 is two hands at most 120 degrees apart."""
 
 
-def arm_sides(skeleton: Skeleton, diagonal: float, params: BodyParams, mirrored: bool = False) -> tuple[str, str]:
+def arm_sides(skeleton: Skeleton, diagonal: float, params: BodyParams, mirrored: bool = False,
+              pointing: np.ndarray | None = None) -> tuple[str, str]:
     """The person's side (``RH``/``LH``) of the arm ending at the model's left wrist and of the one ending at
-    its right wrist (rule 2 of the module); in a ``mirrored`` video (a selfie camera) every side swaps."""
+    its right wrist (rule 2 of the module); in a ``mirrored`` video (a selfie camera) every side swaps.
+    ``pointing``: the mean unit pointing vector of the hands at this body's wrists, None when unknown."""
     joints = skeleton.joints
     centre = (joints[L_SHOULDER] + joints[R_SHOULDER]) / 2
     across = joints[R_SHOULDER] - joints[L_SHOULDER]
     facing = (joints[L_WRIST] + joints[R_WRIST]) / 2 - centre
     width = float(np.hypot(*across))
     model_right_is_right = True
-    if width >= params.min_shoulder_width * diagonal and float(np.hypot(*facing)) >= params.min_facing * width:
-        right = np.array([-facing[1], facing[0]])
-        model_right_is_right = float(np.dot(across, right)) > 0
+    if width >= params.min_shoulder_width * diagonal:
+        wrists_seen = bool((skeleton.visibility[[L_WRIST, R_WRIST]] >= params.min_visibility).all())
+        if pointing is not None and float(np.hypot(*pointing)) >= params.min_pointing:
+            facing = np.asarray(pointing)
+        elif not wrists_seen or float(np.hypot(*facing)) < params.min_facing * width:
+            facing = None
+        if facing is not None:
+            right = np.array([-facing[1], facing[0]])
+            model_right_is_right = float(np.dot(across, right)) > 0
     if mirrored:
         model_right_is_right = not model_right_is_right
     return ("LH", "RH") if model_right_is_right else ("RH", "LH")
+
+
+def _pointing_at(hands: Sequence[Hand], skeleton: Skeleton, params: BodyParams) -> np.ndarray | None:
+    """The mean unit pointing vector of the hands whose centre lies within ``wrist_gate`` hand sizes of one of
+    the body's wrists (rule 1's gate, whatever the wrist's visibility), None when none is known."""
+    found = []
+    for hand in hands:
+        if hand.pointing is None:
+            continue
+        x1, y1, x2, y2 = hand.box
+        extent = float(np.hypot(x2 - x1, y2 - y1))
+        for wrist in (skeleton.joints[L_WRIST], skeleton.joints[R_WRIST]):
+            if float(np.hypot(hand.xy[0] - wrist[0], hand.xy[1] - wrist[1])) <= params.wrist_gate * extent:
+                found.append(hand.pointing)
+                break
+    return np.mean(np.asarray(found, dtype=np.float64), axis=0) if found else None
 
 
 def hint_hands(hands: Sequence[Hand], skeletons: Sequence[Skeleton], size: tuple[int, int],
@@ -128,7 +164,7 @@ def hint_hands(hands: Sequence[Hand], skeletons: Sequence[Skeleton], size: tuple
     diagonal = float(np.hypot(*size))
     arms: list[tuple[np.ndarray, float, ArmHint]] = []
     for skeleton in skeletons:
-        sides = arm_sides(skeleton, diagonal, params, mirrored)
+        sides = arm_sides(skeleton, diagonal, params, mirrored, _pointing_at(hands, skeleton, params))
         j = skeleton.joints
         for (shoulder, elbow, wrist), side in (((L_SHOULDER, L_ELBOW, L_WRIST), sides[0]),
                                                ((R_SHOULDER, R_ELBOW, R_WRIST), sides[1])):

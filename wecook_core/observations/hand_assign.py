@@ -57,6 +57,9 @@ class HandDetection:
     """``x1 y1 x2 y2`` pixels."""
     arm: ArmHint | None = None
     """The body's arm this hand ends, when a pose model found one (:func:`~.body_assign.hint_hands`)."""
+    pointing: tuple[float, float] | None = None
+    """Unit vector from the wrist to the knuckle of the middle finger, in image coordinates: the way the hand
+    points, away from its forearm (None when the detector gives no landmarks)."""
 
 
 @dataclass(frozen=True)

@@ -156,6 +156,10 @@ class HandDetector:
         return found
 
 
+WRIST, MIDDLE_KNUCKLE = 0, 9
+"""MediaPipe's hand landmark indices of the wrist and of the middle finger's knuckle (MCP joint)."""
+
+
 def _detection(frame: int, label: str, score: float, points: np.ndarray, width: int, height: int,
                padding: float) -> HandDetection:
     x1, y1 = points.min(axis=0)
@@ -164,7 +168,14 @@ def _detection(frame: int, label: str, score: float, points: np.ndarray, width: 
     box = (max(0.0, x1 - pad_x), max(0.0, y1 - pad_y), min(float(width), x2 + pad_x), min(float(height), y2 + pad_y))
     cx, cy = points.mean(axis=0)
     centre = (min(max(float(cx), 0.0), float(width)), min(max(float(cy), 0.0), float(height)))
-    return HandDetection(frame, label, score, centre, tuple(float(v) for v in box))  # type: ignore[arg-type]
+    pointing = None
+    if len(points) > MIDDLE_KNUCKLE:  # MediaPipe's landmarks: 0 the wrist, 9 the middle finger's knuckle
+        way = points[MIDDLE_KNUCKLE] - points[WRIST]
+        length = float(np.hypot(*way))
+        if length > 0:
+            pointing = (float(way[0]) / length, float(way[1]) / length)
+    return HandDetection(frame, label, score, centre, tuple(float(v) for v in box),  # type: ignore[arg-type]
+                         pointing=pointing)
 
 
 def read_frames(path: str | Path) -> tuple[Iterator[tuple[int, np.ndarray]], int, float, tuple[int, int]]:

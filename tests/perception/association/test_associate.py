@@ -292,3 +292,18 @@ def test_a_still_hand_beside_a_knife_it_does_not_touch_holds_nothing():
     obs = observations(60, {"knife": (Category.TOOL, [still(0, 60, knife)])}, {"RH_P1": [still(0, 60, hand)]})
     links = frame_links(obs, 0, 60, Params())
     assert (links.held[:, HANDS.index("RH_P1")] == NONE).all()
+
+
+def test_a_still_hand_beside_a_tool_an_unseen_hand_moves_holds_nothing():
+    """Rule A3d: a tool merely within reach is held only where the hand's own motion carries it. The spatula
+    stirs 30 px from a still hand steadying the bowl (kfc-b, 1640-1683: the hand that stirs is not detected);
+    the objects' own motion (a small jar shaken under a still hand's big box) is for what the hand touches."""
+    bowl, hand = (60, 40, 330, 300), (40, 200, 90, 290)  # the hand on the bowl's rim
+    spatula = (120, 150, 140, 200)  # 30 px right of the hand
+    path = [still(0, 10, spatula), (10, 40, spatula, at(spatula, 0, 60)), (40, 70, at(spatula, 0, 60), spatula),
+            still(70, 90, spatula)]  # up and down the bowl, 2 px a frame
+    obs = observations(90, {"bowl": (Category.CONTAINER, [still(0, 90, bowl)]), "spatula": (Category.TOOL, path)},
+                       {"LH_P1": [still(0, 90, hand)]})
+    links = frame_links(obs, 0, 90, Params())
+    held = links.held[:, HANDS.index("LH_P1")]
+    assert links.boxes.names.index("spatula") not in set(held.tolist()), held

@@ -189,15 +189,17 @@ def emission_costs(
     only where it moves with the hand (common fate), never by default."""
     length, n_hands = hands.shape[:2]
     n_objects = objects.shape[1]
-    _, together, informative = motion_coherence(hands, objects, overlap, window, moving_fraction,
-                                                coherent_fraction, shot)
+    moving, together, informative = motion_coherence(hands, objects, overlap, window, moving_fraction,
+                                                     coherent_fraction, shot)
     # the object states are possible only where the boxes overlap (a few percent of the entries): their
     # costs are computed there alone
     rows, hand, column = np.nonzero(overlap)
     object_cost = np.where(informative[rows, hand, column],
                            np.where(together[rows, hand, column], MOVING_WITH, STAYING), MOVING_WITH)
     if reach_only is not None:
-        moved_with = informative[rows, hand, column] & together[rows, hand, column]
+        # the hand's own motion must carry the tool: a still hand beside a tool that some unseen hand moves
+        # does not hold it (what the objects' motion alone says, :func:`_carried`, is for what the hand touches)
+        moved_with = informative[rows, hand, column] & together[rows, hand, column] & moving[rows, hand]
         object_cost = np.where(reach_only[rows, hand, column] & ~moved_with, np.inf, object_cost)
     # tie-breaks: closer centres, smaller boxes, a container before the ingredient it holds
     own, other = hands[rows, hand], objects[rows, column]

@@ -21,8 +21,9 @@ Runs of moving, unseen frames at least ``Params.min_link_s`` long (gaps shorter 
 ``Params.unseen_bridge_s`` bridged: a stirring spoon's box does not travel far on every frame) become
 :class:`UnseenHold` s, given to the hand seen nearest the object just before the hold or just after it (within
 ``Params.unseen_hand_s``, in the same shot: hands do not jump, so the hand that let go of it or takes it back
-moved it), else the hand the detector sees most over the video (the cook's working hand), else the right hand
-of the video's first person. The pipeline cuts its segments where such a hold starts and ends, and writes it
+moved it), else the hand that travels farthest while seen over the video (the cook's working hand; the other
+steadies what it works on, and keeping still is often seen more), else the right hand of the video's first
+person. The pipeline cuts its segments where such a hold starts and ends, and writes it
 into the timeline where that hand holds nothing.
 """
 
@@ -198,11 +199,22 @@ def _nearest_hand(track: np.ndarray, hands: np.ndarray, start: int, end: int, sh
     return HANDS[best[1]] if best is not None else None
 
 
+def _travel(frames: np.ndarray, xy: np.ndarray) -> float:
+    """Pixels a hand's centre travels between consecutive frames on which it is detected (no gap bridged:
+    an interpolated hand moves where it was not seen)."""
+    if len(frames) < 2:
+        return 0.0
+    step = np.diff(np.asarray(xy, dtype=np.float64), axis=0)
+    consecutive = np.diff(np.asarray(frames)) == 1
+    return float(np.hypot(step[consecutive, 0], step[consecutive, 1]).sum())
+
+
 def _dominant_hand(obs: Observations) -> str:
-    """The hand the detector sees most over the whole video (the cook's working hand), else the right hand
-    of the video's first person."""
-    counts = {t.hand: len(t.frames) for t in obs.hands if t.hand in HANDS and len(t.frames)}
-    if counts:
-        return max(counts, key=lambda hand: (counts[hand], hand.startswith("RH")))
+    """The hand that travels farthest while the detector sees it over the whole video (the cook's working
+    hand: it fetches, carries and stirs; the other steadies a bowl or a board, and, keeping still, is often
+    the one the detector sees more), else the right hand of the video's first person."""
+    travel = {t.hand: _travel(t.frames, t.xy) for t in obs.hands if t.hand in HANDS and len(t.frames)}
+    if travel:
+        return max(travel, key=lambda hand: (travel[hand], hand.startswith("RH")))
     persons = sorted({person_of(t.hand) for t in obs.hands}) or ["P1"]
     return f"RH_{persons[0]}"
