@@ -24,14 +24,11 @@ from wecook_core.observations.proposals import (
     ProposalParams,
     coco_classes,
     decode,
+    iou,
     letterbox,
     propose_at,
+    recalled,
 )
-
-
-def iou(a: tuple[float, ...], b: tuple[float, ...]) -> float:
-    inter = max(0.0, min(a[2], b[2]) - max(a[0], b[0])) * max(0.0, min(a[3], b[3]) - max(a[1], b[1]))
-    return inter / ((a[2] - a[0]) * (a[3] - a[1]) + (b[2] - b[0]) * (b[3] - b[1]) - inter)
 
 
 def test_the_model_is_the_one_its_source_file_names_under_its_licence() -> None:
@@ -117,3 +114,14 @@ def test_the_detector_proposes_the_bowls_of_a_real_video(shared: Path, frame: in
     best = max(found, key=lambda p: iou(p.box, truth))
     assert iou(best.box, truth) >= 0.5 and best.hint == "bowl", found
     assert propose_at(folder / "video.mp4", frame) == found  # the same frame gives the same proposals
+
+
+def test_recall_matches_each_proposal_to_one_truth_box_at_iou_half() -> None:
+    assert iou((0, 0, 10, 10), (5, 0, 15, 10)) == pytest.approx(1 / 3) and iou((0, 0, 0, 0), (0, 0, 0, 0)) == 0.0
+    truth = [(0.0, 0.0, 10.0, 10.0), (0.0, 0.0, 10.0, 11.0), (50.0, 50.0, 60.0, 60.0), (80.0, 80.0, 90.0, 90.0)]
+    # One proposal over the two stacked boxes finds one of them; a second near-copy finds the other; a box
+    # overlapping by 1/3 finds nothing.
+    assert len(recalled([(0.0, 0.0, 10.0, 10.5)], truth)) == 1
+    assert recalled([(0.0, 0.0, 10.0, 10.5), (0.0, 0.0, 10.0, 10.0), (55.0, 50.0, 65.0, 60.0)], truth) == {0, 1}
+    assert recalled([(80.0, 80.0, 90.0, 90.0)], truth) == {3} and recalled([], truth) == frozenset()
+    assert recalled([(55.0, 50.0, 65.0, 60.0)], truth, min_iou=0.3) == {2}

@@ -14,11 +14,11 @@ from tui_driving import journal, pilot_test, settle, wait_for
 from tests.square_video import moving_square
 from wecook_core.errors import InputError
 from wecook_core.formats.native import read_objects_csv
+from wecook_core.observations.proposals import iou
 from wecook_core.session.boxes import UNNAMED
 from wecook_core.session.store import create_session
 from wecook_tui.app import WecookApp
 from wecook_tui.screens import box_proposals
-from wecook_tui.screens.box_proposals import iou
 from wecook_tui.screens.boxes import BOX_BINDINGS, BoxScreen, BoxVideo, NameScreen
 from wecook_tui.widgets.frame_view import FrameView
 

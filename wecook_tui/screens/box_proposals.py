@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 from textual.binding import Binding
 
-from wecook_core.observations.proposals import Proposal, propose_at
+from wecook_core.observations.proposals import Proposal, iou, propose_at
 from wecook_tui.frames import BoxMark
 
 if TYPE_CHECKING:
@@ -30,12 +30,6 @@ PROPOSAL_BINDINGS: list[Binding] = [
     *(Binding(str(n), f"keep({n})", f"Keep proposal {n}", show=False, id=f"boxes-keep-{n}") for n in range(1, 10)),
     Binding("K", "keep_all", "Keep all proposals", show=False, id="boxes-keep-all"),
 ]
-
-
-def iou(a: Box, b: Box) -> float:
-    inter = max(0.0, min(a[2], b[2]) - max(a[0], b[0])) * max(0.0, min(a[3], b[3]) - max(a[1], b[1]))
-    union = (a[2] - a[0]) * (a[3] - a[1]) + (b[2] - b[0]) * (b[3] - b[1]) - inter
-    return inter / union if union > 0 else 0.0
 
 
 class ProposalActions:
