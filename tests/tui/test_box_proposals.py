@@ -17,6 +17,7 @@ from wecook_core.formats.native import read_objects_csv
 from wecook_core.observations.proposals import iou
 from wecook_core.session.boxes import UNNAMED
 from wecook_core.session.store import create_session
+from wecook_tui import cli
 from wecook_tui.app import WecookApp
 from wecook_tui.screens import box_proposals
 from wecook_tui.screens.boxes import BOX_BINDINGS, BoxScreen, BoxVideo, NameScreen
@@ -130,11 +131,15 @@ async def test_a_failed_detector_says_why_in_one_line(tmp_path: Path, monkeypatc
 
 @pilot_test
 @pytest.mark.slow
-async def test_a_session_of_a_video_alone_opens_box_mode_with_proposals_ready(tmp_path: Path, shared: Path,
-                                                                             scenario_inputs: tuple[Path, Path, Path]
-                                                                             ) -> None:
+async def test_a_session_of_a_video_alone_opens_box_mode_with_proposals_ready(
+        tmp_path: Path, shared: Path, scenario_inputs: tuple[Path, Path, Path],
+        capsys: pytest.CaptureFixture[str]) -> None:
     folder = tasty(shared)
-    path = Path(create_session(tmp_path / "sessions", "alone", folder / "video.mp4", None, folder / "hands.csv"))
+    root = tmp_path / "sessions"
+    assert cli.main(["new", "alone", "--video", str(folder / "video.mp4"), "--hands", str(folder / "hands.csv"),
+                     "--root", str(root)]) == 0
+    assert "objects  none yet: in the workbench's box mode (B) keep the boxes it proposes" in capsys.readouterr().out
+    path = root / "alone"
     app = WecookApp(path)
     async with app.run_test(size=SIZE) as pilot:
         await settle(pilot, app)
@@ -160,7 +165,7 @@ async def test_a_session_of_a_video_alone_opens_box_mode_with_proposals_ready(tm
         assert await wait_for(pilot, lambda: app.screen is app.main)
     # A session with imported boxes opens the box mode without running the detector.
     video, objects, hands = scenario_inputs
-    boxed = Path(create_session(tmp_path / "sessions", "boxed", video, objects, hands))
+    boxed = Path(create_session(root, "boxed", video, objects, hands))
     again = WecookApp(boxed)
     async with again.run_test(size=SIZE) as pilot:
         await settle(pilot, again)
