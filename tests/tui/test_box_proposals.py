@@ -107,6 +107,13 @@ async def test_p_proposes_a_digit_keeps_n_names_from_the_hint_and_t_tracks(tmp_p
         await pilot.press("K")
         assert len(screen.tracks) == count and screen.shown_proposals() == []
         assert f"all {count} proposals boxed" in status(screen)
+        # A wrong hint is typed over: the prompt starts with it selected.
+        assert screen.hints[screen.tracks[-1].track_id] == screen.proposals[210][-1].hint
+        await pilot.press("n")
+        assert await wait_for(pilot, lambda: isinstance(app.screen, NameScreen))
+        await pilot.press(*"pan", "enter")
+        assert await wait_for(pilot, lambda: app.screen is screen)
+        assert screen.tracks[-1].label == "pan"
 
 
 @pilot_test
