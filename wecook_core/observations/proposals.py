@@ -58,14 +58,15 @@ class ProposalParams:
     min_score: float = 0.05
     """Objectness x class probability, 0-1 (upstream filters at 0.1 before NMS and draws from 0.3). Few kitchen
     things are COCO classes, so their scores are low: lower finds more of them, and more clutter. On tasty-a (every
-    5th frame, NMS 0.6): 0.1 gives 3.2 proposals a frame and recall 0.46 at IoU 0.5, 0.05 5.7 and 0.54, 0.02 12 and
-    0.63."""
+    5th frame, NMS 0.6, at most 9): 0.1 gives 3.1 proposals a frame and recall 0.46 at IoU 0.5, 0.05 5.1 and 0.53,
+    0.02 8.2 and 0.59."""
     nms_iou: float = 0.6
     """Boxes overlapping a better one by more than this IoU are dropped, whatever their classes. Looser than
     upstream's 0.45: in a kitchen, things lie in things (meat in a pan filling the pan), and their boxes overlap
     (on tasty-a, 0.45 loses a fifth of the recall)."""
-    max_proposals: int = 15
-    """At most this many, best score first."""
+    max_proposals: int = 9
+    """At most this many, best score first: each can be kept with one digit, and a frame stays readable (on
+    tasty-a, 15 would add 0.005 to the recall at 0.05)."""
     min_side: float = 0.03
     """A box narrower or shorter than this fraction of the frame's shorter side is dropped."""
     ignore: tuple[str, ...] = ("person",)
