@@ -12,9 +12,10 @@ from typing import Any
 def register(sub: Any) -> None:
     parser = sub.add_parser(
         "boxes", help="draw object boxes on a video and track them (box mode), export CVAT XML and CSV",
-        description="Open the box mode on VIDEO: b draws a box, wasd/WASD move and resize it (or drag with the "
-                    "mouse), n names it, t tracks it with OpenCV until it is lost, a change at another frame is a "
-                    "keyframe, z undoes, y redoes, e exports DIR/boxes.xml and DIR/boxes.csv, q quits.",
+        description="Open the box mode on VIDEO (it proposes boxes on the first frame; p proposes on the frame "
+                    "shown, 1-9 keeps a proposal, K keeps them all): b draws a box, wasd/WASD move and resize it (or "
+                    "drag with the mouse), n names it, t tracks it with OpenCV until it is lost, a change at another "
+                    "frame is a keyframe, z undoes, y redoes, e exports DIR/boxes.xml and DIR/boxes.csv, q quits.",
     )
     parser.add_argument("video", metavar="VIDEO", help="the video (any file OpenCV reads)")
     parser.add_argument("--out", required=True, metavar="DIR", help="folder for boxes.xml and boxes.csv")
@@ -33,7 +34,7 @@ def run_boxes(args: argparse.Namespace) -> int:
     if out.exists() and not out.is_dir():
         raise InputError(out, "is a file; --out names a folder")
     video = BoxVideo(str(info.path), (info.width, info.height), info.fps, usable_frames(info))
-    screen = BoxScreen(video, out, exit_on_back=True)
+    screen = BoxScreen(video, out, exit_on_back=True, propose=True)
 
     class BoxApp(App[None]):
         TITLE = "wecook boxes"

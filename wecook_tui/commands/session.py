@@ -115,7 +115,8 @@ def describe(imported: Imported, objects: str | Path | None, hands: str | Path) 
     lines = [f"video    {video.path}: {frames} frames at {video.fps:g} fps ({frames / video.fps:.1f} s), "
              f"{video.width}x{video.height}"]
     if objects is None:
-        lines.append("objects  none yet: draw and track them in the workbench's box mode (B)")
+        lines.append("objects  none yet: in the workbench's box mode (B) keep the boxes it proposes (1-9; p proposes "
+                     "on another frame) or draw them (b), then name (n) and track (t) them")
     else:
         lines.append(f"objects  {objects} ({imported.objects_format}): {len(obs.objects)} tracks")
     width = max((len(t.name) for t in obs.objects), default=0)

@@ -1,6 +1,7 @@
 """Box mode: draw a box on the frame (mouse drag, or keys to move and resize it), name it, let OpenCV's tracker
 carry it through the video until it loses the object, correct it at any frame (a keyframe; boxes between
-keyframes are interpolated), export the boxes as CVAT for video XML and wecook CSV.
+keyframes are interpolated), export the boxes as CVAT for video XML and wecook CSV. `p` proposes boxes on the
+current frame (a COCO detector, :mod:`wecook_tui.screens.box_proposals`) to keep, name and track instead of drawing.
 
 The core is :mod:`wecook_core.observations.tracking`; this screen runs the tracker in a worker and makes every
 edit a box correction (:mod:`wecook_core.session.boxes`) through a :class:`BoxEdits`: in the workbench
@@ -36,6 +37,7 @@ from wecook_core.session.boxes import (
 from wecook_tui.box_edits import BoxEdits, MemoryEdits
 from wecook_tui.frames import BoxMark, FrameSource, Overlay
 from wecook_tui.screens.box_name import NameScreen, known_labels
+from wecook_tui.screens.box_proposals import PROPOSAL_BINDINGS, ProposalActions
 from wecook_tui.widgets.frame_view import FrameView
 
 STEP = 0.02
@@ -49,6 +51,7 @@ BOX_BINDINGS: list[Binding] = [
     Binding("shift+right,L", "step(10)", "+10 frames", show=False, id="boxes-forward-10"),
     Binding("shift+left,H", "step(-10)", "-10 frames", show=False, id="boxes-back-10"),
     Binding("b", "new_box", "New box", id="boxes-new"),
+    *PROPOSAL_BINDINGS,
     Binding("w", "move(0,-1)", "Up", show=False, id="boxes-up"),
     Binding("s", "move(0,1)", "Down", show=False, id="boxes-down"),
     Binding("a", "move(-1,0)", "Left", show=False, id="boxes-left"),
@@ -79,15 +82,19 @@ class BoxVideo:
     frame_count: int
 
 
-class BoxScreen(Screen[None]):
+class BoxScreen(Screen[None], ProposalActions):
     BINDINGS: ClassVar[list[BindingType]] = list(BOX_BINDINGS)
 
     frame: var[int] = var(0, init=False)
 
     def __init__(self, video: BoxVideo, out_dir: Path, *, source: FrameSource | None = None,
                  labels: Callable[[], list[str]] = known_labels, params: TrackParams | None = None,
-                 exit_on_back: bool = False, edits: BoxEdits | None = None, start: int = 0) -> None:
+                 exit_on_back: bool = False, edits: BoxEdits | None = None, start: int = 0,
+                 propose: bool = False) -> None:
         super().__init__()
+        self.init_proposals()
+        self.propose_on_open = propose
+        """Propose boxes on the first frame shown when there is no box yet (a video alone: a start)."""
         self.start = max(0, min(video.frame_count - 1, start))
         """The frame shown first."""
         self.exit_on_back = exit_on_back
@@ -117,6 +124,8 @@ class BoxScreen(Screen[None]):
         view.set_source(self.source, self.video.size)
         self.set_reactive(BoxScreen.frame, self.start)
         self._show()
+        if self.propose_on_open and not self.tracks:
+            self.action_propose()
 
     # --------------------------------------------------------------------------------- state
 
@@ -151,7 +160,7 @@ class BoxScreen(Screen[None]):
                 key = " *" if self.frame in track.keyframes else ""
                 self._marks[i] = f"{track.label}{key}"
                 marks.append(BoxMark(self._marks[i], box, COLOURS[i % len(COLOURS)], held=i == self.selected))
-        return Overlay(boxes=tuple(marks))
+        return Overlay(boxes=(*marks, *self.proposal_marks()))
 
     def _show(self) -> None:
         self.query_one(FrameView).show(self.frame, self._overlay())
@@ -167,6 +176,9 @@ class BoxScreen(Screen[None]):
             name = f"{track.label} (unnamed: n names it)" if track.label == UNNAMED else track.label
             parts.append(f"{name} (keyframes {keys}; {state})")
         parts.append(f"{len(self.tracks)} boxes")
+        proposals = self.proposal_status()
+        if proposals:
+            parts.append(proposals)
         message = self.edits.message()
         if message:
             parts.append(message)
@@ -242,7 +254,8 @@ class BoxScreen(Screen[None]):
             if label and label != track.label:
                 self._apply(SetBoxLabel(track_id, label))
 
-        self.app.push_screen(NameScreen(self.labels(), "" if track.label == UNNAMED else track.label), named)
+        current = self.hints.get(track_id, "") if track.label == UNNAMED else track.label
+        self.app.push_screen(NameScreen(self.labels(), current), named)
 
     def action_drop_keyframe(self) -> None:
         track = self.current()
@@ -322,6 +335,8 @@ class BoxScreen(Screen[None]):
         """A click (no drag) on a box or its label selects that box; of boxes drawn with one name, the
         smallest under the click."""
         message.stop()
+        if self.keep_clicked(message.box):
+            return
         px, py = message.pixel
 
         def rank(i: int) -> tuple[bool, float]:

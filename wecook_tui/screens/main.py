@@ -435,7 +435,8 @@ class MainScreen(Screen[None]):
 
     def action_boxes(self) -> None:
         """Box mode (screens/boxes.py) on the session's video at the cursor: every box drawn, named, tracked or
-        corrected is journaled, and the analysis re-runs on it."""
+        corrected is journaled, and the analysis re-runs on it. With no box yet, it opens proposing boxes on its
+        frame (a video alone: a start to keep, name and track)."""
         from wecook_tui.box_edits import SessionEdits
         from wecook_tui.screens.boxes import BoxScreen, box_video
 
@@ -444,7 +445,7 @@ class MainScreen(Screen[None]):
             self.notify("The session is not open yet.", severity="warning")
             return
         self.app.push_screen(BoxScreen(video, self.wb.session_path / "boxes", edits=SessionEdits(self.app),
-                                       start=self.frame))
+                                       start=self.frame, propose=self.wb.obs is None or not self.wb.obs.objects))
 
     def action_categorise(self) -> None:
         """Ask what each label nothing categorises is (screens/categorise.py)."""
