@@ -60,14 +60,17 @@ def _poses(t: float, q: dict[str, np.ndarray]) -> dict[str, tuple[Vec3, Quat]]:
 def synthetic_run(observer: RunObserver, *, actions: int = 6, seconds_per_action: float = 2.0,
                   state_hz: float = 30.0, wall_per_sim: float = 0.0, fail: Sequence[str] = (),
                   seed: int = 0, plan_yaml: str = "wecook_plan: 1\n", jpeg: bytes = b"\xff\xd8synthetic\xff\xd9",
-                  end: bool = True) -> SyntheticRunStats:
+                  end: bool = True, joint_names: Sequence[str] = ()) -> SyntheticRunStats:
     """Drive ``observer`` through a run of ``actions`` actions (ids ``a1``...), alternating arms.
 
     ``wall_per_sim``: wall seconds slept per simulated second (0: as fast as possible). ``end=False`` stops
-    before ``run_end`` / ``on_end`` (as if the process died).
+    before ``run_end`` / ``on_end`` (as if the process died). ``joint_names``: the seven joints' names (default
+    ``joint1``..``joint7``), e.g. a URDF's.
     """
     rng = np.random.default_rng(seed)
-    joint_names = [f"joint{k + 1}" for k in range(7)]
+    joint_names = list(joint_names) or [f"joint{k + 1}" for k in range(7)]
+    if len(joint_names) != 7:
+        raise ValueError("a synthetic arm has seven joints")
     phase = {agent: rng.uniform(0, 2 * math.pi, 7) for agent in ("P1", "P2")}
     observer.on_start(synthetic_frames(), plan_yaml, seed, {"source": "synthetic"})
     states = events = logs = images = 0
