@@ -70,12 +70,12 @@ def test_a_recording_reads_back_as_a_ros2_bag_with_the_standard_messages(recordi
     assert types == {"/tf": "tf2_msgs/msg/TFMessage", "/P1/joint_states": "sensor_msgs/msg/JointState",
                      "/P2/joint_states": "sensor_msgs/msg/JointState",
                      "/camera/image/compressed": "sensor_msgs/msg/CompressedImage",
-                     "/rosout": "rcl_interfaces/msg/Log",
+                     "/camera/camera_info": "sensor_msgs/msg/CameraInfo", "/rosout": "rcl_interfaces/msg/Log",
                      "/plan/events": "std_msgs/msg/String"} == done.types
     src = source(recording)
     counts = {"/tf": len(src["/tf"]), "/P1/joint_states": len(src["/joint_states"]),
               "/P2/joint_states": len(src["/joint_states"]), "/camera/image/compressed": len(src["/camera"]),
-              "/rosout": len(src["/log"]),
+              "/camera/camera_info": len(src["/camera/calibration"]), "/rosout": len(src["/log"]),
               "/plan/events": len(src["/plan/events"])}
     assert {t: len(m) for t, m in messages.items()} == counts == done.messages
     assert counts["/tf"] == 90 and counts["/camera/image/compressed"] == 6
@@ -111,6 +111,14 @@ def test_a_recording_reads_back_as_a_ros2_bag_with_the_standard_messages(recordi
     images = [m for _, m in messages["/camera/image/compressed"]]
     assert all(bytes(i.data) == b"\xff\xd8a frame\xff\xd9" and i.format == "jpeg" for i in images)  # type: ignore[attr-defined]
     assert [base64.b64decode(m["data"]) for _, m in src["/camera"]] == [bytes(i.data) for i in images]  # type: ignore[attr-defined]
+    for (_, calibration), (_, info) in zip(src["/camera/calibration"], messages["/camera/camera_info"], strict=True):
+        assert (info.width, info.height) == (calibration["width"], calibration["height"]) == (320, 240)  # type: ignore[attr-defined]
+        assert list(info.k) == pytest.approx(calibration["K"]) and list(info.p) == pytest.approx(calibration["P"])  # type: ignore[attr-defined]
+        assert list(info.d) == [0.0] * 5 and info.distortion_model == "plumb_bob"  # type: ignore[attr-defined]
+        assert info.header.frame_id == images[0].header.frame_id == "camera"  # type: ignore[attr-defined]
+    assert [stamp_ns(m.header) for _, m in messages["/camera/camera_info"]] == \
+        [stamp_ns(i.header) for i in images]  # type: ignore[attr-defined]
+    assert "camera" in by_child  # the camera's optical frame is in /tf
     logs = [m for _, m in messages["/rosout"]]
     assert {log.level for log in logs} == {20} and logs[0].msg.startswith("run started")  # type: ignore[attr-defined]
     events = [json.loads(m.data) for _, m in messages["/plan/events"]]  # type: ignore[attr-defined]

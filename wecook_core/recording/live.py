@@ -27,6 +27,7 @@ from typing import Any, Literal
 from wecook_core.errors import InputError
 from wecook_core.execution.schedule.observer import FrameInfo, Quat, RunEvent, Vec3
 from wecook_core.recording import foxglove, meshes
+from wecook_core.recording.camera import Pinhole
 
 LIVE_HZ = 30.0
 """States sent per wall-clock second at most."""
@@ -59,6 +60,7 @@ class LiveServer:
         self._latched_ns: dict[str, int] = {}
         self._lock = threading.Lock()
         self._last_joints: tuple[float, list[float]] | None = None
+        self._camera: Pinhole | None = None
         self.sent = 0
         """Messages handed to the server so far."""
         self._context = sdk.Context()
@@ -102,6 +104,7 @@ class LiveServer:
     def on_start(self, frames: Sequence[FrameInfo], plan_yaml: str, seed: int,
                  metadata: Mapping[str, str]) -> None:
         scene_frames, robot = meshes.drawn_frames(frames, plan_yaml, meshes=self.meshes)
+        self._camera = Pinhole.from_metadata(metadata)
         ns = self._ns(0.0)
         with self._lock:
             if robot:
@@ -147,6 +150,9 @@ class LiveServer:
         with self._lock:
             if self._channels["/camera"].has_sinks():
                 self._send("/camera", ns, foxglove.compressed_image(ns, jpeg))
+            calibration = self._camera.calibration(ns, width, height) if self._camera is not None else None
+            if calibration is not None and self._channels["/camera/calibration"].has_sinks():
+                self._send("/camera/calibration", ns, calibration)
 
     def on_end(self, t: float) -> None:
         ns = self._ns(t)
