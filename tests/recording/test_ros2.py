@@ -167,3 +167,28 @@ def test_the_cli_writes_the_bag_and_says_what_is_in_it(recording: Path, tmp_path
     assert "/P1/joint_states" in out and "sensor_msgs/msg/JointState" in out and "left out" in out
     types, _ = read_bag(tmp_path / "bag")
     assert Counter(types.values())["sensor_msgs/msg/JointState"] == 2
+
+
+@pytest.mark.sim
+def test_a_real_run_exports_with_the_urdf_joint_names_and_the_camera_placed(tmp_path: Path) -> None:
+    from wecook_core.execution.plan_samples import ONE_ARM_CUTS
+
+    plan = tmp_path / "plan.yaml"
+    plan.write_text(ONE_ARM_CUTS)
+    record = tmp_path / "run.mcap"
+    assert main(["execute", str(plan), "--record", str(record), "--camera-hz", "2"]) in (0, 1)
+    export_ros2(record, tmp_path / "bag")
+    types, messages = read_bag(tmp_path / "bag")
+    src = source(record)
+    urdf_joints = {j.get("name") for j in ET.parse(PANDA).getroot().iter("joint")}
+    states = [m for _, m in messages["/P1/joint_states"]]
+    assert len(states) == len(src["/joint_states"]) > 10
+    names = list(states[0].name)  # type: ignore[attr-defined]
+    assert names[:7] == urdf_arm_joints(PANDA) and set(names) <= urdf_joints  # panda_joint1..7, then the fingers
+    assert {s.header.frame_id for s in states} == {"P1/panda_link0"}  # type: ignore[attr-defined]
+    frames = {t.child_frame_id for t in messages["/tf"][-1][1].transforms}  # type: ignore[attr-defined]
+    assert {"P1/panda_link0", "P1/panda_hand", "table", "object/knife", "camera"} <= frames
+    assert len(messages["/camera/image/compressed"]) == len(messages["/camera/camera_info"]) == len(src["/camera"])
+    info = messages["/camera/camera_info"][0][1]
+    assert (info.width, info.height) == (240, 180)  # type: ignore[attr-defined]
+    assert types["/camera/camera_info"] == "sensor_msgs/msg/CameraInfo"

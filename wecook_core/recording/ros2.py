@@ -43,7 +43,7 @@ from wecook_core.recording.report import read_extras, read_messages
 
 DISTRO = "ROS2_JAZZY"
 """The rosbags type store whose message definitions the bag carries (rosbag2 format version :data:`VERSION`)."""
-VERSION = 8
+VERSION: Literal[8] = 8
 STORAGES = ("mcap", "sqlite3")
 
 ROS_LOG_LEVELS = {0: 0, 1: 10, 2: 20, 3: 30, 4: 40, 5: 50}
@@ -100,7 +100,8 @@ class _Messages:
         """A recording's ``{sec, nsec}`` (or ``{sec, nanosec}``) stamp; the log time when it has none."""
         if not isinstance(stamp, dict):
             return self.Time(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
-        return self.Time(sec=int(stamp.get("sec", 0)), nanosec=int(stamp.get("nsec", stamp.get("nanosec", 0))))
+        nanosec = stamp["nsec"] if "nsec" in stamp else stamp.get("nanosec", 0)
+        return self.Time(sec=int(stamp.get("sec", 0)), nanosec=int(nanosec))
 
     def header(self, stamp: dict[str, Any] | None, ns: int, frame_id: str) -> Any:
         return self.Header(stamp=self.time(stamp, ns), frame_id=frame_id)
