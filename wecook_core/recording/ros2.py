@@ -108,10 +108,15 @@ class _Messages:
 
     def tf(self, ns: int, message: dict[str, Any]) -> Any:
         transforms = []
+        headers: dict[tuple[Any, str], Any] = {}  # one per stamp and parent: a message has one of each
         for t in message.get("transforms") or ():
             p, q = t.get("translation") or {}, t.get("rotation") or {}
+            stamp, parent = t.get("timestamp"), str(t.get("parent_frame_id", ""))
+            key = (tuple(stamp.items()) if isinstance(stamp, dict) else None, parent)
+            if key not in headers:
+                headers[key] = self.header(stamp, ns, parent)
             transforms.append(self.TransformStamped(
-                header=self.header(t.get("timestamp"), ns, str(t.get("parent_frame_id", ""))),
+                header=headers[key],
                 child_frame_id=str(t.get("child_frame_id", "")),
                 transform=self.Transform(translation=self.Vector3(x=_f(p, "x"), y=_f(p, "y"), z=_f(p, "z")),
                                          rotation=self.Quaternion(x=_f(q, "x"), y=_f(q, "y"), z=_f(q, "z"),
