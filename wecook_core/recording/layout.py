@@ -1,4 +1,5 @@
-"""The Foxglove layout for a run: 3D view (meshes, scene, transforms), camera, joint positions, events and log.
+"""The Foxglove layout for a run: 3D view (meshes, scene, transforms, the camera's image where the camera stands),
+camera, joint positions, events and log.
 
 Built with foxglove-sdk's layout types (``foxglove.layouts``, the ``live`` extra) and shipped as
 ``wecook_core/assets/foxglove_layout.json`` so that recording needs no SDK; ``python -m
@@ -21,11 +22,15 @@ def build_layout() -> dict[str, Any]:
     three_d = fl.ThreeDeePanel(title="arms and table", config=fl.ThreeDeeConfig(
         follow_tf="world", fixed_frame="world",
         topics={"/robot": fl.BaseRendererSceneUpdateTopicSettings(visible=True),
-                "/scene": fl.BaseRendererSceneUpdateTopicSettings(visible=True)},
+                "/scene": fl.BaseRendererSceneUpdateTopicSettings(visible=True),
+                # the camera's image where the camera stands (its frame in /tf, its calibration)
+                "/camera": fl.BaseRendererImageTopicSettings(visible=True, camera_info_topic="/camera/calibration",
+                                                             distance=0.4),
+                "/camera/calibration": fl.BaseRendererCameraTopicSettings(visible=True, distance=0.4)},
         camera_state=fl.ThreeDeeCameraState(distance=2.4, phi=55.0, theta_offset=35.0, target_offset=(0, 0, 0.7),
                                             perspective=True)))
     camera = fl.ImagePanel(title="camera", config=fl.ImageConfig(image_mode=fl.ImageModeConfig(
-        image_topic="/camera")))
+        image_topic="/camera", calibration_topic="/camera/calibration")))
     plot = fl.PlotPanel(title="P1 joint positions (rad)", config=fl.PlotConfig(
         paths=[fl.PlotSeries(value=path, label=f"P1 joint {k + 1}", timestamp_method="receiveTime")
                for k, path in enumerate(JOINT_PLOT)], show_legend=True))

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import csv
 import json
+import struct
 from collections import Counter
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -54,7 +55,7 @@ class RunSummary:
         return sum(a.status == "done" for a in self.actions)
 
 
-def _read(path: Path) -> Iterator[tuple[str, str, int, bytes]]:
+def read_messages(path: Path) -> Iterator[tuple[str, str, int, bytes]]:
     """(topic, schema name, log time, data) of every message, in log-time order when the file is finished."""
     from mcap.exceptions import McapError
     from mcap.reader import NonSeekingReader, make_reader
@@ -67,7 +68,7 @@ def _read(path: Path) -> Iterator[tuple[str, str, int, bytes]]:
             for schema, channel, message in reader.iter_messages(log_time_order=True):
                 yield channel.topic, schema.name if schema else "", message.log_time, message.data
         return
-    except (McapError, EOFError, ValueError, OSError, KeyError):
+    except (McapError, EOFError, ValueError, OSError, KeyError, struct.error):  # struct.error: shorter than a header
         pass
     got = False
     try:
@@ -80,7 +81,7 @@ def _read(path: Path) -> Iterator[tuple[str, str, int, bytes]]:
             raise InputError(path, f"not a readable MCAP recording ({type(error).__name__})") from None
 
 
-def _extras(path: Path) -> tuple[str | None, dict[str, str]]:
+def read_extras(path: Path) -> tuple[str | None, dict[str, str]]:
     """The plan attachment's text and the ``wecook`` metadata, when the file has them."""
     from mcap.records import Attachment, Metadata
     from mcap.stream_reader import StreamReader
@@ -114,7 +115,7 @@ def summarize_recording(path: str | Path) -> RunSummary:
     schemas: dict[str, str] = {}
     events: list[tuple[int, dict[str, Any]]] = []
     first = last = None
-    for topic, schema, ns, data in _read(path):
+    for topic, schema, ns, data in read_messages(path):
         topics[topic] += 1
         schemas.setdefault(topic, schema)
         first = ns if first is None else min(first, ns)
@@ -124,7 +125,7 @@ def summarize_recording(path: str | Path) -> RunSummary:
                 events.append((ns, json.loads(data)))
             except ValueError:
                 continue
-    plan_text, meta = _extras(path)
+    plan_text, meta = read_extras(path)
     origin = _origin(meta, first)
     lines: dict[str, dict[str, Any]] = {}
     agents: tuple[str, ...] = ()
@@ -203,8 +204,8 @@ def export_csv(path: str | Path, out_dir: str | Path) -> list[Path]:
             raise InputError(target, "exists; not overwritten (choose another --csv folder)")
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(out_dir, "is not a folder")
-    _, meta = _extras(path)
-    messages = list(_read(path))
+    _, meta = read_extras(path)
+    messages = list(read_messages(path))
     first = min((ns for _, _, ns, _ in messages), default=None)
     origin = _origin(meta, first)
     joints: list[tuple[float, dict[str, tuple[Any, Any]]]] = []

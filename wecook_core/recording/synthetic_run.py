@@ -2,7 +2,9 @@
 
 For testing recorders and progress displays, and for measuring recording overhead on its own. The two "arms"
 are chains of links whose joints follow sine waves; the actions start and end on schedule (``fail`` names
-actions that fail instead). Deterministic for a given seed.
+actions that fail instead); the images are said to come from :data:`CAMERA` at :data:`CAMERA_POSE` (in the
+metadata and in every state's poses, as :class:`~wecook_core.recording.camera.CameraObserver` does).
+Deterministic for a given seed.
 """
 
 from __future__ import annotations
@@ -15,10 +17,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from wecook_core.execution.schedule.observer import FrameInfo, Quat, RunEvent, RunObserver, Shape, Vec3
+from wecook_core.recording.camera import FRAME, Pinhole, optical_pose
 
 LINKS = 9
 """Links per synthetic arm (like a Panda: link0..link7 and the hand)."""
 OBJECTS: tuple[str, ...] = ("knife", "tomato", "chopping_board", "pot", "spoon")
+CAMERA = Pinhole(320, 240, 55.0)
+"""The camera the synthetic images are said to come from."""
+CAMERA_POSE = optical_pose((0.0, -1.1, 0.9), (0.0, 0.0, 0.1))
 
 
 @dataclass(frozen=True)
@@ -54,29 +60,33 @@ def _poses(t: float, q: dict[str, np.ndarray]) -> dict[str, tuple[Vec3, Quat]]:
             poses[f"{agent}/link{k}"] = ((x, 0.0, z), (0.0, math.sin(half), 0.0, math.cos(half)))
     for i, name in enumerate(OBJECTS):
         poses[f"object/{name}"] = ((0.1 * math.sin(t + i), 0.05 * i - 0.1, 0.03), (0.0, 0.0, 0.0, 1.0))
+    poses[FRAME] = CAMERA_POSE
     return poses
 
 
 def synthetic_run(observer: RunObserver, *, actions: int = 6, seconds_per_action: float = 2.0,
                   state_hz: float = 30.0, wall_per_sim: float = 0.0, fail: Sequence[str] = (),
                   seed: int = 0, plan_yaml: str = "wecook_plan: 1\n", jpeg: bytes = b"\xff\xd8synthetic\xff\xd9",
-                  end: bool = True) -> SyntheticRunStats:
+                  end: bool = True, joint_names: Sequence[str] = ()) -> SyntheticRunStats:
     """Drive ``observer`` through a run of ``actions`` actions (ids ``a1``...), alternating arms.
 
     ``wall_per_sim``: wall seconds slept per simulated second (0: as fast as possible). ``end=False`` stops
-    before ``run_end`` / ``on_end`` (as if the process died).
+    before ``run_end`` / ``on_end`` (as if the process died). ``joint_names``: the seven joints' names (default
+    ``joint1``..``joint7``), e.g. a URDF's.
     """
     rng = np.random.default_rng(seed)
-    joint_names = [f"joint{k + 1}" for k in range(7)]
+    joint_names = list(joint_names) or [f"joint{k + 1}" for k in range(7)]
+    if len(joint_names) != 7:
+        raise ValueError("a synthetic arm has seven joints")
     phase = {agent: rng.uniform(0, 2 * math.pi, 7) for agent in ("P1", "P2")}
-    observer.on_start(synthetic_frames(), plan_yaml, seed, {"source": "synthetic"})
+    observer.on_start(synthetic_frames(), plan_yaml, seed, {"source": "synthetic", **CAMERA.metadata()})
     states = events = logs = images = 0
     dt = 1.0 / state_hz
     t = 0.0
     for n in range(actions):
         aid, agent = f"a{n + 1}", ("P1", "P2")[n % 2]
         observer.on_event(t, RunEvent("action_start", aid, agent=agent))
-        observer.on_image(t, jpeg, 320, 240)
+        observer.on_image(t, jpeg, CAMERA.width, CAMERA.height)
         events, images = events + 1, images + 1
         primitives = ("grasp", "engage", "actuate", "place")
         steps = max(int(seconds_per_action * state_hz), len(primitives))
@@ -96,7 +106,7 @@ def synthetic_run(observer: RunObserver, *, actions: int = 6, seconds_per_action
             observer.on_event(t, RunEvent("action_failed", aid, agent=agent, detail="synthetic failure"))
         else:
             observer.on_event(t, RunEvent("action_end", aid, agent=agent))
-        observer.on_image(t, jpeg, 320, 240)
+        observer.on_image(t, jpeg, CAMERA.width, CAMERA.height)
         events, images = events + 1, images + 1
     if end:
         observer.on_event(t, RunEvent("run_end"))

@@ -5,7 +5,9 @@ each arm link's meshes from its URDF as embedded GLB models, written once, see :
 (foxglove.SceneUpdate: the table's and the objects' shapes in their colours, and links without meshes; repeated
 at every flush so a viewer that seeks still has it), ``/joint_states`` (ROS 2 sensor_msgs/msg/JointState layout:
 both arms, names ``<pid>/<joint>``, positions and velocities), ``/plan/events`` (wecook.RunEvent), ``/log``
-(foxglove.Log), ``/camera`` (foxglove.CompressedImage: at action boundaries, or at ``--camera-hz``). The plan
+(foxglove.Log), ``/camera`` (foxglove.CompressedImage: at action boundaries, or at ``--camera-hz``), and
+``/camera/calibration`` (foxglove.CameraCalibration, beside each image of a camera the run's metadata describes:
+see :class:`~wecook_core.recording.camera.Pinhole`; the camera's optical frame is then in ``/tf``). The plan
 goes in as the attachment ``plan.yaml``; versions, seed and the time origin as metadata ``wecook``. A Foxglove
 layout (3D, camera, joint plot, events, log: ``assets/foxglove_layout.json``) is written beside the file as
 ``<name>.layout.json``.
@@ -40,6 +42,7 @@ from mcap.writer import CompressionType, Writer
 
 from wecook_core.execution.schedule.observer import FrameInfo, Quat, RunEvent, Vec3
 from wecook_core.recording import foxglove, meshes
+from wecook_core.recording.camera import Pinhole
 from wecook_core.resources import ASSETS_DIR
 
 LAYOUT = ASSETS_DIR / "foxglove_layout.json"
@@ -112,6 +115,8 @@ class McapRecorder:
         self._last_state: float | None = None
         self._last_joints: tuple[float, list[float]] | None = None
         self._saw_run_end = False
+        self._camera: Pinhole | None = None
+        """The camera the run's metadata describes (its images get a calibration)."""
         self._closed = False
         self._lock = threading.Lock()
         if layout and LAYOUT.is_file():
@@ -158,6 +163,7 @@ class McapRecorder:
                  metadata: Mapping[str, str]) -> None:
         with self._lock:
             self._frames, robot = meshes.drawn_frames(frames, plan_yaml, meshes=self.meshes)
+            self._camera = Pinhole.from_metadata(metadata)
             ns = self._ns(0.0)
             self._writer.add_attachment(create_time=ns, log_time=ns, name="plan.yaml",
                                         media_type="application/yaml", data=plan_yaml.encode())
@@ -212,6 +218,9 @@ class McapRecorder:
         with self._lock:
             ns = self._ns(t)
             self._write("/camera", ns, foxglove.compressed_image(ns, jpeg))
+            calibration = self._camera.calibration(ns, width, height) if self._camera is not None else None
+            if calibration is not None:
+                self._write("/camera/calibration", ns, calibration)
             self._maybe_flush()
 
     def on_end(self, t: float) -> None:

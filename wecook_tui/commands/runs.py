@@ -4,6 +4,8 @@
 - ``wecook runs recover FILE.mcap [-o OUT.mcap]``: rewrite the file of a killed run as a complete one.
 - ``wecook runs show FILE.mcap``: the run's summary: plan, result table, duration, topics.
 - ``wecook runs export FILE.mcap --csv DIR``: ``DIR/joint_states.csv`` and ``DIR/events.csv`` (never overwritten).
+- ``wecook runs export FILE.mcap --ros2 OUT [--storage mcap|sqlite3]``: the run as a ROS 2 bag (a new folder OUT):
+  joint states, transforms, camera images and calibration, log and events as ROS 2 messages (CDR).
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ from typing import Any
 def register(sub: Any) -> None:
     runs = sub.add_parser("runs", help="check, recover, show or export run recordings (MCAP)",
                           description="Check a run's recording, recover the recording of a killed run, show a "
-                                      "run's summary, or export its joint states and events as CSV.")
+                                      "run's summary, or export it (joint states and events as CSV; or a ROS 2 bag).")
     runs_sub = runs.add_subparsers(dest="runs_command", metavar="COMMAND", required=True)
     check = runs_sub.add_parser("check", help="validate a recording (CRCs, summary, topics, events)")
     check.add_argument("file", type=Path, help="recording (.mcap)")
@@ -29,11 +31,18 @@ def register(sub: Any) -> None:
     show = runs_sub.add_parser("show", help="print a run's summary: plan, result table, duration, topics")
     show.add_argument("file", type=Path, help="recording (.mcap)")
     show.set_defaults(func=run_show)
-    export = runs_sub.add_parser("export", help="write a run's joint states and events as CSV")
+    export = runs_sub.add_parser("export", help="write a run's joint states and events as CSV, or the run as a "
+                                               "ROS 2 bag")
     export.add_argument("file", type=Path, help="recording (.mcap)")
-    export.add_argument("--csv", type=Path, required=True, metavar="DIR",
-                        help="folder for joint_states.csv and events.csv (made if missing; files never overwritten)")
-    export.set_defaults(func=run_export_csv)
+    to = export.add_mutually_exclusive_group(required=True)
+    to.add_argument("--csv", type=Path, metavar="DIR",
+                    help="folder for joint_states.csv and events.csv (made if missing; files never overwritten)")
+    to.add_argument("--ros2", type=Path, metavar="OUT",
+                    help="a ROS 2 bag (a new folder, never overwritten): sensor_msgs JointState per arm, tf2_msgs "
+                         "TFMessage, CompressedImage and CameraInfo, rcl_interfaces Log; CDR (needs rosbags)")
+    export.add_argument("--storage", choices=("mcap", "sqlite3"), default="mcap",
+                        help="--ros2: the bag's storage (default: %(default)s)")
+    export.set_defaults(func=run_export)
 
 
 def run_check(args: argparse.Namespace) -> int:
@@ -76,9 +85,23 @@ def run_show(args: argparse.Namespace) -> int:
     return 0
 
 
-def run_export_csv(args: argparse.Namespace) -> int:
+def run_export(args: argparse.Namespace) -> int:
+    if args.ros2 is not None:
+        return run_export_ros2(args)
     from wecook_core.recording.report import export_csv
 
     for path in export_csv(args.file, args.csv):
         print(f"wrote {path}")
+    return 0
+
+
+def run_export_ros2(args: argparse.Namespace) -> int:
+    from wecook_core.recording.ros2 import export_ros2
+
+    done = export_ros2(args.file, args.ros2, storage=args.storage)
+    print(f"wrote {done.out} (ROS 2 bag, {done.storage}): {sum(done.messages.values())} messages")
+    for topic, n in sorted(done.messages.items()):
+        print(f"  {topic:<28} {done.types[topic]:<32} {n}")
+    if done.left_out:
+        print("left out (no ROS 2 message): " + ", ".join(f"{t} {n}" for t, n in sorted(done.left_out.items())))
     return 0
