@@ -33,6 +33,22 @@ def test_a_drawn_box_is_followed_until_the_object_is_gone(tmp_path: Path) -> Non
     assert max(boxes) < 31
 
 
+def test_a_box_touching_the_frames_edge_is_tracked(tmp_path: Path) -> None:
+    """MIL samples patches of the box's size around it, all inside the image: on a box touching the frame's
+    edge it found none and OpenCV raised an assertion (kfc-b: the bowls filling the frame's height, the box
+    mode's `t` on them). Tracked inset from the edge, the box keeps its full extent."""
+    video = tmp_path / "square.avi"
+    truth = moving_square(video, vanish=None, start=(0, 0))
+    tracked = track_from_last_keyframe(video, BoxTrack(1, "bowl").with_keyframe(0, truth[0]), 10.0,
+                                       TrackParams(max_seconds=2.0))
+    boxes = tracked.boxes()
+    assert tracked.lost_at is None and all(f in boxes for f in range(1, 20))
+    overlaps = [iou(boxes[f], truth[f]) for f in range(1, 20)]
+    assert min(overlaps) > 0.4 and float(np.mean(overlaps)) > 0.6, overlaps
+    sizes = [(boxes[f][2] - boxes[f][0], boxes[f][3] - boxes[f][1]) for f in range(5, 20)]
+    assert all(38 <= w <= 42 and 38 <= h <= 42 for w, h in sizes), sizes  # the drawn size, not the inset one
+
+
 @pytest.mark.slow
 def test_max_seconds_bounds_the_tracking(tmp_path: Path) -> None:
     video = tmp_path / "square.avi"

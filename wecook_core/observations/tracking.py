@@ -158,6 +158,23 @@ def make_tracker(name: str) -> Any:
     return make()
 
 
+EDGE_ROOM = 4
+"""Pixels a tracked box must keep from the frame's edges: MIL learns the object from patches of the box's size
+whose corner lies within 3 px of the box's (OpenCV's ``samplerInitInRadius``), all inside the image, so a box
+touching an edge (a bowl filling the frame's height, a hand entering from the side) gave it no sample and
+OpenCV raised an assertion. Such a box is tracked inset by this much from each edge it touches, and given back
+its full extent on every frame."""
+
+
+def _inset(box: Box, width: int, height: int) -> tuple[Box, Box]:
+    """``(the box kept EDGE_ROOM inside the frame, what was taken off each side: left, top, right, bottom)``."""
+    x1, y1, x2, y2 = box
+    inner = (max(x1, EDGE_ROOM), max(y1, EDGE_ROOM), min(x2, width - EDGE_ROOM), min(y2, height - EDGE_ROOM))
+    if inner[2] - inner[0] < 1 or inner[3] - inner[1] < 1:  # thinner than the room: keep it as drawn
+        return box, (0.0, 0.0, 0.0, 0.0)
+    return inner, (inner[0] - x1, inner[1] - y1, x2 - inner[2], y2 - inner[3])
+
+
 def propagate(video: str | Path, frame: int, box: Box, fps: float, params: TrackParams | None = None,
               *, progress: Progress | None = None) -> tuple[dict[int, Box], int | None]:
     """Boxes after ``frame`` found by the tracker from ``box`` at ``frame``, and the frame where the object
@@ -169,17 +186,22 @@ def propagate(video: str | Path, frame: int, box: Box, fps: float, params: Track
     limit = None if params.max_seconds is None else frame + round(params.max_seconds * fps)
     result: dict[int, Box] = {}
     reference = previous = None
+    grow = (0.0, 0.0, 0.0, 0.0)
     for index, image in _frames_from(video, frame):
         h, w = image.shape[:2]
         if reference is None:
-            x1, y1, x2, y2 = box
-            tracker.init(image, (int(x1), int(y1), max(1, int(x2 - x1)), max(1, int(y2 - y1))))
+            inner, grow = _inset(box, w, h)
+            x1, y1, x2, y2 = inner
+            try:
+                tracker.init(image, (int(x1), int(y1), max(1, int(x2 - x1)), max(1, int(y2 - y1))))
+            except cv2.error:  # a box too small to sample even inside the frame: the tracker cannot start
+                return result, index
             reference = previous = _histogram(image, box)
             continue
         if limit is not None and index > limit:
             return result, None
         ok, (x, y, bw, bh) = tracker.update(image)
-        found: Box = (float(x), float(y), float(x + bw), float(y + bh))
+        found: Box = (float(x) - grow[0], float(y) - grow[1], float(x + bw) + grow[2], float(y + bh) + grow[3])
         outside = found[2] <= 0 or found[3] <= 0 or found[0] >= w or found[1] >= h
         similar = True
         hist = _histogram(image, found) if ok and not outside else None
