@@ -52,3 +52,24 @@ def test_without_a_hand_on_the_dish_nothing_transfers_it():
     obs = replace(obs, hands=())
     _, timeline = associate_segments(obs, (Segment(0, obs.video.frame_count),), Params())
     assert transfer_events(obs, timeline, Params()) == ()
+
+
+def test_a_hand_steadying_the_pan_the_garlic_lands_in_did_not_carry_it_there():
+    """What receives an ingredient did not carry it: the hand on the pan's rim holds the destination, and the
+    garlic the (undetected) other hand tips from the dish into the pan is no transfer of the steadying hand's,
+    with the pan as its carrier (kfc-b 739-781: the cauliflower from the strainer "carried by the bowl" the
+    other hand steadied)."""
+    frames = 24
+    over = at(DISH, -25 * 8)
+    dish = [still(0, 5, DISH), (5, 13, DISH, over), (13, frames, over, at(over, 10 * (frames - 13)))]
+    garlic = [still(0, 5, GARLIC), (5, 13, GARLIC, at(GARLIC, -25 * 8)),
+              (13, 16, at(GARLIC, -25 * 8), at(GARLIC, -300)), still(16, frames, at(GARLIC, -300))]
+    rim = (10, 300, 70, 360)  # on the pan's left rim, still throughout
+    obs = observations(frames, {"pan": (Category.CONTAINER, [still(0, frames, PAN)]),
+                                "small_bowl": (Category.CONTAINER, dish),
+                                "garlic": (Category.INGREDIENT, garlic)},
+                       {"LH_P1": [still(0, frames, rim)]})
+    obs = replace(obs, video=replace(obs.video, fps=5.0))
+    _, timeline = associate_segments(obs, (Segment(0, frames),), Params())
+    assert (timeline.held[:, 0] == timeline.names.index("pan")).mean() > 0.9  # the hand holds the pan
+    assert [e for e in transfer_events(obs, timeline, Params()) if e.carrier == "pan"] == []

@@ -90,7 +90,7 @@ def transfer_events(obs: Observations, timeline: Timeline, params: Params, rate:
                 continue
             lo = max(0, end1 - window)
             hi = min(total, start2 + window)
-            event = _mover(obs, timeline, column, lo, hi, near, params, rate, source)
+            event = _mover(obs, timeline, column, lo, hi, near, params, rate, source, destination)
             if event is None:
                 continue
             hand, carrier, span_start, span_end = event
@@ -119,13 +119,16 @@ def _arrival_end(
 
 def _mover(
     obs: Observations, timeline: Timeline, ingredient: int, lo: int, hi: int, near: float, params: Params,
-    rate: FrameParams, source: int = NONE,
+    rate: FrameParams, source: int = NONE, destination: int = NONE,
 ) -> tuple[int, int, int, int] | None:
     """(hand column, carrier column or NONE, start and end of the carrier's hold) of the hand that moved an
     ingredient during ``[lo, hi)``, or None when no hand did. Where the ingredient is not seen it rides in
     the container it left (``source``): a hand holding that container carries it there (the rule of
     :mod:`~wecook_core.perception.repairs.occlusion`: a hidden ingredient rides in the container it lies in;
-    found on tasty-a, the garlic hidden in the small dish the hand brings over the pan, frames 63-78)."""
+    found on tasty-a, the garlic hidden in the small dish the hand brings over the pan, frames 63-78). What
+    receives the ingredient (``destination``) did not carry it there: a hand holding the destination (steadying
+    the bowl it is emptied into) is not the mover by that hold (kfc-b 739-781: the cauliflower tipped from the
+    strainer into the bowl a hand was taken to hold came out "carried by the bowl")."""
     if hi <= lo:
         return None
     boxes = frame_boxes(obs, lo, hi, rate.fill_gap)
@@ -138,7 +141,8 @@ def _mover(
         direct = held == ingredient
         carried_box = boxes.objects[rows, np.maximum(held, 0), :]
         with np.errstate(invalid="ignore"):
-            via = (held != NONE) & (held != ingredient) & (box_gap(carried_box, ingredient_boxes) <= near)
+            via = (held != NONE) & (held != ingredient) & (held != destination) & \
+                (box_gap(carried_box, ingredient_boxes) <= near)
         via |= hidden & (held == source) & (source != NONE)
         score = float(np.mean(direct | via))
         if score < params.mover_share:
