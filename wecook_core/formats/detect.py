@@ -25,6 +25,15 @@ from wecook_core.model import HandTrack, ObjectTrack, VideoInfo
 OBJECT_FORMATS: tuple[str, ...] = ("cvat", "mot", "cocovid", "labelstudio", "csv")
 HAND_FORMATS: tuple[str, ...] = ("openpose", "csv")
 
+FRAME_BASE: dict[str, int] = {"mot": 1, "labelstudio": 1}
+"""The number each format gives the video's first frame (others count from 0, as wecook does)."""
+
+
+def file_frame(format: str, frame: int) -> str:
+    """``"frame 24"``: wecook's 0-based ``frame`` as a file of ``format`` numbers it, for messages."""
+    return f"frame {frame + FRAME_BASE.get(format, 0)}"
+
+
 _MOT_ROW = re.compile(r"^\s*-?\d+(\.\d*)?\s*(,\s*-?[\d.eE+-]+\s*){5,}(,.*)?$")
 
 
