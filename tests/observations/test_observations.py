@@ -160,3 +160,32 @@ def test_normalised_coordinates_are_refused(tmp_path: Path) -> None:
     hands = ["0,RH_P1,0.2,0.1,0.1,0.05,0.3,0.15"]
     with pytest.raises(InputError, match=r"hands\.csv: every hand coordinate lies within \[0, 1\].*keypoint_scale"):
         load_observations(*write_inputs(tmp_path, OBJECTS, hands), categories=TABLE)
+
+
+def test_a_label_studio_annotation_at_another_rate_and_the_fps_flag(tmp_path: Path,
+                                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    # The video plays at 10 fps; the annotation counted 20 fps by its keyframes' time but 10 by framesCount:
+    # ambiguous, refused in one line naming --fps; with --fps 20 its frame 21 (1 s) is video frame 10, also
+    # when the session is opened again.
+    import json
+
+    from wecook_core.session.store import open_session
+    from wecook_tui.cli import main
+
+    video, _, hands = write_inputs(tmp_path, OBJECTS, HANDS)
+    sequence = [{"frame": 1, "x": 10, "y": 10, "width": 10, "height": 10, "enabled": False, "time": 1 / 20},
+                {"frame": 21, "x": 20, "y": 10, "width": 10, "height": 10, "enabled": False, "time": 21 / 20}]
+    result = [{"type": "videorectangle", "value": {"framesCount": 30, "duration": 3.0, "sequence": sequence,
+                                                   "labels": ["Knife"]}}]
+    objects = tmp_path / "ls.json"
+    objects.write_text(json.dumps(result))
+    base = ["new", "s", "--video", str(video), "--objects", str(objects), "--hands", str(hands), "--categories",
+            str(tmp_path / "cats.yaml"), "--root", str(tmp_path / "sessions")]
+    (tmp_path / "cats.yaml").write_text("objects:\n  knife: tool\n")
+    assert main(base) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "frame rate is ambiguous" in err and "--fps" in err
+    assert main([*base, "--fps", "20"]) == 0
+    assert "fps: 20" in (tmp_path / "sessions" / "s" / "session.yaml").read_text()
+    knife = open_session(tmp_path / "sessions" / "s").load_observations().object("knife")
+    assert knife.frames.tolist() == [0, 10]

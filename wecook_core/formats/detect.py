@@ -12,6 +12,7 @@ frames, as YouCook2-BB's one a second) are filled in between (:func:`wecook_core
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -113,12 +114,14 @@ def read_objects(
     labels: str | Path | None = None,
     video: VideoInfo | None = None,
     select: str | None = None,
+    fps: float | None = None,
     warn: Warn = ignore_warning,
 ) -> tuple[tuple[ObjectTrack, ...], str]:
     """Object tracks of ``path`` and the format they were read as (``format`` forces one).
 
     ``labels`` is the MOT labels file; ``video`` lets CVAT check the annotated frame size and COCO-VID pick
-    the video by name; ``select`` names the video (name or id) of a COCO-VID file that holds several.
+    the video by name; ``select`` names the video (name or id) of a COCO-VID file that holds several; ``fps``
+    is the frame rate a Label Studio annotation was made at (None: read from the file).
     """
     path = Path(path)
     chosen = check_format(format, OBJECT_FORMATS, "objects") if format else detect_objects_format(path)
@@ -126,6 +129,10 @@ def read_objects(
         warn(f"{labels}: a labels file only applies to MOT boxes; ignored for {chosen}")
     if select is not None and chosen not in ("cocovid", "labelstudio"):
         warn(f"choosing a video ({select!r}) only applies to COCO-VID boxes; ignored for {chosen}")
+    if fps is not None and chosen != "labelstudio":
+        warn(f"an annotation frame rate (--fps {fps:g}) only applies to Label Studio boxes; ignored for {chosen}")
+    if fps is not None and not (math.isfinite(fps) and fps > 0):
+        raise InputError(None, f"--fps {fps:g}: expected a frame rate above 0")
     count = usable_frames(video) if video is not None else None
     if chosen == "cvat":
         from wecook_core.formats.cvat import read_cvat
@@ -135,7 +142,7 @@ def read_objects(
     if chosen == "labelstudio":
         from wecook_core.formats.labelstudio import read_labelstudio
 
-        return read_labelstudio(path, video=video, select=select, warn=warn), chosen
+        return read_labelstudio(path, video=video, select=select, fps=fps, warn=warn), chosen
     if chosen == "mot":
         from wecook_core.formats.mot import read_mot
 

@@ -116,13 +116,15 @@ def import_observations(
     hands_format: str | None = None,
     labels: str | Path | None = None,
     select: str | None = None,
+    annotation_fps: float | None = None,
     categories: CategoryTable | None = None,
     checks: InputChecks | None = None,
     video_facts: VideoInfo | None = None,
 ) -> Imported:
     """Import the video's facts, the object boxes (none when ``objects`` is None) and the hand tracks, name
     objects uniquely, categorise them and check everything against the video. ``labels`` is the labels file of
-    MOT boxes; ``select`` the video (name or id) of a COCO-VID file that holds several. ``video_facts``, when
+    MOT boxes; ``select`` the video (name or id) of a COCO-VID file that holds several; ``annotation_fps`` the
+    frame rate a Label Studio annotation was made at (None: read from the file). ``video_facts``, when
     known (a session records them), stand in for probing ``video``, which is then not opened (it may be missing
     or damaged)."""
     checks = checks or InputChecks()
@@ -136,7 +138,7 @@ def import_observations(
         chosen_objects = NO_OBJECTS
     else:
         object_tracks, chosen_objects = read_objects(objects, objects_format, labels=labels, video=info,
-                                                     select=select, warn=warnings.append)
+                                                     select=select, fps=annotation_fps, warn=warnings.append)
     hand_tracks, chosen_hands = read_hands(hands, hands_format, warn=warnings.append)
     checked_objects = _check_objects(Path(objects or video), unique_names(object_tracks), info, chosen_objects,
                                      warnings)
