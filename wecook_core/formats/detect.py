@@ -150,7 +150,8 @@ def read_objects(
     elif chosen == "cocovid":
         from wecook_core.formats.cocovid import read_cocovid
 
-        tracks = read_cocovid(path, video=select, video_path=video.path if video else None, warn=warn)
+        tracks = read_cocovid(path, video=select, video_path=video.path if video else None, frame_count=count,
+                              warn=warn)
     else:
         from wecook_core.formats.native import read_objects_csv
 
