@@ -1,9 +1,11 @@
 """Which importer reads a file: detection from the content (not the name), or a format the user forces.
 
-Objects: ``cvat`` (XML), ``mot`` (numeric comma-separated rows), ``cocovid`` (a JSON object), ``labelstudio``
-(Label Studio's video export: a JSON list of tasks, or a task, with keyframe sequences), ``csv`` (wecook's
-native CSV with the header ``frame,track_id,label,x1,y1,x2,y2``). Hands: ``openpose`` (a folder of
-``*_keypoints.json``), ``csv`` (native, header ``frame,hand,x,y,x1,y1,x2,y2``).
+Objects: ``cvat`` (XML), ``mot`` (numeric rows, comma-separated, or space-separated as PathTrack's),
+``cocovid`` (a JSON object: COCO-VID, TAO, YouTube-VIS, OVIS), ``labelstudio`` (Label Studio's video export:
+a JSON list of tasks, or a task, with keyframe sequences; or a list of its annotations, predictions or
+results), ``csv`` (wecook's native CSV with the header ``frame,track_id,label,x1,y1,x2,y2``). Hands:
+``openpose`` (a folder of OpenPose JSON files, ``*_keypoints.json`` or any ``*.json``), ``csv`` (native, header
+``frame,hand,x,y,x1,y1,x2,y2``).
 
 Given the video, every box's frame is checked against its frame count before anything is interpolated (a box
 at frame 1,000,000,000 is one line, not a run out of memory), and sparse tracks (a box only every so many
@@ -36,6 +38,8 @@ def file_frame(format: str, frame: int) -> str:
 
 
 _MOT_ROW = re.compile(r"^\s*-?\d+(\.\d*)?\s*(,\s*-?[\d.eE+-]+\s*){5,}(,.*)?$")
+_MOT_SPACED_ROW = re.compile(r"^\s*\d+(\.0*)?([ \t]+-?[\d.eE+-]+){5,}\s*$")
+"""PathTrack's MOT ground truth: the same fields separated by spaces."""
 
 
 def _head(path: Path, what: str) -> str:
@@ -76,7 +80,7 @@ def detect_objects_format(path: str | Path) -> str:
     line = _first_line(head)
     if line.replace(" ", "").lower().startswith("frame,track_id,label"):
         return "csv"
-    if _MOT_ROW.match(line):
+    if _MOT_ROW.match(line) or _MOT_SPACED_ROW.match(line):
         return "mot"
     raise InputError(path, "unknown object box format: expected CVAT video XML, MOT text, COCO-VID JSON, Label "
                      "Studio JSON or the "
@@ -146,7 +150,7 @@ def read_objects(
     if chosen == "mot":
         from wecook_core.formats.mot import read_mot
 
-        tracks = read_mot(path, labels, warn=warn)
+        tracks = read_mot(path, labels, frame_count=count, warn=warn)
     elif chosen == "cocovid":
         from wecook_core.formats.cocovid import read_cocovid
 
