@@ -92,8 +92,9 @@ def detect_hands_format(path: str | Path) -> str:
     """One of :data:`HAND_FORMATS`, from what the file or folder holds."""
     path = Path(path)
     if path.is_dir():
-        if next(path.glob("*_keypoints.json"), None) is None:
-            raise InputError(path, "folder without *_keypoints.json files: expected OpenPose JSON output")
+        if next(path.glob("*.json"), None) is None:
+            raise InputError(path, "folder without *_keypoints.json files (nor any *.json): expected OpenPose JSON "
+                             "output")
         return "openpose"
     head = _head(path, "a hand track file")
     if _first_line(head).replace(" ", "").lower().startswith("frame,hand"):
@@ -177,15 +178,16 @@ def check_frame_range(path: str | Path, tracks: tuple[ObjectTrack, ...], video: 
 
 
 def read_hands(
-    path: str | Path, format: str | None = None, *, warn: Warn = ignore_warning
+    path: str | Path, format: str | None = None, *, frame_count: int | None = None, warn: Warn = ignore_warning
 ) -> tuple[tuple[HandTrack, ...], str]:
-    """Hand tracks of ``path`` and the format they were read as (``format`` forces one)."""
+    """Hand tracks of ``path`` and the format they were read as (``format`` forces one); ``frame_count``, the
+    video's frames, helps OpenPose tell its frame counter from image names."""
     path = Path(path)
     chosen = check_format(format, HAND_FORMATS, "hands") if format else detect_hands_format(path)
     if chosen == "openpose":
         from wecook_core.formats.openpose import read_openpose
 
-        return read_openpose(path, warn=warn), chosen
+        return read_openpose(path, frame_count=frame_count, warn=warn), chosen
     from wecook_core.formats.native import read_hands_csv
 
     if path.is_dir():

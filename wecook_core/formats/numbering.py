@@ -13,7 +13,8 @@ ways, and only the set of names tells which:
   with an arbitrary start and perhaps gaps, and the video made of those images shows them in order: the
   frame is the file's place among the names sorted by their number (a warning says so).
 
-A set where a name has no number, or two names the same number, is taken in sorted order of the names. When
+A set where no name has a number is taken in sorted order of the names; one where some names have a number
+and others not, or two names the same number, mixes files of different runs: :class:`NumberingError`. When
 the video is known and the numbers run past its end while the files alone fit it, the video was made of the
 files: sorted order too. Whichever way is taken, a warning names it unless the numbers were plainly the
 frames (from 0, no gaps).
@@ -27,6 +28,14 @@ from pathlib import PurePath
 
 _LAST_NUMBER = re.compile(r"(\d+)(?!.*\d)")
 _OPENPOSE_COUNTER = re.compile(r"(?<!\d)\d{12}$")
+
+
+class NumberingError(ValueError):
+    """The names do not number frames one each: ``index`` is the name at fault."""
+
+    def __init__(self, message: str, index: int) -> None:
+        super().__init__(message)
+        self.index = index
 
 
 def name_number(name: str) -> str | None:
@@ -44,9 +53,19 @@ def name_frames(names: Sequence[str], frame_count: int | None = None) -> tuple[l
     numbers = [int(d) if d is not None and len(d) <= 12 else None for d in digits]
     if not names:
         return [], None
-    if any(n is None for n in numbers) or len(set(numbers)) != len(numbers):
+    if all(d is None for d in digits):
         order = sorted(range(len(names)), key=lambda i: _natural(names[i]))
-        return _ranks(order), "the file names do not number the frames one each: frames taken in sorted order"
+        return _ranks(order), "the file names hold no frame numbers: frames taken in sorted order of the names"
+    seen: dict[int, int] = {}
+    for i, number in enumerate(numbers):
+        if digits[i] is None:
+            raise NumberingError(f"no frame number in the file name, unlike {PurePath(names[0 if i else 1]).name}",
+                                 i)
+        if number is None:
+            raise NumberingError(f"frame {digits[i][:20]}... in the file name is too large", i)  # type: ignore[index]
+        if number in seen:
+            raise NumberingError(f"frame {number} again (also {PurePath(names[seen[number]]).name})", i)
+        seen[number] = i
     values = [n for n in numbers if n is not None]
     low, high = min(values), max(values)
     counter = low == 0 or all(d is not None and _OPENPOSE_COUNTER.search(d) for d in digits)

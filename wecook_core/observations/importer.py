@@ -139,7 +139,8 @@ def import_observations(
     else:
         object_tracks, chosen_objects = read_objects(objects, objects_format, labels=labels, video=info,
                                                      select=select, fps=annotation_fps, warn=warnings.append)
-    hand_tracks, chosen_hands = read_hands(hands, hands_format, warn=warnings.append)
+    hand_tracks, chosen_hands = read_hands(hands, hands_format, frame_count=usable_frames(info),
+                                           warn=warnings.append)
     checked_objects = _check_objects(Path(objects or video), unique_names(object_tracks), info, chosen_objects,
                                      warnings)
     checked_hands = _check_hands(Path(hands), hand_tracks, info, checks)
