@@ -172,3 +172,9 @@ def test_mot17_ground_truth_overhanging_the_frame_is_clipped(tmp_path: Path) -> 
     assert person.boxes[3].tolist() == [0, 0, 233, 480]
     assert any("clipped 5 boxes that overhang the 640x480 image, by up to 122 px (track 1 (pedestrian) at frame 58)"
                in w for w in imported.warnings)
+
+
+def test_a_track_of_two_classes_is_named_at_the_files_frame(tmp_path: Path) -> None:
+    rows = "1,7,0,0,10,10,1,2,1.0\n2,7,0,0,10,10,1,1,1.0\n"
+    with pytest.raises(InputError, match=r"gt\.txt:frame 2: track 7 is labelled both 'pot' and 'spoon'"):
+        read_mot(write(tmp_path, rows, labels="spoon\npot\n"))

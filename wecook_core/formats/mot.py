@@ -161,7 +161,7 @@ def read_mot(
         warn(f"{path}: skipped {ignored} rows with conf 0 (marked to ignore)")
     if not rows:
         raise InputError(path, "no boxes: empty MOT file" if not ignored else "no boxes: every row has conf 0")
-    return object_tracks(rows, path)
+    return object_tracks(rows, path, frame_base=1)
 
 
 def _text(path: Path, what: str) -> str:
