@@ -15,8 +15,8 @@ ways, and only the set of names tells which:
 
 A set where no name has a number is taken in sorted order of the names; one where some names have a number
 and others not, or two names the same number, mixes files of different runs: :class:`NumberingError`. When
-the video is known and the numbers run past its end while the files alone fit it, the video was made of the
-files: sorted order too. Whichever way is taken, a warning names it unless the numbers were plainly the
+the video is known and numbers from 0 (not OpenPose's counter, which is the frame whatever the video says)
+run past its end while the files alone fit it, the video was made of the files: sorted order too. Whichever way is taken, a warning names it unless the numbers were plainly the
 frames (from 0, no gaps).
 """
 
@@ -68,9 +68,9 @@ def name_frames(names: Sequence[str], frame_count: int | None = None) -> tuple[l
         seen[number] = i
     values = [n for n in numbers if n is not None]
     low, high = min(values), max(values)
-    counter = low == 0 or all(d is not None and _OPENPOSE_COUNTER.search(d) for d in digits)
+    openpose_counter = all(d is not None and _OPENPOSE_COUNTER.search(d) for d in digits)
     fits_as_files = frame_count is not None and high >= frame_count and len(values) <= frame_count
-    if counter and not fits_as_files:
+    if openpose_counter or (low == 0 and not fits_as_files):
         gaps = high - low + 1 != len(values)
         note = None if low == 0 and not gaps else (
             f"the file names number frames {low}-{high}" + (" with gaps" if gaps else "") + ": taken as the "
