@@ -170,3 +170,13 @@ def test_boxes_drawn_upwards_are_normalised_and_rotated_ones_bounded(tmp_path: P
     np.testing.assert_allclose(lid.boxes[0], [40, 20, 60, 40])
     np.testing.assert_allclose(spoon.boxes[0], [0, 10, 20, 30], atol=1e-9)
     assert any("1 rotated keyframes" in w for w in warnings)
+
+
+def test_errors_in_a_bare_list_of_results_name_the_files_own_place(tmp_path: Path) -> None:
+    path = write(tmp_path / "result.json", [region("Pan", key(1, 0, 0, 5, 5)), region("Pot", {**key(2, 0, 0, 5, 5),
+                                                                                              "x": "?"})])
+    with pytest.raises(InputError, match=r"result\.json:\[1\]\.sequence\[0\]: x must be a number"):
+        read_labelstudio(path, video=VIDEO)
+    path = write(tmp_path / "predictions.json", [{"result": [region("Pan", {**key(1, 0, 0, 5, 5), "x": "?"})]}])
+    with pytest.raises(InputError, match=r"predictions\.json:\[0\]\.result\[0\]\.sequence\[0\]: x must be a number"):
+        read_labelstudio(path, video=VIDEO)

@@ -111,6 +111,19 @@ def read_labelstudio(
     return object_tracks(rows, path)
 
 
+_SHAPE = "\0shape"
+"""Marks a task made up around a list of annotations or of results (errors then name the file's own place)."""
+
+
+def _place(task: Mapping[str, Any], index: int, key: str, j: int) -> str:
+    shape = task.get(_SHAPE)
+    if shape == "results":
+        return f"[{j}]"
+    if shape == "annotations":
+        return f"[0].result[{j}]"
+    return f"task {index}, {key}[0].result[{j}]"
+
+
 def _tasks(path: Path, data: Any) -> list[Any]:
     """The tasks of the file: a list of tasks, one task, or one video's annotations (or predictions, or bare
     results) wrapped as its one task."""
@@ -120,9 +133,9 @@ def _tasks(path: Path, data: Any) -> list[Any]:
     mappings = [item for item in items if isinstance(item, Mapping)]
     if mappings and len(mappings) == len(items):
         if all("type" in item and "value" in item for item in mappings):  # bare results
-            return [{"annotations": [{"result": items}]}]
+            return [{"annotations": [{"result": items}], _SHAPE: "results"}]
         if all("result" in item and "data" not in item for item in mappings):  # annotations or predictions
-            return [{"annotations": items}]
+            return [{"annotations": items, _SHAPE: "annotations"}]
     return items
 
 
@@ -178,7 +191,7 @@ def _regions(path: Path, index: int, task: Mapping[str, Any], warn: Warn) -> lis
             kind = str(result.get("type", ""))
             value = result.get("value")
             if kind.lower() == "videorectangle" and isinstance(value, Mapping):
-                regions.append((f"task {index}, {key}[0].result[{j}]", value))
+                regions.append((_place(task, index, key, j), value))
             elif kind:
                 skipped.add(kind)
         if skipped:

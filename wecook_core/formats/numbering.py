@@ -16,8 +16,8 @@ ways, and only the set of names tells which:
 A set where no name has a number is taken in sorted order of the names; one where some names have a number
 and others not, or two names the same number, mixes files of different runs: :class:`NumberingError`. When
 the video is known and numbers from 0 (not OpenPose's counter, which is the frame whatever the video says)
-run past its end while the files alone fit it, the video was made of the files: sorted order too. Whichever way is taken, a warning names it unless the numbers were plainly the
-frames (from 0, no gaps).
+run past its end while the files alone fit it, the video was made of the files: sorted order too. Whichever
+way is taken, a warning names it unless the numbers were plainly the frames (from 0, no gaps).
 """
 
 from __future__ import annotations
