@@ -166,3 +166,20 @@ def test_ovis_images_counted_from_one_are_the_frames_in_order(tmp_path: Path) ->
     data["annotations"][0]["bboxes"] = [None, [1, 2, 3, 4]]  # type: ignore[index]
     with pytest.raises(InputError, match=r"annotations\[0\]: bboxes must be a list of 4 boxes"):
         read_cocovid(write(tmp_path, data))
+
+
+def test_a_frame_past_the_video_names_the_annotation_and_its_image() -> None:
+    from wecook_core.formats.detect import read_objects
+    from wecook_core.model import VideoInfo
+
+    with pytest.raises(InputError, match=r"tao_mmtracking\.json:annotations\[2\]: instance 1 is on image 1 "
+                                         r"\(images\[1\]\), frame_index 420, but the video has frames 0-399"):
+        read_objects(DATA_DIR / "tao_mmtracking.json", video=VideoInfo("/v/v.mp4", 30.0, 400, 640, 480))
+    # Eight files numbered 0-35 on a 5-frame video: neither the frames nor the files fit it.
+    with pytest.raises(InputError, match=r"annotations\[0\]\.bboxes\[2\]: instance 1 is on 0043f083b5/00010\.jpg, "
+                                         r"frame 10, but the video has frames 0-4"):
+        read_objects(DATA_DIR / "youtube_vis_train.json", video=VideoInfo("/v/0043f083b5.mp4", 30.0, 5, 1280, 720))
+    # On a video of its eight images (made from the JPEGs), the names are the images in order.
+    tracks, _ = read_objects(DATA_DIR / "youtube_vis_train.json", video=VideoInfo("/v/0043f083b5.mp4", 6.0, 8, 1280,
+                                                                                   720))
+    assert tracks[0].frames.tolist() == [2, 3, 4]

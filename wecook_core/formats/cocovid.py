@@ -61,6 +61,7 @@ def read_cocovid(
     video_id = _choose_video(path, videos, video, video_path)
     categories = _categories(path, data)
     frames: dict[int, int] = {}
+    keys: dict[int, tuple[str, int]] = {}  # image id -> (the frame's field, index in images)
     by_index = 0
     every_image: set[int] = set()
     for i, image in enumerate(_list(path, data, "images")):
@@ -79,6 +80,7 @@ def read_cocovid(
         if key == "frame_index" and entry.get("frame_id") is not None and entry.get("frame_id") != frame:
             by_index += 1
         frames[image_id] = frame
+        keys[image_id] = (key, i)
     rows: list[tuple[int, str, int, Box]] = []
     crowd = 0
     for i, annotation in enumerate(_list(path, data, "annotations")):
@@ -104,6 +106,10 @@ def read_cocovid(
         if not isinstance(bbox, list) or len(bbox) != 4:
             raise InputError(path, f"bbox must be [x, y, width, height], got {bbox!r}", place=place)
         x, y, w, h = (parse_float(path, place, "bbox", v) for v in bbox)
+        if frame_count is not None and frames[image_id] >= frame_count:
+            key, k = keys[image_id]
+            raise InputError(path, f"instance {track_id} is on image {image_id} (images[{k}]), {key} "
+                             f"{frames[image_id]}, but the video has frames 0-{frame_count - 1}", place=place)
         rows.append((track_id, categories[category_id], frames[image_id], check_box(path, place, x, y, x + w, y + h)))
     if by_index:
         warn(f"{path}: {by_index} images placed by frame_index (their frame in the video), not frame_id "
@@ -171,6 +177,9 @@ def _read_vis(
             if not isinstance(bbox, list) or len(bbox) != 4:
                 raise InputError(path, f"expected [x, y, width, height] or null, got {bbox!r}", place=where)
             x, y, w, h = (parse_float(path, where, "bbox", v) for v in bbox)
+            if frame_count is not None and frames[k] >= frame_count:
+                raise InputError(path, f"instance {track_id} is on {names[k]}, frame {frames[k]}, but the video has "
+                                 f"frames 0-{frame_count - 1}", place=where)
             rows.append((track_id, categories[category_id], frames[k], check_box(path, where, x, y, x + w, y + h)))
     if crowd:
         warn(f"{path}: skipped {crowd} crowd annotations (iscrowd)")
