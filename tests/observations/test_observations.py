@@ -189,3 +189,17 @@ def test_a_label_studio_annotation_at_another_rate_and_the_fps_flag(tmp_path: Pa
     assert "fps: 20" in (tmp_path / "sessions" / "s" / "session.yaml").read_text()
     knife = open_session(tmp_path / "sessions" / "s").load_observations().object("knife")
     assert knife.frames.tolist() == [0, 10]
+
+
+def test_clipped_label_studio_boxes_are_named_at_the_annotations_own_frame(tmp_path: Path) -> None:
+    # Annotated at 20 fps (framesCount 60 over 3 s) on the 10 fps video: its frame 21 is video frame 10.
+    import json
+
+    video, _, hands = write_inputs(tmp_path, OBJECTS, HANDS)
+    sequence = [{"frame": 21, "x": 90, "y": 10, "width": 20, "height": 10, "enabled": False, "time": 21 / 20}]
+    objects = tmp_path / "ls.json"
+    objects.write_text(json.dumps([{"type": "videorectangle", "value": {"framesCount": 60, "duration": 3.0,
+                                                                          "sequence": sequence, "labels": ["Knife"]}}]))
+    imported = import_observations(video, objects, hands, categories=TABLE)
+    assert imported.observations.object("knife").frames.tolist() == [10]
+    assert any("by up to 16 px (track 1 (Knife) at frame 21)" in w for w in imported.warnings)

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 from wecook_core.errors import InputError
@@ -35,6 +36,24 @@ FRAME_BASE: dict[str, int] = {"mot": 1, "labelstudio": 1}
 def file_frame(format: str, frame: int) -> str:
     """``"frame 24"``: wecook's 0-based ``frame`` as a file of ``format`` numbers it, for messages."""
     return f"frame {frame + FRAME_BASE.get(format, 0)}"
+
+
+def frame_namer(format: str, path: str | Path, *, video: VideoInfo, select: str | None = None,
+                fps: float | None = None) -> Callable[[int], str]:
+    """Names wecook's 0-based video frames as the file of ``format`` at ``path`` numbers them, for messages
+    (:func:`file_frame`; Label Studio's at its annotation's rate, read when first needed)."""
+    if format != "labelstudio":
+        return lambda frame: file_frame(format, frame)
+    rates: list[float] = []
+
+    def name(frame: int) -> str:
+        if not rates:
+            from wecook_core.formats.labelstudio import annotation_rate
+
+            rates.append(annotation_rate(path, video=video, select=select, fps=fps))
+        return f"frame {round(frame * rates[0] / video.fps) + 1}"
+
+    return name
 
 
 _MOT_ROW = re.compile(r"^\s*-?\d+(\.\d*)?\s*(,\s*-?[\d.eE+-]+\s*){5,}(,.*)?$")

@@ -124,6 +124,19 @@ def _place(task: Mapping[str, Any], index: int, key: str, j: int) -> str:
     return f"task {index}, {key}[0].result[{j}]"
 
 
+def annotation_rate(path: str | Path, *, video: VideoInfo, select: str | None = None, fps: float | None = None
+                    ) -> float:
+    """The frame rate :func:`read_labelstudio` maps the file's frames from (``fps`` when given), for naming a
+    video frame as the file numbers it: video frame *v* is the file's ``round(v * rate / video.fps) + 1``."""
+    if fps is not None:
+        return fps
+    path = Path(path)
+    index, task = _choose_task(path, _tasks(path, _load(path)), select, video.path)
+    regions = _regions(path, index, task, ignore_warning)
+    return _rate(path, [(place, region, _keys(path, place, region)) for place, region in regions], video,
+                 ignore_warning)
+
+
 def _tasks(path: Path, data: Any) -> list[Any]:
     """The tasks of the file: a list of tasks, one task, or one video's annotations (or predictions, or bare
     results) wrapped as its one task."""

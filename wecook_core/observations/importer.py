@@ -22,7 +22,7 @@ Checks, each an :class:`InputError` naming the file and the frame and track, unl
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from wecook_core.errors import InputError
-from wecook_core.formats.detect import file_frame, read_hands, read_objects
+from wecook_core.formats.detect import file_frame, frame_namer, read_hands, read_objects
 from wecook_core.formats.tracks import object_name
 from wecook_core.formats.video import frame_count_note, probe_video, usable_frames
 from wecook_core.model import Category, HandTrack, ObjectTrack, Observations, VideoInfo
@@ -141,8 +141,9 @@ def import_observations(
                                                      select=select, fps=annotation_fps, warn=warnings.append)
     hand_tracks, chosen_hands = read_hands(hands, hands_format, frame_count=usable_frames(info),
                                            warn=warnings.append)
-    checked_objects = _check_objects(Path(objects or video), unique_names(object_tracks), info, chosen_objects,
-                                     warnings)
+    namer = frame_namer(chosen_objects, objects, video=info, select=select, fps=annotation_fps) if objects else None
+    checked_objects = _check_objects(Path(objects or video), unique_names(object_tracks), info,
+                                     namer or (lambda frame: file_frame("csv", frame)), warnings)
     checked_hands = _check_hands(Path(hands), hand_tracks, info, checks)
     gaps, missing = hand_gaps(checked_hands, info.fps, checks.max_gap_seconds)
     if checks.gap_error_seconds is not None:
@@ -214,12 +215,13 @@ def hand_gaps(
 # ------------------------------------------------------------------------------------------ checks
 
 
-def _check_frames(path: Path, what: str, frames: np.ndarray, info: VideoInfo, format: str = "csv") -> None:
-    """Frames within the video, an error in the file's own numbering (``format``'s: 1-based for MOT)."""
+def _check_frames(path: Path, what: str, frames: np.ndarray, info: VideoInfo,
+                  name: Callable[[int], str] = lambda frame: file_frame("csv", frame)) -> None:
+    """Frames within the video, an error in the file's own numbering (``name``: 1-based for MOT...)."""
     count = usable_frames(info)
     if len(frames) and (frames[0] < 0 or frames[-1] >= count):
-        bad = file_frame(format, int(frames[-1] if frames[-1] >= count else frames[0]))
-        first, last = (file_frame(format, f).split()[-1] for f in (0, count - 1))
+        bad = name(int(frames[-1] if frames[-1] >= count else frames[0]))
+        first, last = (name(f).split()[-1] for f in (0, count - 1))
         raise InputError(path, f"{what} is in {bad}, but the video {Path(info.path).name} has frames "
                          f"{first}-{last}", place=bad)
 
@@ -249,7 +251,7 @@ def _check_pixels(path: Path, what: str, values: Sequence[np.ndarray], info: Vid
 
 
 def _check_objects(
-    path: Path, tracks: Sequence[ObjectTrack], info: VideoInfo, format: str, warnings: list[str]
+    path: Path, tracks: Sequence[ObjectTrack], info: VideoInfo, name: Callable[[int], str], warnings: list[str]
 ) -> list[ObjectTrack]:
     """Tracks with their boxes clipped to the image, boxes wholly outside it dropped (see the module
     docstring)."""
@@ -260,7 +262,7 @@ def _check_objects(
     first_dropped = ""
     for track in tracks:
         what = f"track {track.track_id} ({track.label})"
-        _check_frames(path, what, track.frames, info, format)
+        _check_frames(path, what, track.frames, info, name)
         total += len(track.frames)
         x1, y1, x2, y2 = track.boxes.T
         inside = (x1 < info.width) & (x2 > 0) & (y1 < info.height) & (y2 > 0)
@@ -270,12 +272,12 @@ def _check_objects(
             clipped += int(near.sum())
             i = int(np.argmax(np.where(near, over, -1)))
             if over[i] > worst[0]:
-                worst = (float(over[i]), f"{what} at {file_frame(format, int(track.frames[i]))}")
+                worst = (float(over[i]), f"{what} at {name(int(track.frames[i]))}")
             track = replace(track, boxes=_clip(track.boxes, info))
         if not inside.all():
             dropped += int((~inside).sum())
             if not first_dropped:
-                first_dropped = f"{what} at {file_frame(format, int(track.frames[~inside][0]))}"
+                first_dropped = f"{what} at {name(int(track.frames[~inside][0]))}"
             if not inside.any():
                 continue
             track = replace(track, frames=track.frames[inside], boxes=track.boxes[inside])
