@@ -91,7 +91,7 @@ def broken(path: tuple[Any, ...], value: Any) -> dict[str, Any]:
         (broken(("annotations", 1, "category_id"), 99), r"annotations\[1\]: category_id 99 is not among"),
         (broken(("annotations", 1, "image_id"), 99), r"annotations\[1\]: image_id 99 is not among"),
         (broken(("annotations", 1), "x"), r"annotations\[1\]: expected a JSON object"),
-        (broken(("images", 1, "frame_id"), KeyError), r"images\[1\]: image has no frame_id"),
+        (broken(("images", 1, "frame_id"), KeyError), r"images\[1\]: image has no frame_index"),
         (broken(("images", 1, "frame_id"), -2), r"images\[1\]: frame_id -2 is negative"),
         (broken(("images", 1, "id"), 10), r"images\[1\]: image id 10 is used twice"),
         (broken(("categories", 0, "name"), ""), r"categories\[0\]: category has no name"),
@@ -118,3 +118,68 @@ def test_malformed_and_empty_json(tmp_path: Path) -> None:
         read_cocovid(path)
     with pytest.raises(InputError, match="not found"):
         read_cocovid(tmp_path / "nope.json")
+
+
+DATA_DIR = Path(__file__).parent / "data"
+
+
+def test_tao_images_are_placed_by_frame_index_not_mmtrackings_frame_id() -> None:
+    # mmtracking's TAO demo: frame_index 390 and 420 (the video's frames), frame_id 0 and 1 (its index among
+    # the annotated frames). The boxes belong at 390 and 420.
+    warnings: list[str] = []
+    baby, bowl = read_cocovid(DATA_DIR / "tao_mmtracking.json", warn=warnings.append)
+    assert (baby.track_id, baby.label, baby.frames.tolist()) == (1, "baby", [390, 420])
+    assert bowl.boxes[1].tolist() == [332, 377, 440, 480]
+    assert any("2 images placed by frame_index" in w for w in warnings)
+
+
+def test_youtube_vis_file_names_and_bboxes_with_nulls() -> None:
+    from wecook_core.formats.detect import detect_objects_format, read_objects
+    from wecook_core.model import VideoInfo
+
+    path = DATA_DIR / "youtube_vis_train.json"
+    assert detect_objects_format(path) == "cocovid"
+    sedan, person = read_cocovid(path, video="0043f083b5")
+    # 00010.jpg is frame 10 of the 30 fps video (every fifth frame annotated); null boxes are absent frames.
+    assert (sedan.track_id, sedan.label, sedan.frames.tolist()) == (1, "sedan", [10, 15, 20])
+    assert sedan.boxes[0].tolist() == [1170, 310, 1209, 387]
+    assert person.frames.tolist() == [0, 5, 10, 15, 20, 25, 30, 35]
+    # With the video, the fifth frames are filled in between, as any sparse track.
+    tracks, chosen = read_objects(path, video=VideoInfo("/v/0043f083b5.mp4", 30.0, 40, 1280, 720))
+    assert chosen == "cocovid" and tracks[0].frames.tolist() == list(range(10, 21))
+    with pytest.raises(InputError, match=r"2 videos in the file; choose one of 0043f083b5 \(id 1\), 00f88c4f0a"):
+        read_cocovid(path)
+
+
+def test_ovis_images_counted_from_one_are_the_frames_in_order(tmp_path: Path) -> None:
+    names = [f"2524877e/img_{i:07d}.jpg" for i in range(1, 5)]
+    data = {"videos": [{"id": 7, "width": 640, "height": 360, "length": 4, "file_names": names}],
+            "categories": [{"id": 1, "name": "Person"}],
+            "annotations": [{"id": 3, "video_id": 7, "category_id": 1, "iscrowd": 0, "length": 1, "width": 640,
+                             "height": 360, "bboxes": [None, [1, 2, 3, 4], [2, 2, 3, 4], None],
+                             "areas": [None, 12, 12, None], "segmentations": [None, {}, {}, None]}]}
+    warnings: list[str] = []
+    (person,) = read_cocovid(write(tmp_path, data), warn=warnings.append)
+    assert person.frames.tolist() == [1, 2]  # img_0000002 is the second image: frame 1
+    assert any("numbered from 1, not 0: frames taken in the order of those numbers (img_0000001.jpg is frame 0)"
+               in w for w in warnings)
+    data["annotations"][0]["bboxes"] = [None, [1, 2, 3, 4]]  # type: ignore[index]
+    with pytest.raises(InputError, match=r"annotations\[0\]: bboxes must be a list of 4 boxes"):
+        read_cocovid(write(tmp_path, data))
+
+
+def test_a_frame_past_the_video_names_the_annotation_and_its_image() -> None:
+    from wecook_core.formats.detect import read_objects
+    from wecook_core.model import VideoInfo
+
+    with pytest.raises(InputError, match=r"tao_mmtracking\.json:annotations\[2\]: instance 1 is on image 1 "
+                                         r"\(images\[1\]\), frame_index 420, but the video has frames 0-399"):
+        read_objects(DATA_DIR / "tao_mmtracking.json", video=VideoInfo("/v/v.mp4", 30.0, 400, 640, 480))
+    # Eight files numbered 0-35 on a 5-frame video: neither the frames nor the files fit it.
+    with pytest.raises(InputError, match=r"annotations\[0\]\.bboxes\[2\]: instance 1 is on 0043f083b5/00010\.jpg, "
+                                         r"frame 10, but the video has frames 0-4"):
+        read_objects(DATA_DIR / "youtube_vis_train.json", video=VideoInfo("/v/0043f083b5.mp4", 30.0, 5, 1280, 720))
+    # On a video of its eight images (made from the JPEGs), the names are the images in order.
+    tracks, _ = read_objects(DATA_DIR / "youtube_vis_train.json", video=VideoInfo("/v/0043f083b5.mp4", 6.0, 8, 1280,
+                                                                                   720))
+    assert tracks[0].frames.tolist() == [2, 3, 4]

@@ -150,3 +150,37 @@ def test_a_keyframe_far_past_the_video_is_refused_before_interpolating(tmp_path:
     assert "\n" not in str(error.value)
     with pytest.raises(InputError, match="span more than 5,000,000 frames"):
         read_cvat(path)  # no video: the interpolation is bounded all the same
+
+
+DATA = Path(__file__).parent / "data"
+
+
+def test_skeleton_points_and_polyline_tracks_are_skipped_and_box_tracks_kept() -> None:
+    # Shaped like an app.cvat.ai job export: a skeleton track (parts as <points> in <skeleton>), one whose parts
+    # are nested <track> elements (an older export, which used to reject the whole file), a polyline track, and
+    # box tracks.
+    warnings: list[str] = []
+    knife, knife_2 = read_cvat(DATA / "cvat_video_mixed.xml", frame_size=(640, 360), warn=warnings.append)
+    skipped = [w for w in warnings if "skipped" in w]
+    assert len(skipped) == 3
+    assert any("line 78: track 1 (hand) holds skeleton, not boxes; skipped" in w for w in skipped)
+    assert any("track 2 (hand) holds skeleton" in w for w in skipped)
+    assert any("track 4 (board edge) holds polyline" in w for w in skipped)
+    # The last keyframe (frame 4) is not outside: CVAT holds the box to the end of the job (stop_frame 11).
+    assert knife.frames.tolist() == list(range(12))
+    np.testing.assert_allclose(knife.boxes[2], [120, 50, 180, 70])  # interpolated between 0 and 4
+    np.testing.assert_allclose(knife.boxes[11], [140, 50, 200, 70])
+    # Rotated by 90 degrees about its centre (320, 110): the 40x20 box stands 20x40; outside from frame 8.
+    assert knife_2.frames.tolist() == [6, 7]
+    np.testing.assert_allclose(knife_2.boxes[0], [310, 90, 330, 130])
+    assert any("2 rotated boxes taken as the axis-aligned boxes around them" in w for w in warnings)
+
+
+def test_a_track_not_outside_at_its_end_holds_to_the_videos_last_frame(tmp_path: Path) -> None:
+    # No <stop_frame> in the file: the video's frames bound the task.
+    (spoon,) = read_cvat(write(tmp_path, KEYFRAMES.format(far=10, end=11).replace('outside="1"', 'outside="0"')),
+                         frame_count=20)
+    assert spoon.frames.tolist() == list(range(20))
+    np.testing.assert_allclose(spoon.boxes[-1], [100, 0, 110, 10])
+    (alone,) = read_cvat(write(tmp_path, KEYFRAMES.format(far=10, end=11).replace('outside="1"', 'outside="0"')))
+    assert alone.frames.tolist() == list(range(12))  # no video, no stop_frame: ends at its last box

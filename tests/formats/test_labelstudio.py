@@ -72,11 +72,12 @@ def test_json_min_and_the_task_of_the_video(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(("change", "message"), [
-    ({"frame": 101}, r"sequence\[0\]: frame 101 lies past the end of the video kitchen.mp4 \(100 frames"),
-    ({"frame": 1_000_000_000}, r"frame 1000000000 lies past the end"),
+    ({"frame": 101, "time": 101 / 30}, r"sequence\[0\]: frame 101 lies past the end of the video kitchen.mp4 "
+                                       r"\(100 frames"),
+    ({"frame": 1_000_000_000, "time": 1e9 / 30}, r"frame 1000000000 lies past the end"),
     ({"frame": 0}, r"frame 0 is not a frame \(Label Studio counts from 1\)"),
     ({"x": "left"}, r"x must be a number"),
-    ({"width": -3}, r"negative width or height"),
+    ({"rotation": "left"}, r"rotation must be a number"),
     ({"enabled": "yes"}, r"enabled must be true or false"),
 ])
 def test_bad_keyframes_are_one_line_naming_the_place(tmp_path: Path, change: dict[str, object], message: str) -> None:
@@ -100,3 +101,82 @@ def test_bad_files(tmp_path: Path) -> None:
     (tmp_path / "d.json").write_text('[{"id": 1,')
     with pytest.raises(InputError, match=r"d.json:line 1, column \d+: malformed JSON"):
         read_labelstudio(tmp_path / "d.json", video=VIDEO)
+
+
+def test_the_frontends_own_example_a_bare_list_of_results(tmp_path: Path) -> None:
+    # The shape of label-studio-frontend's video example (simpleVideoResult): results alone, no task around them,
+    # framesCount 131 over 5.425 s and keyframe times frame / 24, on its 24 fps opossum clip.
+    results = [{"value": {"framesCount": 131, "duration": 5.425, "sequence": [
+        {"frame": 1, "enabled": True, "rotation": 0, "x": 20.54721030042918, "y": 15.665236051502147,
+         "width": 58.90557939914163, "height": 68.6695278969957, "time": 0.041666666666666664},
+        {"x": 20.54721030042918, "y": 15.665236051502147, "width": 58.90557939914163, "height": 68.6695278969957,
+         "rotation": 0, "enabled": False, "frame": 3, "time": 0.125}], "labels": ["Label 1"]},
+        "id": "RRxnu061g3", "from_name": "box", "to_name": "video", "type": "videorectangle", "origin": "manual"}]
+    path = write(tmp_path / "result.json", results)
+    assert detect_objects_format(path) == "labelstudio"
+    warnings: list[str] = []
+    (box,) = read_labelstudio(path, video=VideoInfo("/v/opossum_intro.webm", 24.0, 131, 466, 466), warn=warnings.append)
+    assert box.label == "Label 1" and box.frames.tolist() == [0, 1, 2]
+    np.testing.assert_allclose(box.boxes[0], [95.75, 73.0, 370.25, 393.0], atol=0.01)
+    assert not any("fps" in w for w in warnings)  # 131 / 5.425 = 24.15: the video's 24 fps
+
+
+def test_a_list_of_predictions_is_one_videos_annotation(tmp_path: Path) -> None:
+    # A tracker's predictions as imported into Label Studio: a list of {model_version, score, result}.
+    predictions = [{"model_version": "bytetrack-v1", "score": 0.81, "result": [
+        region(f"Item {i}", key(1 + i, i, 10, 5, 5), key(20 + i, i + 10, 10, 5, 5)) for i in range(16)]}]
+    (*tracks,) = read_labelstudio(write(tmp_path / "predictions.json", predictions), video=VIDEO)
+    assert len(tracks) == 16 and tracks[3].label == "Item 3" and tracks[3].frames[0] == 3
+
+
+def test_frames_of_another_frame_rate_are_mapped_by_time(tmp_path: Path) -> None:
+    # Label Studio's <Video> counts 24 fps unless told; the kitchen video plays at 30 fps (and at 12).
+    def keyed(frame: int, x: float) -> dict[str, object]:
+        return {**key(frame, x, 10, 10, 10), "time": frame / 24}
+
+    region_24 = region("Pan", keyed(1, 0), keyed(121, 50))
+    region_24["value"].update(framesCount=240, duration=10.0)  # type: ignore[union-attr]
+    path = write(tmp_path / "export.json", [task("kitchen.mp4", region_24)])
+    warnings: list[str] = []
+    (pan,) = read_labelstudio(path, video=VideoInfo("/v/kitchen.mp4", 30.0, 300, 200, 100), warn=warnings.append)
+    assert pan.frames[0] == 0 and pan.box_at(150) is not None  # 5 s in: frame 121 at 24 fps, 150 at 30
+    np.testing.assert_allclose(pan.box_at(150), [100, 10, 120, 20])  # type: ignore[arg-type]
+    assert pan.frames[-1] == 299  # the last keyframe held to the end
+    assert any("annotated at 24 fps, the video kitchen.mp4 plays at 30 fps" in w for w in warnings)
+    (slow,) = read_labelstudio(path, video=VideoInfo("/v/kitchen.mp4", 12.0, 120, 200, 100))
+    np.testing.assert_allclose(slow.box_at(60), [100, 10, 120, 20])  # type: ignore[arg-type]
+
+
+def test_an_ambiguous_frame_rate_is_refused_naming_fps(tmp_path: Path) -> None:
+    keyframe = {**key(121, 50, 10, 10, 10), "time": 121 / 24}  # 24 fps by its time
+    region_30 = region("Pan", keyframe)
+    region_30["value"].update(framesCount=300, duration=10.0)  # type: ignore[union-attr]  # 30 fps by its count
+    path = write(tmp_path / "export.json", [task("kitchen.mp4", region_30)])
+    video = VideoInfo("/v/kitchen.mp4", 30.0, 300, 200, 100)
+    with pytest.raises(InputError, match=r"frame rate is ambiguous: 24 fps from its keyframes' time .*, 30 fps "
+                                         r"from framesCount / duration = 300 / 10 .*--fps") as error:
+        read_labelstudio(path, video=video)
+    assert "\n" not in str(error.value)
+    (pan,) = read_labelstudio(path, video=video, fps=24)
+    assert pan.frames[0] == 150
+
+
+def test_boxes_drawn_upwards_are_normalised_and_rotated_ones_bounded(tmp_path: Path) -> None:
+    upwards = key(1, 30, 40, -10, -20, enabled=False)  # drawn from (30%, 40%) up and left
+    turned = {**key(1, 10, 10, 10, 20, enabled=False), "rotation": 90}  # clockwise about its top-left corner
+    path = write(tmp_path / "export.json", [task("kitchen.mp4", region("Lid", upwards), region("Spoon", turned))])
+    warnings: list[str] = []
+    lid, spoon = read_labelstudio(path, video=VIDEO, warn=warnings.append)
+    np.testing.assert_allclose(lid.boxes[0], [40, 20, 60, 40])
+    np.testing.assert_allclose(spoon.boxes[0], [0, 10, 20, 30], atol=1e-9)
+    assert any("1 rotated keyframes" in w for w in warnings)
+
+
+def test_errors_in_a_bare_list_of_results_name_the_files_own_place(tmp_path: Path) -> None:
+    path = write(tmp_path / "result.json", [region("Pan", key(1, 0, 0, 5, 5)), region("Pot", {**key(2, 0, 0, 5, 5),
+                                                                                              "x": "?"})])
+    with pytest.raises(InputError, match=r"result\.json:\[1\]\.sequence\[0\]: x must be a number"):
+        read_labelstudio(path, video=VIDEO)
+    path = write(tmp_path / "predictions.json", [{"result": [region("Pan", {**key(1, 0, 0, 5, 5), "x": "?"})]}])
+    with pytest.raises(InputError, match=r"predictions\.json:\[0\]\.result\[0\]\.sequence\[0\]: x must be a number"):
+        read_labelstudio(path, video=VIDEO)

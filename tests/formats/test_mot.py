@@ -120,3 +120,61 @@ def test_empty_and_missing_mot_files(tmp_path: Path) -> None:
     (tmp_path / "bin.txt").write_bytes(b"\xff\xfe\x00")
     with pytest.raises(InputError, match="not a text file"):
         read_mot(tmp_path / "bin.txt", tmp_path / "labels.txt")
+
+
+# PathTrack's ground truth: MOT's fields separated by spaces.
+PATHTRACK = """1 1 845 298 49 125 1 -1 -1 -1
+2 1 847 298 49 125 1 -1 -1 -1
+2 2 101.5 80 40 110 1 -1 -1 -1
+"""
+
+
+def test_mot_with_spaces_is_recognised_and_read(tmp_path: Path) -> None:
+    from wecook_core.formats.detect import detect_objects_format, read_objects
+    from wecook_core.model import VideoInfo
+
+    path = write(tmp_path, PATHTRACK, labels="1,person\n2,person\n")
+    assert detect_objects_format(path) == "mot"
+    (first, second), chosen = read_objects(path, video=VideoInfo("/v/seq.mp4", 30.0, 10, 1280, 720))
+    assert chosen == "mot" and first.frames.tolist() == [0, 1] and first.boxes[1].tolist() == [847, 298, 896, 423]
+    assert (second.name, second.boxes[0].tolist()) == ("person_2", [101.5, 80, 141.5, 190])
+    with pytest.raises(InputError, match=r"gt.txt:line 2: expected frame,id,left,top,width,height"):
+        short = PATHTRACK.replace("2 1 847 298 49 125 1 -1 -1 -1", "2 1 847 298")
+        read_mot(write(tmp_path, short, labels="1,person\n2,p\n"))
+
+
+def test_a_frame_past_the_video_is_named_as_mot_counts_at_its_line(tmp_path: Path) -> None:
+    from wecook_core.formats.detect import read_objects
+    from wecook_core.model import VideoInfo
+
+    rows = ROWS + "24,1,12,20,30,40,1,-1,-1,-1\n"
+    with pytest.raises(InputError, match=r"gt\.txt:line 5: id 1: frame 24 lies past the end of the video \(frames "
+                                         r"1-23, as MOT counts\)"):
+        read_objects(write(tmp_path, rows), video=VideoInfo("/v/seq.mp4", 30.0, 23, 640, 480))
+
+
+def test_mot17_ground_truth_overhanging_the_frame_is_clipped(tmp_path: Path) -> None:
+    # py-motmetrics' MOT17-05-SDP gt.txt, track 1 (640x480 at 14 fps): walking out at the bottom left, the
+    # box reaches 140 px below the image (29 % of its height); the old 5 % tolerance refused the file.
+    from grey_video import write_grey_video
+
+    from wecook_core.observations.importer import import_observations
+
+    rows = ("55,1,-6,-10,237,561,1,1,0.82897\n56,1,-9,-14,241,573,1,1,0.80168\n57,1,-18,-24,245,572,1,1,0.773\n"
+            "58,1,-13,-18,246,620,1,1,0.72914\n59,1,-13,-17,246,619,1,1,0.73031\n")
+    path = write(tmp_path, rows, labels="class,label\n1,pedestrian\n")
+    video = write_grey_video(tmp_path / "MOT17-05.avi", 60, (640, 480), 14.0)
+    hands = tmp_path / "hands.csv"
+    hands.write_text("frame,hand,x,y,x1,y1,x2,y2\n" + "".join(f"{f},RH_P1,20,15,15,10,25,20\n" for f in range(60)))
+    imported = import_observations(video, path, hands)
+    (person,) = imported.observations.objects
+    assert person.frames.tolist() == [54, 55, 56, 57, 58]
+    assert person.boxes[3].tolist() == [0, 0, 233, 480]
+    assert any("clipped 5 boxes that overhang the 640x480 image, by up to 122 px (track 1 (pedestrian) at frame 58)"
+               in w for w in imported.warnings)
+
+
+def test_a_track_of_two_classes_is_named_at_the_files_frame(tmp_path: Path) -> None:
+    rows = "1,7,0,0,10,10,1,2,1.0\n2,7,0,0,10,10,1,1,1.0\n"
+    with pytest.raises(InputError, match=r"gt\.txt:frame 2: track 7 is labelled both 'pot' and 'spoon'"):
+        read_mot(write(tmp_path, rows, labels="spoon\npot\n"))

@@ -150,8 +150,9 @@ def test_bad_folders(tmp_path: Path) -> None:
     (tmp_path / "file.json").write_text("{}")
     with pytest.raises(InputError, match="expected a folder"):
         read_openpose(tmp_path / "file.json")
-    with pytest.raises(InputError, match=r"no \*_keypoints\.json files"):
-        read_openpose(tmp_path)
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(InputError, match=r"no \*_keypoints\.json files \(nor any \*\.json\)"):
+        read_openpose(tmp_path / "empty")
     folder = write_frames(tmp_path / "op", {1: [person(100)]})
     (folder / "other_1_keypoints.json").write_text('{"people": []}')
     with pytest.raises(InputError, match="frame 1 again"):
@@ -166,3 +167,50 @@ def test_nobody_confident_is_an_error(tmp_path: Path) -> None:
     quiet = {"pose_keypoints_2d": [v if i % 3 != 2 else 0.01 for i, v in enumerate(body(100, 100))]}
     with pytest.raises(InputError, match="no person with confident keypoints in any of the 2 frames"):
         read_openpose(write_frames(tmp_path / "op", {0: [quiet], 1: []}))
+
+
+def test_image_folder_names_are_frames_in_order_not_their_numbers(tmp_path: Path) -> None:
+    # OpenPose on a folder of images (im1010.jpg, im1011.jpg, ...) names each file after its image; the video
+    # made of those images starts at im1010: frame 0, not 1010.
+    folder = tmp_path / "op"
+    folder.mkdir()
+    for i, number in enumerate((1010, 1011, 1013)):
+        (folder / f"im{number}_keypoints.json").write_text(json.dumps({"version": 1.3, "people": [person(100 + i)]}))
+    warnings: list[str] = []
+    tracks = read_openpose(folder, warn=warnings.append)
+    assert [t.frames.tolist() for t in tracks] == [[0, 1, 2], [0, 1, 2]]
+    assert any("numbered from 1010, not 0: frames taken in the order of those numbers (im1010_keypoints.json is "
+               "frame 0)" in w for w in warnings)
+
+
+def test_openpose_counter_names_are_the_frames_even_with_gaps(tmp_path: Path) -> None:
+    # OpenPose on a video: a 12-digit counter; frames 0, 1 and 5 (files 2-4 removed: nobody there).
+    warnings: list[str] = []
+    tracks = read_openpose(write_frames(tmp_path / "op", {0: [person(100)], 1: [person(101)], 5: [person(102)]}),
+                           warn=warnings.append)
+    assert tracks[0].frames.tolist() == [0, 1, 5]
+    assert any("number frames 0-5 with gaps: taken as the video's frames" in w for w in warnings)
+    # --frame_first 300: the counter starts at 300 and is still the frame.
+    later = read_openpose(write_frames(tmp_path / "late", {300: [person(100)], 301: [person(101)]}))
+    assert later[0].frames.tolist() == [300, 301]
+
+
+def test_renamed_output_files_are_read(tmp_path: Path) -> None:
+    # A project that renamed OpenPose's output to frame_0001.json ...: any *.json with people[] in the folder.
+    from wecook_core.formats.detect import detect_hands_format
+
+    folder = tmp_path / "poses"
+    folder.mkdir()
+    for number in (1, 2, 3):
+        (folder / f"frame_{number:04d}.json").write_text(json.dumps({"people": [person(100)]}))
+    assert detect_hands_format(folder) == "openpose"
+    tracks = read_openpose(folder)
+    assert tracks[0].frames.tolist() == [0, 1, 2]  # counted from 1: images in order
+    # With the video: numbers within it from 0 are frames; ones past its end while the files fit are images.
+    for number in (0, 4):
+        (folder / f"frame_{number:04d}.json").write_text(json.dumps({"people": [person(100)]}))
+    assert read_openpose(folder)[0].frames.tolist() == [0, 1, 2, 3, 4]
+    (folder / "frame_0004.json").unlink()
+    (folder / "frame_0400.json").write_text(json.dumps({"people": [person(100)]}))
+    assert read_openpose(folder)[0].frames.tolist() == [0, 1, 2, 3, 400]
+    assert read_openpose(folder, frame_count=10)[0].frames.tolist() == [0, 1, 2, 3, 4]

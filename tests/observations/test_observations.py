@@ -53,24 +53,30 @@ def test_unique_names_skip_names_already_taken() -> None:
     assert [t.name for t in unique_names(tracks)] == ["bowl", "bowl_2", "bowl_3", "bowl_4", "chopping_board"]
 
 
-def test_boxes_slightly_outside_are_clipped(tmp_path: Path) -> None:
-    objects = [*OBJECTS, "2,1,Knife,-5,110,30,125"]  # 5 px left and below: within 5 %
+def test_boxes_overhanging_the_frame_are_clipped_however_far(tmp_path: Path) -> None:
+    # A person walking out of the picture: MOT ground truth keeps the whole body, 60 px (37 %) past the edge.
+    objects = [*OBJECTS, "2,1,Knife,-5,110,30,125", "2,2,bowl,100,50,220,90", "1,2,bowl,170,50,200,90"]
     imported = import_observations(*write_inputs(tmp_path, objects, HANDS), categories=TABLE)
-    knife = imported.observations.object("knife")
+    knife, bowl = imported.observations.object("knife"), imported.observations.object("bowl")
     assert knife.boxes[2].tolist() == [0, 110, 30, H]
-    assert any("clipped 1 boxes" in w for w in imported.warnings)
+    assert bowl.frames.tolist() == [0, 2]  # frame 1's box lies wholly right of the image: dropped
+    assert bowl.boxes[1].tolist() == [100, 50, W, 90]
+    assert any("clipped 2 boxes that overhang the 160x120 image, by up to 60 px (track 2 (bowl) at frame 2)" in w
+               for w in imported.warnings)
+    assert any("dropped 1 boxes that lie wholly outside the 160x120 image (the first: track 2 (bowl) at frame 1)"
+               in w for w in imported.warnings)
 
 
-@pytest.mark.parametrize(
-    ("row", "message"),
-    [
-        ("4,2,bowl,100,50,180,90", r"frame 4: track 2 \(bowl\): box \(100, 50, 180, 90\) lies outside the 160x120"),
-        ("4,2,bowl,-20,50,10,90", "frame 4: track 2"),
-        ("30,2,bowl,10,10,20,20", "frame 30: track 2 .bowl. is in frame 30, but the video v.avi has frames 0-29"),
-    ],
-)
-def test_boxes_far_outside_or_past_the_end_name_frame_and_track(tmp_path: Path, row: str, message: str) -> None:
-    with pytest.raises(InputError, match=message) as error:
+def test_boxes_all_outside_the_image_are_of_another_video(tmp_path: Path) -> None:
+    objects = ["0,1,Knife,200,10,230,20", "1,1,Knife,300,130,330,140"]
+    with pytest.raises(InputError, match=r"every box lies outside the 160x120 image of v\.avi"):
+        import_observations(*write_inputs(tmp_path, objects, HANDS), categories=TABLE)
+
+
+def test_boxes_past_the_end_name_frame_and_track(tmp_path: Path) -> None:
+    row = "30,2,bowl,10,10,20,20"
+    with pytest.raises(InputError, match=r"frame 30: track 2 \(bowl\) is in frame 30, but the video "
+                       r"v\.avi has frames 0-29") as error:
         import_observations(*write_inputs(tmp_path, [*OBJECTS, row], HANDS), categories=TABLE)
     assert str(error.value).startswith(str(tmp_path / "objects.csv"))
 
@@ -154,3 +160,46 @@ def test_normalised_coordinates_are_refused(tmp_path: Path) -> None:
     hands = ["0,RH_P1,0.2,0.1,0.1,0.05,0.3,0.15"]
     with pytest.raises(InputError, match=r"hands\.csv: every hand coordinate lies within \[0, 1\].*keypoint_scale"):
         load_observations(*write_inputs(tmp_path, OBJECTS, hands), categories=TABLE)
+
+
+def test_a_label_studio_annotation_at_another_rate_and_the_fps_flag(tmp_path: Path,
+                                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    # The video plays at 10 fps; the annotation counted 20 fps by its keyframes' time but 10 by framesCount:
+    # ambiguous, refused in one line naming --fps; with --fps 20 its frame 21 (1 s) is video frame 10, also
+    # when the session is opened again.
+    import json
+
+    from wecook_core.session.store import open_session
+    from wecook_tui.cli import main
+
+    video, _, hands = write_inputs(tmp_path, OBJECTS, HANDS)
+    sequence = [{"frame": 1, "x": 10, "y": 10, "width": 10, "height": 10, "enabled": False, "time": 1 / 20},
+                {"frame": 21, "x": 20, "y": 10, "width": 10, "height": 10, "enabled": False, "time": 21 / 20}]
+    result = [{"type": "videorectangle", "value": {"framesCount": 30, "duration": 3.0, "sequence": sequence,
+                                                   "labels": ["Knife"]}}]
+    objects = tmp_path / "ls.json"
+    objects.write_text(json.dumps(result))
+    base = ["new", "s", "--video", str(video), "--objects", str(objects), "--hands", str(hands), "--categories",
+            str(tmp_path / "cats.yaml"), "--root", str(tmp_path / "sessions")]
+    (tmp_path / "cats.yaml").write_text("objects:\n  knife: tool\n")
+    assert main(base) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "frame rate is ambiguous" in err and "--fps" in err
+    assert main([*base, "--fps", "20"]) == 0
+    assert "fps: 20" in (tmp_path / "sessions" / "s" / "session.yaml").read_text()
+    knife = open_session(tmp_path / "sessions" / "s").load_observations().object("knife")
+    assert knife.frames.tolist() == [0, 10]
+
+
+def test_clipped_label_studio_boxes_are_named_at_the_annotations_own_frame(tmp_path: Path) -> None:
+    # Annotated at 20 fps (framesCount 60 over 3 s) on the 10 fps video: its frame 21 is video frame 10.
+    import json
+
+    video, _, hands = write_inputs(tmp_path, OBJECTS, HANDS)
+    sequence = [{"frame": 21, "x": 90, "y": 10, "width": 20, "height": 10, "enabled": False, "time": 21 / 20}]
+    objects = tmp_path / "ls.json"
+    objects.write_text(json.dumps([{"type": "videorectangle", "value": {"framesCount": 60, "duration": 3.0,
+                                                                          "sequence": sequence, "labels": ["Knife"]}}]))
+    imported = import_observations(video, objects, hands, categories=TABLE)
+    assert imported.observations.object("knife").frames.tolist() == [10]
+    assert any("by up to 16 px (track 1 (Knife) at frame 21)" in w for w in imported.warnings)

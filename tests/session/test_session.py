@@ -72,8 +72,8 @@ def test_folder_hash_covers_names_and_contents(tmp_path: Path, inputs: dict[str,
 
 def test_bad_input_leaves_no_session_behind(tmp_path: Path, inputs: dict[str, Path]) -> None:
     root = tmp_path / "sessions"
-    inputs["objects"].write_text("frame,track_id,label,x1,y1,x2,y2\n0,1,whisk,10,10,20,500\n")
-    with pytest.raises(InputError, match=r"objects\.csv:frame 0: track 1 \(whisk\)"):
+    inputs["objects"].write_text("frame,track_id,label,x1,y1,x2,y2\n999,1,whisk,10,10,20,20\n")
+    with pytest.raises(InputError, match=r"objects\.csv:frame 999: track 1 \(whisk\)"):
         create(root, inputs)
     assert not root.exists() or list(root.iterdir()) == []
 

@@ -1,9 +1,20 @@
-"""COCO-VID JSON (mmtracking's CocoVID, TAO): ``videos``, ``images``, ``annotations``, ``categories``.
+"""COCO-VID JSON (mmtracking's CocoVID, TAO): ``videos``, ``images``, ``annotations``, ``categories``; and
+YouTube-VIS / OVIS JSON (``videos[].file_names``, one ``annotations[]`` entry per instance).
 
-- ``images[]``: ``id``, ``video_id``, and the 0-based frame index in ``frame_id`` (or TAO's ``frame_index``);
+- ``images[]``: ``id``, ``video_id``, and the 0-based frame index in TAO's ``frame_index`` (the frame of the
+  video) or else ``frame_id``. An image with both is placed by ``frame_index``: mmtracking's conversion of TAO
+  adds ``frame_id`` as the image's index among the *annotated* frames (0, 1, 2... for frames 0, 30, 60),
+  which is not the video's frame (a warning counts them);
 - ``annotations[]``: ``image_id``, ``category_id``, ``bbox`` ``[x, y, width, height]`` in pixels, and the
   track in ``instance_id`` (or ``track_id``);
 - ``categories[]``: ``id``, ``name`` (the label).
+
+YouTube-VIS and OVIS have no ``images``: each video lists its frames' ``file_names``, and each annotation is
+one instance over the whole video, ``bboxes`` holding one ``[x, y, width, height]`` per file name, ``null``
+where the instance is absent; the track is the annotation's ``id``. Which video frame a file name stands for
+is read as :mod:`wecook_core.formats.numbering` says: YouTube-VIS's ``00000.jpg, 00005.jpg...`` count the
+30 fps video's frames from 0 (every fifth annotated; the frames in between are interpolated as any sparse
+track), OVIS's ``img_0000001.jpg...`` are the images in order.
 
 A file with several videos needs ``video`` (a video id or name); without it, the video whose name has the
 same stem as the video file is taken, else the error lists the names.
@@ -27,6 +38,7 @@ from wecook_core.formats.fields import (
     parse_float,
     parse_int,
 )
+from wecook_core.formats.numbering import name_frames
 from wecook_core.formats.tracks import object_tracks
 from wecook_core.model import ObjectTrack
 
@@ -36,23 +48,21 @@ def read_cocovid(
     *,
     video: str | int | None = None,
     video_path: str | Path | None = None,
+    frame_count: int | None = None,
     warn: Warn = ignore_warning,
 ) -> tuple[ObjectTrack, ...]:
-    """Object tracks of one video of a COCO-VID file (see the module docstring for choosing the video)."""
+    """Object tracks of one video of a COCO-VID, TAO, YouTube-VIS or OVIS file (see the module docstring for
+    choosing the video). ``frame_count``, the video's frames, helps read YouTube-VIS file names."""
     path = Path(path)
     data = _load(path)
     videos = _list(path, data, "videos", required=False)
+    if "images" not in data and any(isinstance(v, dict) and "file_names" in v for v in videos):
+        return _read_vis(path, data, videos, video, video_path, frame_count, warn)
     video_id = _choose_video(path, videos, video, video_path)
-    categories: dict[int, str] = {}
-    for i, category in enumerate(_list(path, data, "categories")):
-        place = f"categories[{i}]"
-        entry = _object(path, category, place)
-        category_id = parse_int(path, place, "id", entry.get("id"))
-        name = entry.get("name")
-        if not isinstance(name, str) or not name.strip():
-            raise InputError(path, "category has no name", place=place)
-        categories[category_id] = name.strip()
+    categories = _categories(path, data)
     frames: dict[int, int] = {}
+    keys: dict[int, tuple[str, int]] = {}  # image id -> (the frame's field, index in images)
+    by_index = 0
     every_image: set[int] = set()
     for i, image in enumerate(_list(path, data, "images")):
         place = f"images[{i}]"
@@ -63,11 +73,14 @@ def read_cocovid(
         every_image.add(image_id)
         if video_id is not None and entry.get("video_id") != video_id:
             continue
-        frame_value = entry.get("frame_id", entry.get("frame_index"))
-        if frame_value is None:
-            raise InputError(path, "image has no frame_id (nor frame_index)", place=place)
-        frame = parse_int(path, place, "frame_id", frame_value)
-        frames[image_id] = check_frame(path, place, frame, "frame_id")
+        key = "frame_index" if entry.get("frame_index") is not None else "frame_id"
+        if entry.get(key) is None:
+            raise InputError(path, "image has no frame_index (nor frame_id)", place=place)
+        frame = check_frame(path, place, parse_int(path, place, key, entry.get(key)), key)
+        if key == "frame_index" and entry.get("frame_id") is not None and entry.get("frame_id") != frame:
+            by_index += 1
+        frames[image_id] = frame
+        keys[image_id] = (key, i)
     rows: list[tuple[int, str, int, Box]] = []
     crowd = 0
     for i, annotation in enumerate(_list(path, data, "annotations")):
@@ -93,11 +106,85 @@ def read_cocovid(
         if not isinstance(bbox, list) or len(bbox) != 4:
             raise InputError(path, f"bbox must be [x, y, width, height], got {bbox!r}", place=place)
         x, y, w, h = (parse_float(path, place, "bbox", v) for v in bbox)
+        if frame_count is not None and frames[image_id] >= frame_count:
+            key, k = keys[image_id]
+            raise InputError(path, f"instance {track_id} is on image {image_id} (images[{k}]), {key} "
+                             f"{frames[image_id]}, but the video has frames 0-{frame_count - 1}", place=place)
         rows.append((track_id, categories[category_id], frames[image_id], check_box(path, place, x, y, x + w, y + h)))
+    if by_index:
+        warn(f"{path}: {by_index} images placed by frame_index (their frame in the video), not frame_id "
+             "(mmtracking's index among the annotated frames)")
     if crowd:
         warn(f"{path}: skipped {crowd} crowd annotations (iscrowd)")
     if not rows:
         raise InputError(path, "no boxes: the file has no annotations" + (" for this video" if videos else ""))
+    return object_tracks(rows, path)
+
+
+def _categories(path: Path, data: Mapping[str, Any]) -> dict[int, str]:
+    categories: dict[int, str] = {}
+    for i, category in enumerate(_list(path, data, "categories")):
+        place = f"categories[{i}]"
+        entry = _object(path, category, place)
+        category_id = parse_int(path, place, "id", entry.get("id"))
+        name = entry.get("name")
+        if not isinstance(name, str) or not name.strip():
+            raise InputError(path, "category has no name", place=place)
+        categories[category_id] = name.strip()
+    return categories
+
+
+def _read_vis(
+    path: Path, data: Mapping[str, Any], videos: list[Any], video: str | int | None,
+    video_path: str | Path | None, frame_count: int | None, warn: Warn,
+) -> tuple[ObjectTrack, ...]:
+    """YouTube-VIS / OVIS: per-video ``file_names``, per-instance ``bboxes`` (see the module docstring)."""
+    video_id = _choose_video(path, videos, video, video_path)
+    entry = next(_object(path, v, f"videos[{i}]") for i, v in enumerate(videos)
+                 if isinstance(v, dict) and v.get("id") == video_id)
+    index = videos.index(entry)
+    names = entry.get("file_names")
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
+        raise InputError(path, "file_names must be a list of the video's frame files", place=f"videos[{index}]")
+    frames, note = name_frames(names, frame_count)
+    if note:
+        warn(f"{path}:videos[{index}]: {note}")
+    for frame in frames:
+        check_frame(path, f"videos[{index}].file_names", frame)
+    categories = _categories(path, data)
+    rows: list[tuple[int, str, int, Box]] = []
+    crowd = 0
+    for i, annotation in enumerate(_list(path, data, "annotations")):
+        place = f"annotations[{i}]"
+        item = _object(path, annotation, place)
+        if item.get("video_id") != video_id:
+            continue
+        if item.get("iscrowd"):
+            crowd += 1
+            continue
+        track_id = check_id(path, place, parse_int(path, place, "id", item.get("id")), "id")
+        category_id = parse_int(path, place, "category_id", item.get("category_id"))
+        if category_id not in categories:
+            raise InputError(path, f"category_id {category_id} is not among the categories", place=place)
+        bboxes = item.get("bboxes")
+        if not isinstance(bboxes, list) or len(bboxes) != len(names):
+            raise InputError(path, f"bboxes must be a list of {len(names)} boxes (one per file name of video "
+                             f"{video_id}, null where absent)", place=place)
+        for k, bbox in enumerate(bboxes):
+            if bbox is None:
+                continue
+            where = f"{place}.bboxes[{k}]"
+            if not isinstance(bbox, list) or len(bbox) != 4:
+                raise InputError(path, f"expected [x, y, width, height] or null, got {bbox!r}", place=where)
+            x, y, w, h = (parse_float(path, where, "bbox", v) for v in bbox)
+            if frame_count is not None and frames[k] >= frame_count:
+                raise InputError(path, f"instance {track_id} is on {names[k]}, frame {frames[k]}, but the video has "
+                                 f"frames 0-{frame_count - 1}", place=where)
+            rows.append((track_id, categories[category_id], frames[k], check_box(path, where, x, y, x + w, y + h)))
+    if crowd:
+        warn(f"{path}: skipped {crowd} crowd annotations (iscrowd)")
+    if not rows:
+        raise InputError(path, f"no boxes: no annotation of video {video_id} has a box")
     return object_tracks(rows, path)
 
 
@@ -135,7 +222,11 @@ def _choose_video(
     entries = []
     for i, value in enumerate(videos):
         entry = _object(path, value, f"videos[{i}]")
-        entries.append((parse_int(path, f"videos[{i}]", "id", entry.get("id")), str(entry.get("name", ""))))
+        name = entry.get("name")
+        names = entry.get("file_names")
+        if name is None and isinstance(names, list) and names and isinstance(names[0], str):
+            name = Path(names[0]).parent.as_posix()  # YouTube-VIS: the frames' folder is the video's name
+        entries.append((parse_int(path, f"videos[{i}]", "id", entry.get("id")), str(name or "")))
     if not entries:
         if video is not None:
             raise InputError(path, f"video {video!r} asked for, but the file lists no videos")

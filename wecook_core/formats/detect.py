@@ -1,9 +1,11 @@
 """Which importer reads a file: detection from the content (not the name), or a format the user forces.
 
-Objects: ``cvat`` (XML), ``mot`` (numeric comma-separated rows), ``cocovid`` (a JSON object), ``labelstudio``
-(Label Studio's video export: a JSON list of tasks, or a task, with keyframe sequences), ``csv`` (wecook's
-native CSV with the header ``frame,track_id,label,x1,y1,x2,y2``). Hands: ``openpose`` (a folder of
-``*_keypoints.json``), ``csv`` (native, header ``frame,hand,x,y,x1,y1,x2,y2``).
+Objects: ``cvat`` (XML), ``mot`` (numeric rows, comma-separated, or space-separated as PathTrack's),
+``cocovid`` (a JSON object: COCO-VID, TAO, YouTube-VIS, OVIS), ``labelstudio`` (Label Studio's video export:
+a JSON list of tasks, or a task, with keyframe sequences; or a list of its annotations, predictions or
+results), ``csv`` (wecook's native CSV with the header ``frame,track_id,label,x1,y1,x2,y2``). Hands:
+``openpose`` (a folder of OpenPose JSON files, ``*_keypoints.json`` or any ``*.json``), ``csv`` (native, header
+``frame,hand,x,y,x1,y1,x2,y2``).
 
 Given the video, every box's frame is checked against its frame count before anything is interpolated (a box
 at frame 1,000,000,000 is one line, not a run out of memory), and sparse tracks (a box only every so many
@@ -12,7 +14,9 @@ frames, as YouCook2-BB's one a second) are filled in between (:func:`wecook_core
 
 from __future__ import annotations
 
+import math
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 from wecook_core.errors import InputError
@@ -25,7 +29,36 @@ from wecook_core.model import HandTrack, ObjectTrack, VideoInfo
 OBJECT_FORMATS: tuple[str, ...] = ("cvat", "mot", "cocovid", "labelstudio", "csv")
 HAND_FORMATS: tuple[str, ...] = ("openpose", "csv")
 
+FRAME_BASE: dict[str, int] = {"mot": 1, "labelstudio": 1}
+"""The number each format gives the video's first frame (others count from 0, as wecook does)."""
+
+
+def file_frame(format: str, frame: int) -> str:
+    """``"frame 24"``: wecook's 0-based ``frame`` as a file of ``format`` numbers it, for messages."""
+    return f"frame {frame + FRAME_BASE.get(format, 0)}"
+
+
+def frame_namer(format: str, path: str | Path, *, video: VideoInfo, select: str | None = None,
+                fps: float | None = None) -> Callable[[int], str]:
+    """Names wecook's 0-based video frames as the file of ``format`` at ``path`` numbers them, for messages
+    (:func:`file_frame`; Label Studio's at its annotation's rate, read when first needed)."""
+    if format != "labelstudio":
+        return lambda frame: file_frame(format, frame)
+    rates: list[float] = []
+
+    def name(frame: int) -> str:
+        if not rates:
+            from wecook_core.formats.labelstudio import annotation_rate
+
+            rates.append(annotation_rate(path, video=video, select=select, fps=fps))
+        return f"frame {round(frame * rates[0] / video.fps) + 1}"
+
+    return name
+
+
 _MOT_ROW = re.compile(r"^\s*-?\d+(\.\d*)?\s*(,\s*-?[\d.eE+-]+\s*){5,}(,.*)?$")
+_MOT_SPACED_ROW = re.compile(r"^\s*\d+(\.0*)?([ \t]+-?[\d.eE+-]+){5,}\s*$")
+"""PathTrack's MOT ground truth: the same fields separated by spaces."""
 
 
 def _head(path: Path, what: str) -> str:
@@ -66,7 +99,7 @@ def detect_objects_format(path: str | Path) -> str:
     line = _first_line(head)
     if line.replace(" ", "").lower().startswith("frame,track_id,label"):
         return "csv"
-    if _MOT_ROW.match(line):
+    if _MOT_ROW.match(line) or _MOT_SPACED_ROW.match(line):
         return "mot"
     raise InputError(path, "unknown object box format: expected CVAT video XML, MOT text, COCO-VID JSON, Label "
                      "Studio JSON or the "
@@ -78,8 +111,9 @@ def detect_hands_format(path: str | Path) -> str:
     """One of :data:`HAND_FORMATS`, from what the file or folder holds."""
     path = Path(path)
     if path.is_dir():
-        if next(path.glob("*_keypoints.json"), None) is None:
-            raise InputError(path, "folder without *_keypoints.json files: expected OpenPose JSON output")
+        if next(path.glob("*.json"), None) is None:
+            raise InputError(path, "folder without *_keypoints.json files (nor any *.json): expected OpenPose JSON "
+                             "output")
         return "openpose"
     head = _head(path, "a hand track file")
     if _first_line(head).replace(" ", "").lower().startswith("frame,hand"):
@@ -104,12 +138,14 @@ def read_objects(
     labels: str | Path | None = None,
     video: VideoInfo | None = None,
     select: str | None = None,
+    fps: float | None = None,
     warn: Warn = ignore_warning,
 ) -> tuple[tuple[ObjectTrack, ...], str]:
     """Object tracks of ``path`` and the format they were read as (``format`` forces one).
 
     ``labels`` is the MOT labels file; ``video`` lets CVAT check the annotated frame size and COCO-VID pick
-    the video by name; ``select`` names the video (name or id) of a COCO-VID file that holds several.
+    the video by name; ``select`` names the video (name or id) of a COCO-VID file that holds several; ``fps``
+    is the frame rate a Label Studio annotation was made at (None: read from the file).
     """
     path = Path(path)
     chosen = check_format(format, OBJECT_FORMATS, "objects") if format else detect_objects_format(path)
@@ -117,6 +153,10 @@ def read_objects(
         warn(f"{labels}: a labels file only applies to MOT boxes; ignored for {chosen}")
     if select is not None and chosen not in ("cocovid", "labelstudio"):
         warn(f"choosing a video ({select!r}) only applies to COCO-VID boxes; ignored for {chosen}")
+    if fps is not None and chosen != "labelstudio":
+        warn(f"an annotation frame rate (--fps {fps:g}) only applies to Label Studio boxes; ignored for {chosen}")
+    if fps is not None and not (math.isfinite(fps) and fps > 0):
+        raise InputError(None, f"--fps {fps:g}: expected a frame rate above 0")
     count = usable_frames(video) if video is not None else None
     if chosen == "cvat":
         from wecook_core.formats.cvat import read_cvat
@@ -126,15 +166,16 @@ def read_objects(
     if chosen == "labelstudio":
         from wecook_core.formats.labelstudio import read_labelstudio
 
-        return read_labelstudio(path, video=video, select=select, warn=warn), chosen
+        return read_labelstudio(path, video=video, select=select, fps=fps, warn=warn), chosen
     if chosen == "mot":
         from wecook_core.formats.mot import read_mot
 
-        tracks = read_mot(path, labels, warn=warn)
+        tracks = read_mot(path, labels, frame_count=count, warn=warn)
     elif chosen == "cocovid":
         from wecook_core.formats.cocovid import read_cocovid
 
-        tracks = read_cocovid(path, video=select, video_path=video.path if video else None, warn=warn)
+        tracks = read_cocovid(path, video=select, video_path=video.path if video else None, frame_count=count,
+                              warn=warn)
     else:
         from wecook_core.formats.native import read_objects_csv
 
@@ -156,15 +197,16 @@ def check_frame_range(path: str | Path, tracks: tuple[ObjectTrack, ...], video: 
 
 
 def read_hands(
-    path: str | Path, format: str | None = None, *, warn: Warn = ignore_warning
+    path: str | Path, format: str | None = None, *, frame_count: int | None = None, warn: Warn = ignore_warning
 ) -> tuple[tuple[HandTrack, ...], str]:
-    """Hand tracks of ``path`` and the format they were read as (``format`` forces one)."""
+    """Hand tracks of ``path`` and the format they were read as (``format`` forces one); ``frame_count``, the
+    video's frames, helps OpenPose tell its frame counter from image names."""
     path = Path(path)
     chosen = check_format(format, HAND_FORMATS, "hands") if format else detect_hands_format(path)
     if chosen == "openpose":
         from wecook_core.formats.openpose import read_openpose
 
-        return read_openpose(path, warn=warn), chosen
+        return read_openpose(path, frame_count=frame_count, warn=warn), chosen
     from wecook_core.formats.native import read_hands_csv
 
     if path.is_dir():

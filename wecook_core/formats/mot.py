@@ -1,5 +1,8 @@
 """MOT challenge text: ``frame,id,left,top,width,height[,conf[,class[,...]]]`` with 1-based frame and id.
 
+Fields are separated by commas, or by spaces or tabs on a line without a comma (PathTrack's ground truth,
+and what py-motmetrics' reader accepts too).
+
 MOT files carry no labels, so a *labels file* goes with them: ``--labels FILE``, else ``labels.txt`` in the
 MOT file's folder. Its lines (blank lines and ``#`` comments ignored) take one of three shapes:
 
@@ -9,7 +12,8 @@ MOT file's folder. Its lines (blank lines and ``#`` comments ignored) take one o
   ground truth.
 
 Rows whose ``conf`` is 0 are skipped: MOT ground truth marks boxes to ignore that way. Frames become 0-based;
-track ids are kept as they are.
+track ids are kept as they are. Every error names the line and quotes frames as the file numbers them (from
+1); given the video's frame count, a frame past it is an error at its line.
 """
 
 from __future__ import annotations
@@ -87,11 +91,19 @@ def read_labels(path: str | Path) -> MotLabels:
     return MotLabels("class", {k: text for k, (_, text) in enumerate(entries, 1)})
 
 
+def split_fields(line: str) -> list[str]:
+    """The fields of a MOT line: comma-separated, or whitespace-separated on a line without a comma."""
+    if "," in line:
+        return [field.strip() for field in line.split(",")]
+    return line.split()
+
+
 def read_mot(
-    path: str | Path, labels: str | Path | MotLabels | None = None, *, warn: Warn = ignore_warning
+    path: str | Path, labels: str | Path | MotLabels | None = None, *, frame_count: int | None = None,
+    warn: Warn = ignore_warning,
 ) -> tuple[ObjectTrack, ...]:
     """Object tracks of a MOT text file, labelled by ``labels`` (a labels file path, parsed labels, or None
-    for ``labels.txt`` beside ``path``)."""
+    for ``labels.txt`` beside ``path``). ``frame_count``, the video's frames, bounds the frames."""
     path = Path(path)
     if labels is None:
         labels = default_labels_path(path)
@@ -107,7 +119,7 @@ def read_mot(
         if not line.strip() or line.lstrip().startswith("#"):
             continue
         place = f"line {number}"
-        fields = [field.strip() for field in line.split(",")]
+        fields = split_fields(line)
         if len(fields) < 6:
             raise InputError(path, f"expected frame,id,left,top,width,height[,conf,...], found {len(fields)} "
                              "fields", place=place)
@@ -119,6 +131,9 @@ def read_mot(
             raise InputError(path, f"id {track_id}: expected track ids from 1 (a detection file has -1; wecook "
                              "needs tracks)", place=place)
         check_frame(path, place, frame - 1, "frame")
+        if frame_count is not None and frame > frame_count:
+            raise InputError(path, f"id {track_id}: frame {frame} lies past the end of the video (frames 1-"
+                             f"{frame_count}, as MOT counts)", place=place)
         check_id(path, place, track_id)
         left, top, width, height = (parse_float(path, place, name, text)
                                     for name, text in zip(("left", "top", "width", "height"), fields[2:6],
@@ -146,7 +161,7 @@ def read_mot(
         warn(f"{path}: skipped {ignored} rows with conf 0 (marked to ignore)")
     if not rows:
         raise InputError(path, "no boxes: empty MOT file" if not ignored else "no boxes: every row has conf 0")
-    return object_tracks(rows, path)
+    return object_tracks(rows, path, frame_base=1)
 
 
 def _text(path: Path, what: str) -> str:

@@ -1,10 +1,14 @@
-"""OpenPose JSON output: a folder of ``*_keypoints.json`` files, one per frame, ``people[]`` each with
-``pose_keypoints_2d``, ``hand_left_keypoints_2d``, ``hand_right_keypoints_2d`` (flat ``x, y, confidence``
-triples; confidence 0 means not found).
+"""OpenPose JSON output: a folder of ``*_keypoints.json`` files (or, renamed, any ``*.json``), one per frame,
+``people[]`` each with ``pose_keypoints_2d``, ``hand_left_keypoints_2d``, ``hand_right_keypoints_2d`` (flat
+``x, y, confidence`` triples; confidence 0 means not found).
 
-The frame index is the number just before ``_keypoints.json`` in the file name (OpenPose writes
-``NAME_000000000012_keypoints.json`` for frame 12, 0-based). OpenPose does not track people, so identities are
-kept here:
+Which frame a file is: OpenPose run on a video writes ``NAME_000000000012_keypoints.json`` for frame 12 (a
+12-digit counter from 0), so the number before ``_keypoints`` is the frame when the set of files reads like
+that counter (the smallest is 0, or every number has its 12 digits); run on a folder of images it names each
+file after its image (``im1010.jpg`` gives ``im1010_keypoints.json``), numbers that are the user's own, and
+the video made of those images shows them in order: then a file's frame is its place in the order of the
+numbers, with a warning (:mod:`wecook_core.formats.numbering`). OpenPose does not track people, so
+identities are kept here:
 
 1. frame by frame, detections are assigned to the persons seen so far by :func:`scipy.optimize.linear_sum_assignment`
    on the mean distance of the body keypoints confident in both (the body centres when none are shared),
@@ -21,7 +25,6 @@ is missing in that frame. Left and right are the person's own, as OpenPose repor
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -31,9 +34,8 @@ from scipy.optimize import linear_sum_assignment
 from wecook_core.errors import InputError, load_json
 from wecook_core.files import read_text
 from wecook_core.formats.fields import MAX_COORDINATE, Warn, check_frame, ignore_warning
+from wecook_core.formats.numbering import NumberingError, name_frames
 from wecook_core.model import HandTrack
-
-_FRAME = re.compile(r"(\d+)_keypoints\.json$")
 
 # BODY_25, COCO-18 and MPI-15 share these indices.
 _R_ELBOW, _R_WRIST, _L_ELBOW, _L_WRIST = 3, 4, 6, 7
@@ -79,12 +81,14 @@ class _Person:
 
 
 def read_openpose(
-    path: str | Path, params: OpenPoseParams | None = None, *, warn: Warn = ignore_warning
+    path: str | Path, params: OpenPoseParams | None = None, *, frame_count: int | None = None,
+    warn: Warn = ignore_warning,
 ) -> tuple[HandTrack, ...]:
-    """Hand tracks ``LH_P1 RH_P1 LH_P2 RH_P2`` (those found) from an OpenPose JSON folder."""
+    """Hand tracks ``LH_P1 RH_P1 LH_P2 RH_P2`` (those found) from an OpenPose JSON folder. ``frame_count``,
+    the video's frames, helps tell a frame counter from image names (see the module docstring)."""
     params = params or OpenPoseParams()
     path = Path(path)
-    frames = _frame_files(path)
+    frames = _frame_files(path, frame_count, warn)
     detections: list[list[_Detection]] = []
     unusable = crowded = 0
     for frame, file in frames:
@@ -121,25 +125,29 @@ def read_openpose(
 # ------------------------------------------------------------------------------------------- reading
 
 
-def _frame_files(path: Path) -> list[tuple[int, Path]]:
+def json_files(folder: Path) -> list[Path]:
+    """The OpenPose files of a folder: its ``*_keypoints.json``, else (renamed output) its ``*.json``."""
+    files = sorted(folder.glob("*_keypoints.json"))
+    return files or sorted(folder.glob("*.json"))
+
+
+def _frame_files(path: Path, frame_count: int | None, warn: Warn) -> list[tuple[int, Path]]:
     if not path.exists():
         raise InputError(path, "no such folder")
     if not path.is_dir():
         raise InputError(path, "expected a folder of OpenPose *_keypoints.json files")
-    frames: dict[int, Path] = {}
-    for file in sorted(path.glob("*_keypoints.json")):
-        match = _FRAME.search(file.name)
-        if match is None:
-            raise InputError(file, "no frame number before _keypoints.json in the file name")
-        if len(match.group(1)) > 12:
-            raise InputError(file, f"frame {match.group(1)[:20]}... in the file name is too large")
-        frame = check_frame(file, "file name", int(match.group(1)))
-        if frame in frames:
-            raise InputError(file, f"frame {frame} again (also {frames[frame].name})")
-        frames[frame] = file
-    if not frames:
-        raise InputError(path, "no *_keypoints.json files in the folder")
-    return sorted(frames.items())
+    files = json_files(path)
+    if not files:
+        raise InputError(path, "no *_keypoints.json files (nor any *.json) in the folder")
+    try:
+        numbers, note = name_frames([file.name for file in files], frame_count)
+    except NumberingError as error:
+        raise InputError(files[error.index], str(error)) from None
+    if note:
+        warn(f"{path}: {note}")
+    for frame, file in zip(numbers, files, strict=True):
+        check_frame(file, "file name", frame)
+    return sorted(zip(numbers, files, strict=True))
 
 
 def _people(file: Path) -> list[tuple[int, dict[str, object]]]:

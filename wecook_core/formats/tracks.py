@@ -24,12 +24,13 @@ def object_name(label: str) -> str:
 
 
 def object_tracks(
-    rows: Iterable[tuple[int, str, int, Sequence[float]]], source: str | Path
+    rows: Iterable[tuple[int, str, int, Sequence[float]]], source: str | Path, *, frame_base: int = 0
 ) -> tuple[ObjectTrack, ...]:
     """Group ``(track_id, label, frame, (x1, y1, x2, y2))`` rows into tracks named uniquely.
 
     Tracks are ordered by track id; a repeated label gets ``_2``, ``_3``... in that order. A track with two
-    labels or two boxes in one frame is an error naming the source.
+    labels or two boxes in one frame is an error naming the source and the frame as the file numbers it (its
+    first frame is ``frame_base``: 1 for MOT and Label Studio).
     """
     frames: dict[int, list[int]] = defaultdict(list)
     boxes: dict[int, list[Sequence[float]]] = defaultdict(list)
@@ -38,7 +39,7 @@ def object_tracks(
         known = labels.setdefault(track_id, label)
         if known != label:
             raise InputError(source, f"track {track_id} is labelled both {known!r} and {label!r}",
-                             place=f"frame {frame}")
+                             place=f"frame {frame + frame_base}")
         frames[track_id].append(frame)
         boxes[track_id].append(box)
     seen: dict[str, int] = defaultdict(int)
@@ -51,7 +52,7 @@ def object_tracks(
         repeated = np.flatnonzero(np.diff(f) == 0)
         if len(repeated):
             raise InputError(source, f"track {track_id} has two boxes in one frame",
-                             place=f"frame {int(f[repeated[0]])}")
+                             place=f"frame {int(f[repeated[0]]) + frame_base}")
         base = object_name(labels[track_id])
         seen[base] += 1
         name = base if seen[base] == 1 else f"{base}_{seen[base]}"

@@ -4,9 +4,13 @@ Checks, each an :class:`InputError` naming the file and the frame and track, unl
 
 - every frame index lies in the video (``0 <= frame < frames that decode``);
 - coordinates are pixels: boxes or hands all within ``[0, 1]`` are normalised coordinates, refused;
-- an object box may stick out of the image by up to ``box_tolerance`` of the image size (detectors and
-  annotators overshoot a little): it is clipped, and the count is a warning; farther out is an error;
-- a hand centre obeys the same rule; hand boxes are only clipped (they are derived from keypoints);
+- an object box that overhangs the image is clipped to it, however far (people and objects entering or
+  leaving the picture stick out of it in real ground truth: MOT's, Label Studio's own example); the count,
+  the largest overhang and the first such box, in the file's own frame numbering, are a warning. A box that
+  lies wholly outside the image shows nothing there and is dropped (also counted); when every box of the file
+  lies outside, the boxes belong to another video (or another resolution): an error;
+- a hand centre may lie outside the image by up to ``hand_tolerance`` of its size (clipped); farther out is
+  an error; hand boxes are only clipped (they are derived from keypoints);
 - gaps inside a hand track are by default not an error (a hand leaves the picture, a detector misses it; the
   segmentation interpolates): a gap longer than ``max_gap_seconds`` is reported as a warning and listed in
   :attr:`Imported.gaps` so the user sees what will be interpolated; one longer than ``gap_error_seconds``,
@@ -18,7 +22,7 @@ Checks, each an :class:`InputError` naming the file and the frame and track, unl
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -26,7 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from wecook_core.errors import InputError
-from wecook_core.formats.detect import read_hands, read_objects
+from wecook_core.formats.detect import file_frame, frame_namer, read_hands, read_objects
 from wecook_core.formats.tracks import object_name
 from wecook_core.formats.video import frame_count_note, probe_video, usable_frames
 from wecook_core.model import Category, HandTrack, ObjectTrack, Observations, VideoInfo
@@ -39,9 +43,9 @@ if TYPE_CHECKING:
 class InputChecks:
     """How forgiving the checks are."""
 
-    box_tolerance: float = 0.05
-    """How far a box may stick out of the image and still be clipped, as a fraction of the image width
-    (for x) or height (for y)."""
+    hand_tolerance: float = 0.05
+    """How far a hand centre may lie outside the image and still be clipped, as a fraction of the image width
+    (for x) or height (for y). Object boxes are clipped however far they overhang."""
     max_gap_seconds: float = 2.0
     """A hand missing inside its track for longer than this is reported."""
     gap_error_seconds: float | None = None
@@ -112,13 +116,15 @@ def import_observations(
     hands_format: str | None = None,
     labels: str | Path | None = None,
     select: str | None = None,
+    annotation_fps: float | None = None,
     categories: CategoryTable | None = None,
     checks: InputChecks | None = None,
     video_facts: VideoInfo | None = None,
 ) -> Imported:
     """Import the video's facts, the object boxes (none when ``objects`` is None) and the hand tracks, name
     objects uniquely, categorise them and check everything against the video. ``labels`` is the labels file of
-    MOT boxes; ``select`` the video (name or id) of a COCO-VID file that holds several. ``video_facts``, when
+    MOT boxes; ``select`` the video (name or id) of a COCO-VID file that holds several; ``annotation_fps`` the
+    frame rate a Label Studio annotation was made at (None: read from the file). ``video_facts``, when
     known (a session records them), stand in for probing ``video``, which is then not opened (it may be missing
     or damaged)."""
     checks = checks or InputChecks()
@@ -132,10 +138,13 @@ def import_observations(
         chosen_objects = NO_OBJECTS
     else:
         object_tracks, chosen_objects = read_objects(objects, objects_format, labels=labels, video=info,
-                                                     select=select, warn=warnings.append)
-    hand_tracks, chosen_hands = read_hands(hands, hands_format, warn=warnings.append)
-    checked_objects = _check_objects(Path(objects or video), unique_names(object_tracks), info, checks, warnings)
-    checked_hands = _check_hands(Path(hands), hand_tracks, info, checks, warnings)
+                                                     select=select, fps=annotation_fps, warn=warnings.append)
+    hand_tracks, chosen_hands = read_hands(hands, hands_format, frame_count=usable_frames(info),
+                                           warn=warnings.append)
+    namer = frame_namer(chosen_objects, objects, video=info, select=select, fps=annotation_fps) if objects else None
+    checked_objects = _check_objects(Path(objects or video), unique_names(object_tracks), info,
+                                     namer or (lambda frame: file_frame("csv", frame)), warnings)
+    checked_hands = _check_hands(Path(hands), hand_tracks, info, checks)
     gaps, missing = hand_gaps(checked_hands, info.fps, checks.max_gap_seconds)
     if checks.gap_error_seconds is not None:
         for gap in hand_gaps(checked_hands, info.fps, checks.gap_error_seconds)[0]:
@@ -206,12 +215,15 @@ def hand_gaps(
 # ------------------------------------------------------------------------------------------ checks
 
 
-def _check_frames(path: Path, what: str, frames: np.ndarray, info: VideoInfo) -> None:
+def _check_frames(path: Path, what: str, frames: np.ndarray, info: VideoInfo,
+                  name: Callable[[int], str] = lambda frame: file_frame("csv", frame)) -> None:
+    """Frames within the video, an error in the file's own numbering (``name``: 1-based for MOT...)."""
     count = usable_frames(info)
     if len(frames) and (frames[0] < 0 or frames[-1] >= count):
-        bad = int(frames[-1] if frames[-1] >= count else frames[0])
-        raise InputError(path, f"{what} is in frame {bad}, but the video {Path(info.path).name} has frames "
-                         f"0-{count - 1}", place=f"frame {bad}")
+        bad = name(int(frames[-1] if frames[-1] >= count else frames[0]))
+        first, last = (name(f).split()[-1] for f in (0, count - 1))
+        raise InputError(path, f"{what} is in {bad}, but the video {Path(info.path).name} has frames "
+                         f"{first}-{last}", place=bad)
 
 
 def _outside(boxes: np.ndarray, info: VideoInfo, tolerance: float) -> tuple[np.ndarray, np.ndarray]:
@@ -239,42 +251,60 @@ def _check_pixels(path: Path, what: str, values: Sequence[np.ndarray], info: Vid
 
 
 def _check_objects(
-    path: Path, tracks: Sequence[ObjectTrack], info: VideoInfo, checks: InputChecks, warnings: list[str]
+    path: Path, tracks: Sequence[ObjectTrack], info: VideoInfo, name: Callable[[int], str], warnings: list[str]
 ) -> list[ObjectTrack]:
+    """Tracks with their boxes clipped to the image, boxes wholly outside it dropped (see the module
+    docstring)."""
     _check_pixels(path, "box", [t.boxes for t in tracks], info)
     result = []
-    clipped = 0
+    clipped = dropped = total = 0
+    worst = (0.0, "")
+    first_dropped = ""
     for track in tracks:
         what = f"track {track.track_id} ({track.label})"
-        _check_frames(path, what, track.frames, info)
-        far, near = _outside(track.boxes, info, checks.box_tolerance)
-        if far.any():
-            i = int(np.flatnonzero(far)[0])
-            box = ", ".join(f"{v:g}" for v in track.boxes[i])
-            raise InputError(path, f"{what}: box ({box}) lies outside the {info.width}x{info.height} image by more "
-                             f"than {checks.box_tolerance:.0%}", place=f"frame {int(track.frames[i])}")
+        _check_frames(path, what, track.frames, info, name)
+        total += len(track.frames)
+        x1, y1, x2, y2 = track.boxes.T
+        inside = (x1 < info.width) & (x2 > 0) & (y1 < info.height) & (y2 > 0)
+        over = np.maximum.reduce([-x1, -y1, x2 - info.width, y2 - info.height, np.zeros(len(x1))])
+        near = inside & (over > 0)
         if near.any():
             clipped += int(near.sum())
+            i = int(np.argmax(np.where(near, over, -1)))
+            if over[i] > worst[0]:
+                worst = (float(over[i]), f"{what} at {name(int(track.frames[i]))}")
             track = replace(track, boxes=_clip(track.boxes, info))
+        if not inside.all():
+            dropped += int((~inside).sum())
+            if not first_dropped:
+                first_dropped = f"{what} at {name(int(track.frames[~inside][0]))}"
+            if not inside.any():
+                continue
+            track = replace(track, frames=track.frames[inside], boxes=track.boxes[inside])
         result.append(track)
+    if total and dropped == total:
+        raise InputError(path, f"every box lies outside the {info.width}x{info.height} image of "
+                         f"{Path(info.path).name}: boxes of another video, or of another resolution")
     if clipped:
-        warnings.append(f"{path}: clipped {clipped} boxes that stuck out of the image a little")
+        warnings.append(f"{path}: clipped {clipped} boxes that overhang the {info.width}x{info.height} image, by "
+                        f"up to {worst[0]:.0f} px ({worst[1]})")
+    if dropped:
+        warnings.append(f"{path}: dropped {dropped} boxes that lie wholly outside the {info.width}x{info.height} "
+                        f"image (the first: {first_dropped})")
     return result
 
 
-def _check_hands(
-    path: Path, tracks: Sequence[HandTrack], info: VideoInfo, checks: InputChecks, warnings: list[str]
-) -> list[HandTrack]:
+def _check_hands(path: Path, tracks: Sequence[HandTrack], info: VideoInfo, checks: InputChecks) -> list[HandTrack]:
     _check_pixels(path, "hand", [t.xy for t in tracks], info)
     result = []
     for track in tracks:
         _check_frames(path, f"hand {track.hand}", track.frames, info)
         points = np.concatenate([track.xy, track.xy], axis=1)
-        far, near = _outside(points, info, checks.box_tolerance)
+        far, near = _outside(points, info, checks.hand_tolerance)
         if far.any():
             i = int(np.flatnonzero(far)[0])
             raise InputError(path, f"hand {track.hand} at ({track.xy[i, 0]:g}, {track.xy[i, 1]:g}) lies outside "
-                             f"the {info.width}x{info.height} image by more than {checks.box_tolerance:.0%}",
+                             f"the {info.width}x{info.height} image by more than {checks.hand_tolerance:.0%}",
                              place=f"frame {int(track.frames[i])}")
         xy = np.clip(track.xy, 0.0, [info.width, info.height]) if near.any() else track.xy
         boxes = _clip(track.boxes, info)

@@ -42,7 +42,7 @@ def cache_key(inputs: Mapping[str, InputFile]) -> str | None:
             else:
                 stat = path.stat()
                 stats = [(str(path), stat.st_size, stat.st_mtime_ns)]
-            items.append([role, item.sha256, item.format, item.select, stats])
+            items.append([role, item.sha256, item.format, item.select, item.fps, stats])
     except OSError:
         return None
     return json.dumps({"format": CACHE_FORMAT, "version": __version__, "code": _code_stamp(), "inputs": items})

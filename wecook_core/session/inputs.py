@@ -27,6 +27,8 @@ class InputFile:
     select: str | None = None
     """Which video of a COCO-VID file holding several (name or id); None: the only one, or the one named
     like the video file."""
+    fps: float | None = None
+    """The frame rate a Label Studio annotation was made at (``wecook new --fps``); None: read from the file."""
 
 
 def content_hash(path: str | Path) -> str:
@@ -80,11 +82,12 @@ def _stat(path: Path) -> tuple[int, int]:
     return stat.st_size, stat.st_mtime_ns
 
 
-def record_input(role: str, path: str | Path, format: str | None = None, select: str | None = None) -> InputFile:
+def record_input(role: str, path: str | Path, format: str | None = None, select: str | None = None,
+                 fps: float | None = None) -> InputFile:
     """The :class:`InputFile` of ``path`` as it is now (absolute path, content hash, size, mtime)."""
     path = Path(path).resolve()
     size, mtime = _stat(path)
-    return InputFile(role, str(path), content_hash(path), size, mtime, format, select)
+    return InputFile(role, str(path), content_hash(path), size, mtime, format, select, fps)
 
 
 def input_problem(item: InputFile) -> str | None:

@@ -202,7 +202,7 @@ class Session:
             video, objects.path if objects else None, hands.path,
             objects_format=objects.format if objects else None, hands_format=hands.format,
             labels=labels.path if labels else None, select=objects.select if objects else None,
-            categories=self.category_table(), video_facts=facts,
+            annotation_fps=objects.fps if objects else None, categories=self.category_table(), video_facts=facts,
         )
 
     def category_table(self) -> CategoryTable | None:
@@ -260,6 +260,7 @@ def _inputs(value: Any, warnings: list[str]) -> dict[str, InputFile]:
         if not isinstance(item, dict) or not {"path", "sha256", "size", "mtime_ns"} <= set(item) \
                 or not all(isinstance(item.get(k), str) for k in ("path", "sha256")) \
                 or not all(isinstance(item.get(k), str | None) for k in ("format", "select")) \
+                or isinstance(item.get("fps"), bool) or not isinstance(item.get("fps"), int | float | None) \
                 or not all(isinstance(item.get(k), int) for k in ("size", "mtime_ns")):
             warnings.append(f"session.yaml: input {role!r} is incomplete; ignored")
             continue
@@ -319,6 +320,7 @@ def create_session(
     labels: str | Path | None = None,
     categories: str | Path | None = None,
     select: str | None = None,
+    annotation_fps: float | None = None,
     params: Params | None = None,
     imported: Imported | None = None,
 ) -> Path:
@@ -327,7 +329,8 @@ def create_session(
     Bad input raises :class:`InputError` and leaves nothing behind (the folder is built under a temporary
     name and renamed into place). ``objects`` None makes a session of a video alone (boxes drawn later in the
     workbench's box mode). ``labels`` is MOT's labels file and ``categories`` a file of extra object
-    categories (both recorded as inputs); ``select`` the video of a COCO-VID file holding several.
+    categories (both recorded as inputs); ``select`` the video of a COCO-VID file holding several;
+    ``annotation_fps`` the frame rate a Label Studio annotation was made at (None: read from the file).
     ``imported`` skips the import when the caller already did it with the same arguments.
     """
     check_name(name)
@@ -338,10 +341,11 @@ def create_session(
     if imported is None:
         imported = import_observations(video, objects, hands, objects_format=objects_format,
                                        hands_format=hands_format, labels=labels, select=select,
+                                       annotation_fps=annotation_fps,
                                        categories=_category_table(Path(categories) if categories else None))
     inputs = {"video": record_input("video", video)}
     if objects is not None:  # else a video alone: its boxes are drawn in the workbench
-        inputs["objects"] = record_input("objects", objects, imported.objects_format, select)
+        inputs["objects"] = record_input("objects", objects, imported.objects_format, select, annotation_fps)
     inputs["hands"] = record_input("hands", hands, imported.hands_format)
     if labels is not None:
         inputs["labels"] = record_input("labels", labels)
