@@ -13,8 +13,10 @@ from types import ModuleType
 from typing import Any
 
 import pytest
+from platform_model import Platform
 
 from wecook_core.plan import Plan
+from wecook_core.plan.ros import RosExport
 
 STAND_IN = Path(__file__).parent / "stand_in"
 
@@ -34,14 +36,16 @@ class Dispatched:
         return message
 
 
-def run_dispatch(script: str, monkeypatch: pytest.MonkeyPatch) -> Dispatched:
-    """Execute ``script`` as ``__main__`` with the stand-ins on sys.path, recording what it imports."""
+def run_dispatch(script: str, monkeypatch: pytest.MonkeyPatch, connect_after: int = 0) -> Dispatched:
+    """Execute ``script`` as ``__main__`` with the stand-ins on sys.path, recording what it imports; the
+    platform's subscriber connects after ``connect_after`` polls."""
     for name in ("rospy", "wecook", "wecook.msg"):
         monkeypatch.delitem(sys.modules, name, raising=False)
     monkeypatch.syspath_prepend(str(STAND_IN))
     rospy = importlib.import_module("rospy")
     msg = importlib.import_module("wecook.msg")
     assert Path(rospy.__file__).parent == STAND_IN and Path(msg.__file__).parent == STAND_IN / "wecook"
+    rospy.connect_after = connect_after
     imported: list[str] = []
     real_import = builtins.__import__
 
@@ -85,16 +89,21 @@ def check_message(msg: ModuleType, message: Any, where: str = "TaskMsg") -> int:
     return count
 
 
-def expected_verbs(plan: Plan) -> list[str]:
-    """The platform's verb of each plan action, in plan order."""
-    out = []
-    for a in plan.actions:
-        if a.verb == "holding":
-            assert a.partner is not None
-            out.append(f"holding_{a.tool}_{a.partner.verb}")
-        else:
-            out.append(a.verb)
-    return out
+def platform_checks(plan: Plan, export: RosExport, task: Any) -> Platform:
+    """The bar: the platform plans every dispatched action for every pid it names, and merges the chains; every
+    object a planner reads is in the scene; every plan object is in the scene; each plan action is dispatched
+    or reported left out."""
+    scene = {o.name for o in task.scene.objects}
+    platform = Platform(scene, {a.pid for a in task.agents})
+    graphs = platform.run(task)
+    for action, graph in zip(task.actions, graphs, strict=True):
+        assert graph and all(graph.get(pid) for pid in action.pid), (action.verb, graph)
+        named = {action.tool, *action.location, *action.ingredients} - {"hand", "air"}
+        assert named <= scene, (action.verb, named - scene)
+    assert {export.names[o.name] for o in plan.scene.objects} <= scene
+    assert not export.missing
+    assert sorted(export.dispatched + tuple(export.left_out)) == sorted(a.id for a in plan.actions)
+    return platform
 
 
 # ------------------------------------------------------------------------------------------------ PDDL
