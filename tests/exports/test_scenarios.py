@@ -1,6 +1,6 @@
 """The bar: the plans of the shared scenarios (read in place from ../shared/data/scenarios) export to every format
 without error; the dispatch script builds one TaskMsg whose every action the platform plans, with every object in
-the scene, and the PDDL steps run to the goal."""
+the scene; the PDDL steps run to the goal, and pyperplan solves the problem with each person's work as wecook's."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 import yaml
-from exports_helpers import check_message, platform_checks, run_dispatch, simulate
+from exports_helpers import check_message, check_same_work, platform_checks, run_dispatch, simulate, solve
 
 from wecook_core.plan import dump_plan, load_plan, validate
 from wecook_core.plan.pddl import export_pddl, write_pddl
@@ -44,3 +44,7 @@ def test_a_shared_scenario_plan_exports_to_every_format(shared: Path, name: str,
     pddl = export_pddl(plan, name)
     domain, problem, _ = write_pddl(pddl, tmp_path)
     simulate(domain, problem, list(pddl.steps))
+    # the bar: pyperplan solves it, and its plan gives each person wecook's verbs, tools and things
+    steps = solve(domain, problem)
+    simulate(domain, problem, steps)
+    check_same_work(plan, dict(pddl.names), domain, steps)
