@@ -135,11 +135,12 @@ def _from_events(text: str, path: str | Path | None) -> Any:
     root: Any = None
     documents = 0
     count = 0
-    first_mark = None
+    first_mark: Any = None
     scalar, seq_start, seq_end, map_start, map_end = (events.ScalarEvent, events.SequenceStartEvent,
                                                       events.SequenceEndEvent, events.MappingStartEvent,
                                                       events.MappingEndEvent)
     try:
+        event: Any
         for event in yaml.parse(text, Loader=CLoader):
             kind = event.__class__
             if kind is scalar:
