@@ -13,8 +13,10 @@ from types import ModuleType
 from typing import Any
 
 import pytest
+from platform_model import Platform
 
 from wecook_core.plan import Plan
+from wecook_core.plan.ros import RosExport
 
 STAND_IN = Path(__file__).parent / "stand_in"
 
@@ -34,14 +36,16 @@ class Dispatched:
         return message
 
 
-def run_dispatch(script: str, monkeypatch: pytest.MonkeyPatch) -> Dispatched:
-    """Execute ``script`` as ``__main__`` with the stand-ins on sys.path, recording what it imports."""
+def run_dispatch(script: str, monkeypatch: pytest.MonkeyPatch, connect_after: int = 0) -> Dispatched:
+    """Execute ``script`` as ``__main__`` with the stand-ins on sys.path, recording what it imports; the
+    platform's subscriber connects after ``connect_after`` polls."""
     for name in ("rospy", "wecook", "wecook.msg"):
         monkeypatch.delitem(sys.modules, name, raising=False)
     monkeypatch.syspath_prepend(str(STAND_IN))
     rospy = importlib.import_module("rospy")
     msg = importlib.import_module("wecook.msg")
     assert Path(rospy.__file__).parent == STAND_IN and Path(msg.__file__).parent == STAND_IN / "wecook"
+    rospy.connect_after = connect_after
     imported: list[str] = []
     real_import = builtins.__import__
 
@@ -85,16 +89,21 @@ def check_message(msg: ModuleType, message: Any, where: str = "TaskMsg") -> int:
     return count
 
 
-def expected_verbs(plan: Plan) -> list[str]:
-    """The platform's verb of each plan action, in plan order."""
-    out = []
-    for a in plan.actions:
-        if a.verb == "holding":
-            assert a.partner is not None
-            out.append(f"holding_{a.tool}_{a.partner.verb}")
-        else:
-            out.append(a.verb)
-    return out
+def platform_checks(plan: Plan, export: RosExport, task: Any) -> Platform:
+    """The bar: the platform plans every dispatched action for every pid it names, and merges the chains; every
+    object a planner reads is in the scene; every plan object is in the scene; each plan action is dispatched
+    or reported left out."""
+    scene = {o.name for o in task.scene.objects}
+    platform = Platform(scene, {a.pid for a in task.agents})
+    graphs = platform.run(task)
+    for action, graph in zip(task.actions, graphs, strict=True):
+        assert graph and all(graph.get(pid) for pid in action.pid), (action.verb, graph)
+        named = {action.tool, *action.location, *action.ingredients} - {"hand", "air"}
+        assert named <= scene, (action.verb, named - scene)
+    assert {export.names[o.name] for o in plan.scene.objects} <= scene
+    assert not export.missing
+    assert sorted(export.dispatched + tuple(export.left_out)) == sorted(a.id for a in plan.actions)
+    return platform
 
 
 # ------------------------------------------------------------------------------------------------ PDDL
@@ -164,3 +173,98 @@ def simulate(domain_file: Path, problem_file: Path, steps: list[tuple[str, ...]]
     pos, neg = _atoms(problem.goal)
     assert not [g for g in pos if g not in state] and not [g for g in neg if g in state], (pos, state)
     return state
+
+
+# ------------------------------------------------------------------------------------------------ a planner
+
+HELD = ("pour", "sprinkle", "dip")
+Key = tuple[object, ...]
+
+
+def solve(domain_file: Path, problem_file: Path) -> list[tuple[str, ...]]:
+    """pyperplan's plan (greedy best-first search with hFF, as on its command line's defaults for GBF), as
+    ``(action, arg, ...)`` steps; asserts that it finds one."""
+    from pyperplan.heuristics.relaxation import hFFHeuristic
+    from pyperplan.planner import search_plan
+    from pyperplan.search import greedy_best_first_search
+
+    solution = search_plan(str(domain_file), str(problem_file), greedy_best_first_search, hFFHeuristic)
+    assert solution is not None, f"pyperplan found no plan for {problem_file}"
+    return [tuple(op.name.strip("()").split()) for op in solution]
+
+
+def plan_work(plan: Plan, names: dict[str, str]) -> list[tuple[str, list[Key]]]:
+    """What wecook's plan has each person do, per action (in an order that keeps ``after``): (action id, keys), a
+    key ``(person, verb, tool or None, what it acts on, holder or None)`` in PDDL names; a handover is
+    ``(person, 'handover', thing)`` for giver and receiver, a hold ``(holder, 'holding', thing)``."""
+    from wecook_core.plan.pddl import TABLETOP, ordered
+
+    def n(name: str | None) -> str:
+        return names[name] if name is not None else TABLETOP
+
+    def act_keys(pid: str, act: Any, holder: str | None = None, held: str | None = None) -> list[Key]:
+        hand = act.tool is None or act.tool in act.ingredients or act.tool == held
+        tool = None if hand else names[act.tool]
+        if act.verb == "transfer":
+            return [(names[pid], "transfer", tool, (names[i], n(act.location)), holder) for i in act.ingredients]
+        if act.verb in HELD and tool is not None:
+            return [(names[pid], act.verb, tool, n(act.location), holder)]
+        targets = list(act.ingredients) or ([act.location] if act.location else []) or [act.tool]
+        return [(names[pid], act.verb, tool, names[t], holder) for t in targets]
+
+    out = []
+    for a in ordered(plan.actions):
+        if a.verb == "handover":
+            keys: list[Key] = [(names[p], "handover", names[a.tool]) for p in a.pids]
+        elif a.verb == "holding":
+            h = names[a.pids[0]]
+            keys = [(h, "holding", names[a.tool]), *act_keys(a.pids[-1], a.partner, h, a.tool)]
+        else:
+            keys = act_keys(a.pids[0], a)
+        out.append((a.id, keys))
+    return out
+
+
+def step_work(domain_file: Path, steps: list[tuple[str, ...]]) -> list[list[Key]]:
+    """The keys (as :func:`plan_work`'s) of each step, read by the domain's parameter roles (``?a`` acts, ``?t`` is
+    held to act, ``?x`` is acted on, ``?to`` where a transfer puts it, ``?h`` holds ``?held``, ``?r`` receives)."""
+    from pddl import parse_domain
+
+    params = {str(a.name): [f"?{p.name}" for p in a.parameters] for a in parse_domain(domain_file).actions}
+    out = []
+    for name, *args in steps:
+        b = dict(zip(params[name], args, strict=True))
+        verb = name.removesuffix("-held").split("-")[0]
+        if verb in ("grasp", "release", "pass", "start"):
+            out.append([])
+        elif verb == "handover":
+            out.append([(b["?a"], "handover", b["?x"]), (b["?r"], "handover", b["?x"])])
+        else:
+            target = (b["?x"], b["?to"]) if verb == "transfer" else b["?x"]
+            keys: list[Key] = [(b["?a"], verb, b.get("?t"), target, b.get("?h"))]
+            if "?h" in b:
+                keys.append((b["?h"], "holding", b["?held"]))
+            out.append(keys)
+    return out
+
+
+def check_same_work(plan: Plan, names: dict[str, str], domain_file: Path, steps: list[tuple[str, ...]]) -> None:
+    """Assert that ``steps`` give each person the same verbs with the same tools on the same things as wecook's
+    plan, and that every action's steps come after those of the actions it waits for."""
+    from collections import Counter
+
+    wanted = plan_work(plan, names)
+    got = step_work(domain_file, steps)
+    assert Counter(k for _, keys in wanted for k in keys) == Counter(k for keys in got for k in keys)
+    owners: dict[Key, list[str]] = {}
+    for action_id, keys in wanted:
+        for key in keys:
+            owners.setdefault(key, []).append(action_id)
+    where: dict[str, list[int]] = {}
+    for index, keys in enumerate(got):
+        for key in keys:
+            where.setdefault(owners[key].pop(0), []).append(index)
+    for a in plan.actions:
+        for before in a.after:
+            if before in where and a.id in where:
+                assert max(where[before]) < min(where[a.id]), f"{a.id} done before {before}, which it waits for"

@@ -7,9 +7,10 @@ import os
 from pathlib import Path
 
 import pytest
-from exports_helpers import check_message, expected_verbs, run_dispatch, simulate
+from exports_helpers import check_message, platform_checks, run_dispatch, simulate
 
 from wecook_core.plan import dump_plan, read_plan
+from wecook_core.plan.ros import ros_task
 from wecook_tui.cli import main
 
 SMALL = Path(__file__).parent / "golden" / "small.yaml"
@@ -34,11 +35,13 @@ def test_the_demo_session_exports_to_every_format(tmp_path: Path, capsys: pytest
     assert main(["export", "demo", "--root", str(root), "--format", "wecook-ros"]) == 0
     out, err = capsys.readouterr()
     script = plans / "dispatch.py"
-    assert f"wrote {script}: a TaskMsg of {len(plan.actions)} actions" in out
-    assert "wecook: warning: jar: no URDF on the platform" in err
+    export = ros_task(plan)
+    assert f"wrote {script}: a TaskMsg of {len(export.task.actions)} actions" in out
+    assert "wecook: warning: jar: no URDF of its own on the platform, stands in as" in err
+    assert "wecook: warning: a2 left out: squeeze" in err  # what is not dispatched, and why
     assert os.access(script, os.X_OK)
     run = run_dispatch(script.read_text(), monkeypatch)
-    assert [a.verb for a in run.task.actions] == expected_verbs(plan)
+    platform_checks(plan, export, run.task)
     check_message(run.msg, run.task)
 
     assert main(["export", "demo", "--root", str(root), "--format", "pddl", "-o", str(tmp_path / "pddl")]) == 0

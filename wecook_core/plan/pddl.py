@@ -1,42 +1,41 @@
 """A plan as PDDL (STRIPS with typing): a domain, a problem and the plan's own steps, so that task planners can
-check the plan (a validator runs :attr:`PddlExport.steps` on the problem) or re-plan it (a planner solves the
-problem its own way).
+check the plan (a validator runs :attr:`PddlExport.steps` on the problem) or solve it their own way (pyperplan
+does, in the tests).
 
-The domain ``wecook``: arms (``agent``) and things (``tool``, ``container``, ``ingredient``; the constant
-``tabletop`` is where an ingredient in no container is). Facts: ``(free ?a)`` the arm holds nothing,
-``(holding ?a ?x)`` which arm holds what, ``(loose ?x)`` no arm holds it, ``(in ?x ?c)`` containment,
-``(done-<verb> ?x)`` the verb was done to ``x``, ``(received ?a ?x)`` a handover gave ``x`` to ``a``,
-``(steadied ?x)`` an arm held ``x`` still for the other. Actions: ``grasp`` and ``release``; one per verb with a
-tool the arm holds (``cut ?a ?tool ?x``) and one by the hand itself (``cut-by-hand ?a ?x``); ``transfer`` and
-``transfer-by-hand`` move an ingredient from one place to another; ``handover`` from a holding arm to a free
-one; ``hold-steady``.
+The problem gives each part of a plan action (a *task*: one per ingredient moved or acted on) to the arm the plan
+gives it to, with the tool and on the thing the plan says (``(task-cut task-a9 p1 knife tomato)``), and orders the
+tasks as the plan's ``after`` edges do (gates: a task that waits for others is ready once each of them is done).
+What a task needs is the domain's (:mod:`~wecook_core.plan.pddl_domain`): a cut, a stir, a roll... needs the arm to
+hold the tool, fit for the verb (``fits-cut``: the tools the plan uses for it, the knife); a pour, a sprinkle or a
+dip needs it to hold the thing poured (the oil); a transfer moves an ingredient from where it is with a fit tool, by
+tipping the held container it is in, or by hand; a task the plan does by hand (a squeeze) needs a free hand; a
+holding's action needs the other arm to hold the held thing meanwhile; a handover needs the giver to hold the thing
+and the receiver's hand free. Grasping needs the arm to reach the thing: ``(reaches ?a ?x)`` for every place the
+thing takes in the plan that lies in the arm's reach band (:mod:`wecook_core.plan.reach`). The domain holds the
+forms the plan uses, and no by-hand form of a verb the plan does with a tool.
 
-The problem: the plan's objects, every arm free and every thing loose, its containing pairs (other ingredients
-on the ``tabletop``); the goal is what the plan's steps achieve: each verb done to each thing it names, where
-the ingredients end up, what was handed over and held steady, and every arm free at the end.
-
-The steps of a plan action: ``grasp`` its tool, the verb on each ingredient (else on its location, else on the
-tool), ``release``; a handover is ``grasp``, ``handover``, the receiver's ``release``; a holding is the holder's
-``grasp`` and ``hold-steady``, the actor's steps, the holder's ``release``. Actions go in the order of ``after``
-(ties in plan order).
+The goal: every task done and every arm free. The plan's own steps: ``grasp`` each action's tool (a holding: the
+holder's grasp of the held thing first), one step per task, ``release``; a handover's receiver releases what it
+got; a task that waits opens its gates first (``pass``, ``start``).
 """
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
-from wecook_core.model import VERBS, Category
+from wecook_core.model import Category
 from wecook_core.plan.model import Act, Plan, PlanAction
+from wecook_core.plan.pddl_domain import HANDOVER, HELD_VERBS, Schema, domain_text, schema
+from wecook_core.plan.reach import positions, reach_band
 
 DOMAIN = "wecook"
 TABLETOP = "tabletop"
-ACTION_VERBS: tuple[str, ...] = tuple(v for v in VERBS if v != "transfer")
-"""Verbs with a ``<verb>`` and a ``<verb>-by-hand`` action in the domain."""
-_RESERVED = frozenset({TABLETOP, "object", "either", "and", "or", "not", "define", "domain", "problem", "agent",
-                       "thing", "tool", "container", "ingredient"})
+_RESERVED = frozenset({TABLETOP, "object", "either", "and", "or", "not", "define", "domain", "problem", "arm",
+                       "task", "gate", "thing", "tool", "container", "ingredient"})
 _TYPE = {Category.TOOL: "tool", Category.CONTAINER: "container", Category.INGREDIENT: "ingredient"}
 
 
@@ -55,59 +54,6 @@ def pddl_name(name: str, taken: Iterable[str] = ()) -> str:
     return out
 
 
-def domain_text() -> str:
-    """The ``wecook`` domain (the same for every plan)."""
-    lines = [f"(define (domain {DOMAIN})",
-             "  (:requirements :strips :typing)",
-             "  (:types agent thing - object",
-             "          tool container ingredient - thing)",
-             f"  (:constants {TABLETOP} - container)",
-             "  (:predicates",
-             "    (free ?a - agent)",
-             "    (holding ?a - agent ?x - thing)",
-             "    (loose ?x - thing)",
-             "    (in ?x - thing ?c - thing)",
-             "    (received ?a - agent ?x - thing)",
-             "    (steadied ?x - thing)",
-             *(f"    (done-{verb} ?x - thing)" for verb in (*ACTION_VERBS, "transfer")),
-             "  )",
-             "  (:action grasp",
-             "    :parameters (?a - agent ?x - thing)",
-             "    :precondition (and (free ?a) (loose ?x))",
-             "    :effect (and (holding ?a ?x) (not (free ?a)) (not (loose ?x))))",
-             "  (:action release",
-             "    :parameters (?a - agent ?x - thing)",
-             "    :precondition (holding ?a ?x)",
-             "    :effect (and (free ?a) (loose ?x) (not (holding ?a ?x))))"]
-    for verb in ACTION_VERBS:
-        lines += [f"  (:action {verb}",
-                  "    :parameters (?a - agent ?t - thing ?x - thing)",
-                  "    :precondition (holding ?a ?t)",
-                  f"    :effect (done-{verb} ?x))",
-                  f"  (:action {verb}-by-hand",
-                  "    :parameters (?a - agent ?x - thing)",
-                  "    :precondition (free ?a)",
-                  f"    :effect (done-{verb} ?x))"]
-    lines += ["  (:action transfer",
-              "    :parameters (?a - agent ?t - thing ?x - thing ?from - thing ?to - thing)",
-              "    :precondition (and (holding ?a ?t) (in ?x ?from))",
-              "    :effect (and (not (in ?x ?from)) (in ?x ?to) (done-transfer ?x)))",
-              "  (:action transfer-by-hand",
-              "    :parameters (?a - agent ?x - thing ?from - thing ?to - thing)",
-              "    :precondition (and (free ?a) (loose ?x) (in ?x ?from))",
-              "    :effect (and (not (in ?x ?from)) (in ?x ?to) (done-transfer ?x)))",
-              "  (:action handover",
-              "    :parameters (?g - agent ?r - agent ?x - thing)",
-              "    :precondition (and (holding ?g ?x) (free ?r))",
-              "    :effect (and (holding ?r ?x) (free ?g) (received ?r ?x) (not (holding ?g ?x)) (not (free ?r))))",
-              "  (:action hold-steady",
-              "    :parameters (?a - agent ?x - thing)",
-              "    :precondition (holding ?a ?x)",
-              "    :effect (steadied ?x))",
-              ")", ""]
-    return "\n".join(lines)
-
-
 @dataclass(frozen=True)
 class PddlExport:
     domain: str
@@ -118,6 +64,8 @@ class PddlExport:
     """The plan action id each step comes from."""
     names: Mapping[str, str]
     """Plan object or pid -> its PDDL name."""
+    tasks: Mapping[str, str] = field(default_factory=dict)
+    """PDDL task -> the plan action id it is part of."""
 
     def plan_text(self) -> str:
         """The steps in the plan format validators read (``(grasp p1 knife)``, a comment per plan action)."""
@@ -144,71 +92,116 @@ def ordered(actions: Sequence[PlanAction]) -> list[PlanAction]:
     return out
 
 
-class _Steps:
-    """Grounds plan actions into domain steps, following where each ingredient is."""
+@dataclass(frozen=True)
+class _Task:
+    name: str
+    action_id: str
+    schema: Schema
+    fact: tuple[str, ...]
+    """The task fact's arguments after the task."""
+    step: tuple[str, ...]
+    """The schema's arguments in the plan's own step."""
+
+
+class _Tasks:
+    """Plan actions -> tasks and the plan's own steps, following where each ingredient is."""
 
     def __init__(self, plan: Plan, names: Mapping[str, str]) -> None:
         self.n = names
         self.inside: dict[str, str | None] = {i: c for i, c in plan.scene.containing}
-        """Ingredient -> the object it is in (None: the tabletop)."""
-        self.steps: list[tuple[str, ...]] = []
-        self.ids: list[str] = []
-        self.goal: list[tuple[str, ...]] = []
-        self.moved: set[str] = set()
+        self.tasks: list[_Task] = []
+        self.fits: set[tuple[str, str]] = set()
+        self.steps: list[tuple[tuple[str, ...], str]] = []
+        self.taken = set(names.values())
 
-    def add(self, action_id: str, *step: str) -> None:
-        self.steps.append(step)
-        self.ids.append(action_id)
+    def task(self, action_id: str, s: Schema, fact: tuple[str, ...], step: tuple[str, ...]) -> _Task:
+        name = pddl_name(f"task-{action_id}", self.taken)
+        self.taken.add(name)
+        out = _Task(name, action_id, s, fact, (name, *step))
+        self.tasks.append(out)
+        return out
 
-    def fact(self, *fact: str) -> None:
-        if fact not in self.goal:
-            self.goal.append(fact)
+    def act(self, action_id: str, pid: str, act: PlanAction | Act,
+            held: tuple[str, str] | None = None) -> tuple[str | None, list[_Task]]:
+        """The tool one arm grasps for ``act`` (None: none) and its tasks; ``held``: (holder, thing) held meanwhile."""
+        a, n = self.n[pid], self.n
+        busy = held[1] if held else None
+        hand = act.tool is None or act.tool in act.ingredients or (busy is not None and n[act.tool] == busy)
+        tool = None if hand or act.tool is None else n[act.tool]
+        extra = held or ()
+        tasks: list[_Task] = []
 
-    def act(self, action_id: str, pid: str, act: PlanAction | Act, busy: str | None = None) -> None:
-        """The steps of one arm's action (``busy``: an object the other arm holds meanwhile)."""
-        a = self.n[pid]
-        hand = act.tool is None or act.tool in act.ingredients or act.tool == busy
-        tool = None if hand or act.tool is None else self.n[act.tool]
-        if tool:
-            self.add(action_id, "grasp", a, tool)
+        def add(s: Schema, fact: tuple[str, ...], step: tuple[str, ...]) -> None:
+            s = s.held() if held else s
+            tasks.append(self.task(action_id, s, (*fact, *extra), (*step, *extra)))
+
         if act.verb == "transfer":
             for ingredient in act.ingredients:
-                source = act.source or self.inside.get(ingredient)
-                destination = act.location
-                frm = self.n[source] if source else TABLETOP
-                to = self.n[destination] if destination else TABLETOP
-                x = self.n[ingredient]
-                self.add(action_id, *(("transfer", a, tool, x, frm, to) if tool
-                                      else ("transfer-by-hand", a, x, frm, to)))
+                source, destination = act.source or self.inside.get(ingredient), act.location
+                x = n[ingredient]
+                frm, to = (n[source] if source else TABLETOP), (n[destination] if destination else TABLETOP)
+                if tool is None:
+                    add(schema("transfer", "hand"), (a, x, to), (a, x, frm, to))
+                elif tool == frm:
+                    add(schema("transfer", "tipping"), (a, tool, x, to), (a, tool, x, to))
+                else:
+                    self.fits.add(("transfer", tool))
+                    add(schema("transfer", "tool"), (a, tool, x, to), (a, tool, x, frm, to))
                 self.inside[ingredient] = destination
-                self.moved.add(ingredient)
-                self.fact("done-transfer", x)
+        elif act.verb in HELD_VERBS and tool is not None:
+            into = act.location or next((self.inside[i] for i in act.ingredients if self.inside.get(i)), None)
+            x = n[into] if into else TABLETOP
+            add(schema(act.verb, "held"), (a, tool, x), (a, tool, x))
         else:
             targets = list(act.ingredients) or ([act.location] if act.location else []) or (
                 [act.tool] if act.tool else [])
             for target in targets:
-                x = self.n[target]
-                self.add(action_id, *((act.verb, a, tool, x) if tool else (f"{act.verb}-by-hand", a, x)))
-                self.fact(f"done-{act.verb}", x)
-        if tool:
-            self.add(action_id, "release", a, tool)
+                if tool is None:
+                    add(schema(act.verb, "hand"), (a, n[target]), (a, n[target]))
+                else:
+                    self.fits.add((act.verb, tool))
+                    add(schema(act.verb, "tool"), (a, tool, n[target]), (a, tool, n[target]))
+        return tool, tasks
 
-    def action(self, action: PlanAction) -> None:
+    def action(self, action: PlanAction) -> list[tuple[str, ...]]:
+        """The action's steps (its tasks' steps between grasps and releases)."""
         if action.verb == "handover" and action.tool is not None:
             g, r, x = self.n[action.pids[0]], self.n[action.pids[1]], self.n[action.tool]
-            self.add(action.id, "grasp", g, x)
-            self.add(action.id, "handover", g, r, x)
-            self.add(action.id, "release", r, x)
-            self.fact("received", r, x)
-        elif action.verb == "holding" and action.partner is not None and action.tool is not None:
+            t = self.task(action.id, HANDOVER, (g, r, x), (g, r, x))
+            return [("grasp", g, x), (HANDOVER.name, *t.step), ("release", r, x)]
+        if action.verb == "holding" and action.partner is not None and action.tool is not None:
             h, x = self.n[action.pids[0]], self.n[action.tool]
-            self.add(action.id, "grasp", h, x)
-            self.add(action.id, "hold-steady", h, x)
-            self.act(action.id, action.pids[1], action.partner, busy=action.tool)
-            self.add(action.id, "release", h, x)
-            self.fact("steadied", x)
-        elif action.verb not in ("handover", "holding"):
-            self.act(action.id, action.pids[0], action)
+            tool, tasks = self.act(action.id, action.pids[-1], action.partner, (h, x))
+            a = self.n[action.pids[-1]]
+            inner = [(t.schema.name, *t.step) for t in tasks]
+            if tool:
+                inner = [("grasp", a, tool), *inner, ("release", a, tool)]
+            return [("grasp", h, x), *inner, ("release", h, x)]
+        if action.verb in ("handover", "holding"):
+            return []
+        tool, tasks = self.act(action.id, action.pids[0], action)
+        a = self.n[action.pids[0]]
+        inner = [(t.schema.name, *t.step) for t in tasks]
+        return [("grasp", a, tool), *inner, ("release", a, tool)] if tool else inner
+
+
+def _reaches(plan: Plan, names: Mapping[str, str]) -> list[tuple[str, str]]:
+    """(arm, thing) for every thing an arm reaches at a place it takes in the plan (robots not checked reach
+    everything), and the tabletop for every arm."""
+    category = {o.name: o.category for o in plan.scene.objects}
+    places: dict[str, set[tuple[float, float]]] = {o.name: {(o.x, o.y)} for o in plan.scene.objects}
+    for _action, where in positions(plan):
+        for name, xy in where.items():
+            places.setdefault(name, set()).add(xy)
+    out = []
+    for agent in plan.agents:
+        bx, by = agent.base_position[0], agent.base_position[1]
+        for obj in plan.scene.objects:
+            band = reach_band(agent, category[obj.name])
+            if band is None or any(band[0] <= math.hypot(x - bx, y - by) <= band[1] for x, y in places[obj.name]):
+                out.append((names[agent.pid], names[obj.name]))
+        out.append((names[agent.pid], TABLETOP))
+    return out
 
 
 def _fact(fact: Sequence[str]) -> str:
@@ -217,33 +210,65 @@ def _fact(fact: Sequence[str]) -> str:
 
 def export_pddl(plan: Plan, problem_name: str = "plan") -> PddlExport:
     """The plan's domain, problem and steps (see the module's docstring)."""
+    pids = sorted({a.pid for a in plan.agents} | {p for a in plan.actions for p in a.pids})
     names: dict[str, str] = {}
-    for pid in sorted({a.pid for a in plan.agents} | {p for a in plan.actions for p in a.pids}):
+    for pid in pids:
         names[pid] = pddl_name(pid, names.values())
     for obj in plan.scene.objects:
         names[obj.name] = pddl_name(obj.name, names.values())
-    steps = _Steps(plan, names)
+    tasks = _Tasks(plan, names)
+    by_action: dict[str, list[_Task]] = {}
+    steps: list[tuple[str, ...]] = []
+    step_ids: list[str] = []
+    gates: list[str] = []
+    init: list[tuple[str, ...]] = []
     for action in ordered(plan.actions):
-        steps.action(action)
-    agents = [names[p] for p in sorted({a.pid for a in plan.agents} | {p for a in plan.actions for p in a.pids})]
-    by_type: dict[str, list[str]] = {}
+        first = len(tasks.tasks)
+        action_steps = tasks.action(action)
+        mine = by_action[action.id] = tasks.tasks[first:]
+        waits = [t.name for d in action.after for t in by_action.get(d, ())]
+        opening: list[tuple[str, ...]] = []
+        for task in mine:
+            if not waits:
+                init.append(("ready", task.name))
+                continue
+            chain = [pddl_name(f"gate-{task.name}-{k}", tasks.taken) for k in range(len(waits) + 1)]
+            tasks.taken.update(chain)
+            gates += chain
+            init.append(("open", chain[0]))
+            for k, wait in enumerate(waits):
+                init.append(("needs", chain[k], wait, chain[k + 1]))
+                opening.append(("pass", chain[k], wait, chain[k + 1]))
+            init.append(("unlocks", chain[-1], task.name))
+            opening.append(("start", chain[-1], task.name))
+        for step in (*opening, *action_steps):
+            steps.append(step)
+            step_ids.append(action.id)
+    arms = [names[p] for p in pids]
+    inside = {i: c for i, c in plan.scene.containing}
+    init = [*(("free", a) for a in arms), *(("loose", names[o.name]) for o in plan.scene.objects),
+            *(("in", names[o.name], names[inside[o.name]] if o.name in inside else TABLETOP)
+              for o in plan.scene.objects if o.category is Category.INGREDIENT),
+            *(("reaches", a, x) for a, x in _reaches(plan, names)),
+            *(("fits-" + verb, tool) for verb, tool in sorted(tasks.fits)),
+            *((f"task-{t.schema.name}", t.name, *t.fact) for t in tasks.tasks), *init]
+    goal = [*(("done", t.name) for t in tasks.tasks), *(("free", a) for a in arms)]
+    by_type: dict[str, list[str]] = {"container": [TABLETOP]}
     for obj in plan.scene.objects:
         by_type.setdefault(_TYPE[obj.category], []).append(names[obj.name])
-    inside = {i: c for i, c in plan.scene.containing}
-    init: list[tuple[str, ...]] = [("free", a) for a in agents]
-    init += [("loose", names[o.name]) for o in plan.scene.objects]
-    init += [("in", names[o.name], names[inside[o.name]] if o.name in inside else TABLETOP)
-             for o in plan.scene.objects if o.category is Category.INGREDIENT]
-    goal = list(steps.goal)
-    goal += [("in", names[i], names[c] if c is not None else TABLETOP) for i, c in steps.inside.items()
-             if i in steps.moved]
-    goal += [("free", a) for a in agents]
-    objects = [f"    {' '.join(agents)} - agent"] + [f"    {' '.join(v)} - {t}" for t, v in by_type.items()]
+    objects = [f"    {' '.join(arms)} - arm", *(f"    {' '.join(v)} - {t}" for t, v in by_type.items())]
+    if tasks.tasks:
+        objects.append(f"    {' '.join(t.name for t in tasks.tasks)} - task")
+    if gates:
+        objects.append(f"    {' '.join(gates)} - gate")
     problem = "\n".join([f"(define (problem {pddl_name(problem_name)})", f"  (:domain {DOMAIN})",
                          "  (:objects", *objects, "  )",
                          "  (:init", *(f"    {_fact(f)}" for f in init), "  )",
                          "  (:goal (and", *(f"    {_fact(f)}" for f in goal), "  ))", ")", ""])
-    return PddlExport(domain_text(), problem, tuple(steps.steps), tuple(steps.ids), names)
+    schemas = tuple(sorted({t.schema for t in tasks.tasks}, key=lambda s: s.name))
+    domain = domain_text(schemas, tuple(sorted({verb for verb, _ in tasks.fits})), DOMAIN)
+    return PddlExport(domain, problem, tuple(steps), tuple(step_ids), names,
+                      {t.name: t.action_id for t in tasks.tasks})
 
 
 def write_pddl(export: PddlExport, folder: str | Path) -> tuple[Path, Path, Path]:

@@ -1,8 +1,11 @@
 """The standalone ROS 1 script that publishes a plan's ``TaskMsg`` (see :mod:`wecook_core.plan.ros`).
 
-The script is in the shape of the platform's demos: it imports only ``rospy`` and ``wecook.msg``, builds the
-messages positionally in their fields' order, waits a second for the subscriber and publishes once. It runs under
-Python 2 (ROS Melodic) and 3 (ROS Noetic): no f-strings, no annotations.
+The script is in the shape of the platform's demos: it imports only ``rospy`` and ``wecook.msg`` and builds the
+messages positionally in their fields' order. Unlike the demos, which publish once a second after start-up and
+exit (a TaskManager that subscribes later never gets the task), its publisher is latched: it publishes once,
+waits until a subscriber (the platform's TaskManager) has connected, which gets the latched task on connecting,
+and stays a few seconds more before it exits. It runs under Python 2 (ROS Melodic) and 3 (ROS Noetic): no
+f-strings, no annotations.
 """
 
 from __future__ import annotations
@@ -10,9 +13,15 @@ from __future__ import annotations
 import re
 import textwrap
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 from wecook_core.plan.model import Plan
-from wecook_core.plan.ros import TOPIC, ActionMsg, AgentMsg, ObjectMsg, RosExport, UrdfTable, ros_task
+from wecook_core.plan.ros import ros_task
+from wecook_core.plan.ros_messages import TOPIC, ActionMsg, AgentMsg, ObjectMsg, TagMsg
+from wecook_core.plan.ros_table import UrdfTable
+
+if TYPE_CHECKING:
+    from wecook_core.plan.ros import RosExport
 
 INDENT = " " * 4
 
@@ -36,6 +45,10 @@ def _object(o: ObjectMsg) -> str:
 def _action(a: ActionMsg) -> str:
     fields = [_strings(a.pid), _s(a.verb), _strings(a.location), _s(a.tool), _strings(a.ingredients)]
     return f"ActionMsg({', '.join(fields)})"
+
+
+def _tag(t: TagMsg) -> str:
+    return f"TagMsg({int(t.tag_id)}, {_s(t.object_name)}, {_floats(t.object_pose)})"
 
 
 def _agent(a: AgentMsg) -> str:
@@ -71,7 +84,8 @@ def render_script(export: RosExport, title: str, source: str | None = None) -> s
     header = [f"{title}: a wecook plan for the WeCook ROS platform (icaros-usc/wecook).",
               "",
               "Written by `wecook export --format wecook-ros`" + (f" from {source}" if source else "") + ".",
-              f"Publishes the plan once, as a TaskMsg on the topic {TOPIC}; the platform (its TaskManager) runs it.",
+              f"Publishes the plan as one TaskMsg on the topic {TOPIC}, latched, and exits once the platform (its "
+              "TaskManager) has subscribed and had time to take it; the platform runs it.",
               f"{len(task.actions)} actions, {len(task.agents)} arms, {len(task.objects)} objects."]
     if export.names and any(k != v for k, v in export.names.items()):
         header += ["", "Renamed for the platform: " + ", ".join(f"{k} -> {v}" for k, v in export.names.items()
@@ -80,15 +94,16 @@ def render_script(export: RosExport, title: str, source: str | None = None) -> s
     if warnings:
         header += ["", "Check before running:"] + [f"- {w}" for w in warnings]
     lines = ["#!/usr/bin/env python", "", *_comment_lines("\n".join(header)), "", "import rospy",
-             "from wecook.msg import ActionMsg, AgentMsg, ContainingMsg, ObjectMsg, SceneMsg, TaskMsg", "", "",
+             "from wecook.msg import ActionMsg, AgentMsg, ContainingMsg, ObjectMsg, SceneMsg, TagMsg, TaskMsg", "", "",
              "def talker():",
-             f"{INDENT}pub = rospy.Publisher({_s(TOPIC)}, TaskMsg, queue_size=10)",
+             f"{INDENT}pub = rospy.Publisher({_s(TOPIC)}, TaskMsg, queue_size=1, latch=True)",
              f"{INDENT}rospy.init_node({_s(node_name(title))}, anonymous=True)", ""]
     scene = f"{INDENT}scene_msg = SceneMsg("
     pad = " " * len(scene)
     objects = _items([_object(o) for o in task.objects], pad)
     containing = _items([f"ContainingMsg({_strings(c.pair)})" for c in task.containing], pad)
-    lines.append(f"{scene}{objects},\n{pad}[],\n{pad}{containing})")
+    tags = _items([_tag(t) for t in task.tags], pad)
+    lines.append(f"{scene}{objects},\n{pad}{tags},\n{pad}{containing})")
     lines.append("")
     head = f"{INDENT}task_msg = TaskMsg("
     pad = " " * len(head)
@@ -97,8 +112,10 @@ def render_script(export: RosExport, title: str, source: str | None = None) -> s
     tail = (f"{pad}'',\n{pad}'',\n{pad}{_s(task.type)},\n{pad}{_s(task.motion_planner)},\n"
             f"{pad}{task.if_sim!r})")
     lines.append(f"{head}scene_msg,\n{pad}{actions},\n{pad}{agents},\n{tail}")
-    lines += ["", f"{INDENT}rospy.sleep(1)  # give the platform's subscriber time to connect",
-              f"{INDENT}pub.publish(task_msg)", "", "",
+    lines += ["", f"{INDENT}pub.publish(task_msg)  # latched: a subscriber that connects later gets it too",
+              f"{INDENT}while pub.get_num_connections() == 0 and not rospy.is_shutdown():",
+              f"{INDENT * 2}rospy.sleep(0.5)  # waiting for the platform's TaskManager to subscribe",
+              f"{INDENT}rospy.sleep(3.0)  # time for the latched task to reach it before this node goes", "", "",
               "if __name__ == '__main__':", f"{INDENT}try:", f"{INDENT * 2}talker()",
               f"{INDENT}except rospy.ROSInterruptException:", f"{INDENT * 2}pass", ""]
     return "\n".join(lines)

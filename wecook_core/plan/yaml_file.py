@@ -14,6 +14,7 @@ from wecook_core.files import read_text, write_atomic
 from wecook_core.model import Category
 from wecook_core.plan.checks import validate
 from wecook_core.plan.model import DEFAULT_ROBOT, PLAN_VERSION, Act, Agent, Plan, PlanAction, Scene, SceneObject, Table
+from wecook_core.plan.yaml_read import MAX_PLAN_BYTES, parse_plan_yaml
 
 
 def _num(value: float) -> float | int:
@@ -70,84 +71,12 @@ def write_plan(plan: Plan, path: str | Path, *, replace: bool = True) -> Path:
     return write_atomic(path, dump_plan(plan), replace=replace, what="plan")
 
 
-MAX_PLAN_BYTES = 64 << 20
-"""The largest plan file read (64 MiB; a plan of 10,000 actions is about 3 MiB)."""
-MAX_PLAN_DEPTH = 64
-"""The deepest nesting of YAML collections in a plan (a plan needs 6)."""
-MAX_PLAN_NODES = 2_000_000
-"""The most YAML values a plan may hold once its aliases are expanded (an alias bomb of a few KB expands
-to billions)."""
-
-
 def _short(value: Any, limit: int = 80) -> str:
     """``repr(value)`` cut to ``limit`` characters (an error message quotes what it refuses, never all of it)."""
     if isinstance(value, Mapping | list) and len(value) > 8:
         return f"a {type(value).__name__} of {len(value)} items"
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 3] + "..."
-
-
-class _PlanLoader(yaml.SafeLoader):
-    """The safe loader with the nesting bounded by :data:`MAX_PLAN_DEPTH` while composing."""
-
-    depth = 0
-
-    def compose_node(self, parent: Any, index: Any) -> Any:
-        self.depth += 1
-        try:
-            if self.depth > MAX_PLAN_DEPTH:
-                mark = self.peek_event().start_mark
-                raise yaml.MarkedYAMLError(problem=f"nested deeper than {MAX_PLAN_DEPTH} levels", problem_mark=mark)
-            return super().compose_node(parent, index)
-        finally:
-            self.depth -= 1
-
-
-def _expanded_size(node: yaml.Node, path: str | Path | None) -> int:
-    """Values in ``node`` counting every alias as a copy; an :class:`InputError` past :data:`MAX_PLAN_NODES`."""
-    sizes: dict[int, int] = {}
-    order: list[yaml.Node] = []
-    stack = [node]
-    while stack:  # post-order without recursion; shared (aliased) nodes are sized once
-        current = stack.pop()
-        if id(current) in sizes:
-            continue
-        sizes[id(current)] = -1
-        order.append(current)
-        if isinstance(current, yaml.SequenceNode):
-            stack.extend(current.value)
-        elif isinstance(current, yaml.MappingNode):
-            stack.extend(item for pair in current.value for item in pair)
-    for current in reversed(order):
-        if isinstance(current, yaml.SequenceNode):
-            children = current.value
-        elif isinstance(current, yaml.MappingNode):
-            children = [item for pair in current.value for item in pair]
-        else:
-            children = []
-        total = 1 + sum(max(sizes[id(child)], 1) for child in children)
-        if total > MAX_PLAN_NODES:
-            raise InputError(path, f"more than {MAX_PLAN_NODES} values once its aliases are expanded (an alias "
-                             "bomb?)", place=f"line {current.start_mark.line + 1}")
-        sizes[id(current)] = total
-    return sizes[id(node)]
-
-
-def parse_plan_yaml(text: str, path: str | Path | None) -> Any:
-    """The data of plan YAML text, with nesting and alias expansion bounded."""
-    loader = _PlanLoader(text)
-    try:
-        node = loader.get_single_node()
-        if node is None:
-            return None
-        _expanded_size(node, path)
-        return loader.construct_document(node)
-    except RecursionError:
-        raise InputError(path, f"not valid YAML (nested deeper than {MAX_PLAN_DEPTH} levels)") from None
-    except (ValueError, OverflowError) as error:  # an integer of more than 4300 digits, a date out of range
-        raise InputError(path, f"not valid YAML ({str(error)[:100]})") from None
-    finally:
-        loader.dispose()
 
 
 class _Reader:

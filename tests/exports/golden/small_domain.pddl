@@ -1,129 +1,65 @@
 (define (domain wecook)
   (:requirements :strips :typing)
-  (:types agent thing - object
+  (:types arm task gate thing - object
           tool container ingredient - thing)
-  (:constants tabletop - container)
   (:predicates
-    (free ?a - agent)
-    (holding ?a - agent ?x - thing)
+    (free ?a - arm)
+    (holding ?a - arm ?x - thing)
     (loose ?x - thing)
     (in ?x - thing ?c - thing)
-    (received ?a - agent ?x - thing)
-    (steadied ?x - thing)
-    (done-cut ?x - thing)
-    (done-peel ?x - thing)
-    (done-stir ?x - thing)
-    (done-pour ?x - thing)
-    (done-sprinkle ?x - thing)
-    (done-roll ?x - thing)
-    (done-spread ?x - thing)
-    (done-squeeze ?x - thing)
-    (done-wrap ?x - thing)
-    (done-dip ?x - thing)
-    (done-transfer ?x - thing)
+    (reaches ?a - arm ?x - thing)
+    (ready ?k - task)
+    (done ?k - task)
+    (open ?g - gate)
+    (needs ?g - gate ?j - task ?n - gate)
+    (unlocks ?g - gate ?k - task)
+    (fits-cut ?t - thing)
+    (fits-stir ?t - thing)
+    (task-cut ?k - task ?a - arm ?t - thing ?x - thing)
+    (task-handover ?k - task ?a - arm ?r - arm ?x - thing)
+    (task-stir ?k - task ?a - arm ?t - thing ?x - thing)
+    (task-stir-held ?k - task ?a - arm ?t - thing ?x - thing ?h - arm ?held - thing)
+    (task-transfer-by-hand ?k - task ?a - arm ?x - thing ?to - thing)
+    (task-transfer-tipping ?k - task ?a - arm ?t - thing ?x - thing ?to - thing)
   )
   (:action grasp
-    :parameters (?a - agent ?x - thing)
-    :precondition (and (free ?a) (loose ?x))
+    :parameters (?a - arm ?x - thing)
+    :precondition (and (free ?a) (loose ?x) (reaches ?a ?x))
     :effect (and (holding ?a ?x) (not (free ?a)) (not (loose ?x))))
   (:action release
-    :parameters (?a - agent ?x - thing)
+    :parameters (?a - arm ?x - thing)
     :precondition (holding ?a ?x)
     :effect (and (free ?a) (loose ?x) (not (holding ?a ?x))))
+  (:action pass
+    :parameters (?g - gate ?j - task ?n - gate)
+    :precondition (and (open ?g) (needs ?g ?j ?n) (done ?j))
+    :effect (open ?n))
+  (:action start
+    :parameters (?g - gate ?k - task)
+    :precondition (and (open ?g) (unlocks ?g ?k))
+    :effect (ready ?k))
   (:action cut
-    :parameters (?a - agent ?t - thing ?x - thing)
-    :precondition (holding ?a ?t)
-    :effect (done-cut ?x))
-  (:action cut-by-hand
-    :parameters (?a - agent ?x - thing)
-    :precondition (free ?a)
-    :effect (done-cut ?x))
-  (:action peel
-    :parameters (?a - agent ?t - thing ?x - thing)
-    :precondition (holding ?a ?t)
-    :effect (done-peel ?x))
-  (:action peel-by-hand
-    :parameters (?a - agent ?x - thing)
-    :precondition (free ?a)
-    :effect (done-peel ?x))
-  (:action stir
-    :parameters (?a - agent ?t - thing ?x - thing)
-    :precondition (holding ?a ?t)
-    :effect (done-stir ?x))
-  (:action stir-by-hand
-    :parameters (?a - agent ?x - thing)
-    :precondition (free ?a)
-    :effect (done-stir ?x))
-  (:action pour
-    :parameters (?a - agent ?t - thing ?x - thing)
-    :precondition (holding ?a ?t)
-    :effect (done-pour ?x))
-  (:action pour-by-hand
-    :parameters (?a - agent ?x - thing)
-    :precondition (free ?a)
-    :effect (done-pour ?x))
-  (:action sprinkle
-    :parameters (?a - agent ?t - thing ?x - thing)
-    :precondition (holding ?a ?t)
-    :effect (done-sprinkle ?x))
-  (:action sprinkle-by-hand
-    :parameters (?a - agent ?x - thing)
-    :precondition (free ?a)
-    :effect (done-sprinkle ?x))
-  (:action roll
-    :parameters (?a - agent ?t - thing ?x - thing)
-    :precondition (holding ?a ?t)
-    :effect (done-roll ?x))
-  (:action roll-by-hand
-    :parameters (?a - agent ?x - thing)
-    :precondition (free ?a)
-    :effect (done-roll ?x))
-  (:action spread
-    :parameters (?a - agent ?t - thing ?x - thing)
-    :precondition (holding ?a ?t)
-    :effect (done-spread ?x))
-  (:action spread-by-hand
-    :parameters (?a - agent ?x - thing)
-    :precondition (free ?a)
-    :effect (done-spread ?x))
-  (:action squeeze
-    :parameters (?a - agent ?t - thing ?x - thing)
-    :precondition (holding ?a ?t)
-    :effect (done-squeeze ?x))
-  (:action squeeze-by-hand
-    :parameters (?a - agent ?x - thing)
-    :precondition (free ?a)
-    :effect (done-squeeze ?x))
-  (:action wrap
-    :parameters (?a - agent ?t - thing ?x - thing)
-    :precondition (holding ?a ?t)
-    :effect (done-wrap ?x))
-  (:action wrap-by-hand
-    :parameters (?a - agent ?x - thing)
-    :precondition (free ?a)
-    :effect (done-wrap ?x))
-  (:action dip
-    :parameters (?a - agent ?t - thing ?x - thing)
-    :precondition (holding ?a ?t)
-    :effect (done-dip ?x))
-  (:action dip-by-hand
-    :parameters (?a - agent ?x - thing)
-    :precondition (free ?a)
-    :effect (done-dip ?x))
-  (:action transfer
-    :parameters (?a - agent ?t - thing ?x - thing ?from - thing ?to - thing)
-    :precondition (and (holding ?a ?t) (in ?x ?from))
-    :effect (and (not (in ?x ?from)) (in ?x ?to) (done-transfer ?x)))
-  (:action transfer-by-hand
-    :parameters (?a - agent ?x - thing ?from - thing ?to - thing)
-    :precondition (and (free ?a) (loose ?x) (in ?x ?from))
-    :effect (and (not (in ?x ?from)) (in ?x ?to) (done-transfer ?x)))
+    :parameters (?k - task ?a - arm ?t - thing ?x - thing)
+    :precondition (and (ready ?k) (task-cut ?k ?a ?t ?x) (holding ?a ?t) (fits-cut ?t) (reaches ?a ?x))
+    :effect (and (done ?k) (not (ready ?k))))
   (:action handover
-    :parameters (?g - agent ?r - agent ?x - thing)
-    :precondition (and (holding ?g ?x) (free ?r))
-    :effect (and (holding ?r ?x) (free ?g) (received ?r ?x) (not (holding ?g ?x)) (not (free ?r))))
-  (:action hold-steady
-    :parameters (?a - agent ?x - thing)
-    :precondition (holding ?a ?x)
-    :effect (steadied ?x))
+    :parameters (?k - task ?a - arm ?r - arm ?x - thing)
+    :precondition (and (ready ?k) (task-handover ?k ?a ?r ?x) (holding ?a ?x) (free ?r))
+    :effect (and (done ?k) (not (ready ?k)) (holding ?r ?x) (free ?a) (not (holding ?a ?x)) (not (free ?r))))
+  (:action stir
+    :parameters (?k - task ?a - arm ?t - thing ?x - thing)
+    :precondition (and (ready ?k) (task-stir ?k ?a ?t ?x) (holding ?a ?t) (fits-stir ?t) (reaches ?a ?x))
+    :effect (and (done ?k) (not (ready ?k))))
+  (:action stir-held
+    :parameters (?k - task ?a - arm ?t - thing ?x - thing ?h - arm ?held - thing)
+    :precondition (and (ready ?k) (task-stir-held ?k ?a ?t ?x ?h ?held) (holding ?a ?t) (fits-stir ?t) (reaches ?a ?x) (holding ?h ?held))
+    :effect (and (done ?k) (not (ready ?k))))
+  (:action transfer-by-hand
+    :parameters (?k - task ?a - arm ?x - thing ?from - thing ?to - thing)
+    :precondition (and (ready ?k) (task-transfer-by-hand ?k ?a ?x ?to) (free ?a) (loose ?x) (in ?x ?from) (reaches ?a ?x) (reaches ?a ?to))
+    :effect (and (done ?k) (not (ready ?k)) (not (in ?x ?from)) (in ?x ?to)))
+  (:action transfer-tipping
+    :parameters (?k - task ?a - arm ?t - thing ?x - thing ?to - thing)
+    :precondition (and (ready ?k) (task-transfer-tipping ?k ?a ?t ?x ?to) (holding ?a ?t) (in ?x ?t) (reaches ?a ?to))
+    :effect (and (done ?k) (not (ready ?k)) (not (in ?x ?t)) (in ?x ?to)))
 )

@@ -1,7 +1,14 @@
-"""A stand-in for the messages of icaros-usc/wecook (``wecook.msg``), built from the text of its ``msg/*.msg``
-files (BSD-3; the interface definitions, verbatim). Like genpy's classes, a message takes its fields positionally
-in declaration order or by keyword; unlike them, it checks every value's type against the definition and raises
-TypeError on any mismatch. Every message made is recorded in ``built``."""
+"""A stand-in for the messages of icaros-usc/wecook (``wecook.msg``), its classes generated here from a copy of
+the text of its ``msg/*.msg`` files (the interface definitions, verbatim: ``DEFINITIONS`` below).
+
+Provenance: github.com/icaros-usc/wecook, commit a29337484f3c4232559d2a2aafc3e9a0cf3b1c5a (2023-06-06), files
+msg/ActionMsg.msg, msg/AgentMsg.msg, msg/ContainingMsg.msg, msg/ObjectMsg.msg, msg/SceneMsg.msg, msg/TagMsg.msg
+and msg/TaskMsg.msg; BSD 3-Clause licence, Copyright (c) 2019, ICAROS. The .msg files themselves are not kept in
+this repository: this parsed copy of their field lines is what the tests need.
+
+Like genpy's classes, a message takes its fields positionally in declaration order or by keyword; unlike them, it
+checks every value's type against the definition and raises TypeError on any mismatch. Every message made is
+recorded in ``built``."""
 
 DEFINITIONS = {
     "ActionMsg": "string[] pid\nstring verb\nstring[] location\nstring tool\nstring[] ingredients",
