@@ -154,7 +154,7 @@ def test_an_ambiguous_frame_rate_is_refused_naming_fps(tmp_path: Path) -> None:
     path = write(tmp_path / "export.json", [task("kitchen.mp4", region_30)])
     video = VideoInfo("/v/kitchen.mp4", 30.0, 300, 200, 100)
     with pytest.raises(InputError, match=r"frame rate is ambiguous: 24 fps from its keyframes' time .*, 30 fps "
-                                         r"from framesCount / duration = 300 / 10 .*--fps") as error:
+                                         r"from framesCount / duration = 300 / 10 .*--annotation-fps") as error:
         read_labelstudio(path, video=video)
     assert "\n" not in str(error.value)
     (pan,) = read_labelstudio(path, video=video, fps=24)

@@ -165,7 +165,7 @@ def test_normalised_coordinates_are_refused(tmp_path: Path) -> None:
 def test_a_label_studio_annotation_at_another_rate_and_the_fps_flag(tmp_path: Path,
                                                                      capsys: pytest.CaptureFixture[str]) -> None:
     # The video plays at 10 fps; the annotation counted 20 fps by its keyframes' time but 10 by framesCount:
-    # ambiguous, refused in one line naming --fps; with --fps 20 its frame 21 (1 s) is video frame 10, also
+    # ambiguous, refused in one line naming --annotation-fps; with --annotation-fps 20 its frame 21 (1 s) is video frame 10, also
     # when the session is opened again.
     import json
 
@@ -184,8 +184,8 @@ def test_a_label_studio_annotation_at_another_rate_and_the_fps_flag(tmp_path: Pa
     (tmp_path / "cats.yaml").write_text("objects:\n  knife: tool\n")
     assert main(base) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "frame rate is ambiguous" in err and "--fps" in err
-    assert main([*base, "--fps", "20"]) == 0
+    assert err.count("\n") == 1 and "frame rate is ambiguous" in err and "--annotation-fps" in err
+    assert main([*base, "--annotation-fps", "20"]) == 0
     assert "fps: 20" in (tmp_path / "sessions" / "s" / "session.yaml").read_text()
     knife = open_session(tmp_path / "sessions" / "s").load_observations().object("knife")
     assert knife.frames.tolist() == [0, 10]

@@ -22,7 +22,7 @@ the rounding up of the last frame) and each keyframe its ``time`` (``frame / rat
 them, snapped to the video's when within 2% and else to a standard rate (23.976, 24, 25, 29.97, 30, 50,
 59.94, 60) within 1%, maps keyframes onto the video's frames by time: annotation frame *f* is video frame
 ``round((f - 1) * video_fps / rate)``, with a warning when the rates differ. When regions disagree, or
-``time`` and ``framesCount / duration`` do, the rate is ambiguous: refused in one line naming ``--fps`` (the
+``time`` and ``framesCount / duration`` do, the rate is ambiguous: refused in one line naming ``--annotation-fps`` (the
 annotation's rate, which then decides). Without any of them the video's rate is taken. Frames past the
 video's end are an error found before anything is interpolated.
 
@@ -50,7 +50,7 @@ _Keyframe = tuple[int, Box, bool]  # 0-based frame, pixel box, interpolate to th
 STANDARD_RATES = (23.976, 24.0, 25.0, 29.97, 30.0, 50.0, 59.94, 60.0)
 """Frame rates an annotation's measured rate snaps to (within 1%)."""
 
-FPS_HINT = "give the annotation's frame rate with --fps (Label Studio's <Video frameRate>, 24 by default)"
+FPS_HINT = "give the annotation's frame rate with --annotation-fps (Label Studio's <Video frameRate>, 24 by default)"
 
 
 @dataclass(frozen=True)

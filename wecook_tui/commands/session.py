@@ -43,7 +43,7 @@ def register(sub: Any) -> None:
     new.add_argument("--select-video", default=None, metavar="NAME_OR_ID",
                      help="COCO-VID file with several videos: the one to take (default: the one named like "
                           "--video)")
-    new.add_argument("--fps", type=float, default=None, metavar="RATE",
+    new.add_argument("--annotation-fps", type=float, default=None, metavar="RATE",
                      help="Label Studio boxes: the frame rate the annotation counted frames at (its <Video "
                           "frameRate>; default: read from the file's framesCount, duration and times)")
     new.add_argument("--categories", default=None,
@@ -93,17 +93,17 @@ def run_new(args: argparse.Namespace) -> int:
         info = probe_video(args.video)
         if args.objects is not None:
             read_objects(args.objects, args.objects_format, labels=args.labels, video=info,
-                         select=args.select_video, fps=args.fps)
+                         select=args.select_video, fps=args.annotation_fps)
         root.mkdir(parents=True, exist_ok=True)
         print(summary(detect_to_csv(args.video, detected, args)))
         args.hands = str(detected)
     imported = import_observations(args.video, args.objects, args.hands, objects_format=args.objects_format,
                                    hands_format=args.hands_format, labels=args.labels, select=args.select_video,
-                                   annotation_fps=args.fps, categories=table, checks=checks)
+                                   annotation_fps=args.annotation_fps, categories=table, checks=checks)
     path = create_session(root, args.name, args.video, args.objects, args.hands,
                           objects_format=imported.objects_format, hands_format=imported.hands_format,
                           labels=args.labels, categories=args.categories, select=args.select_video,
-                          annotation_fps=args.fps, imported=imported)
+                          annotation_fps=args.annotation_fps, imported=imported)
     print(describe(imported, args.objects, args.hands))
     print(f"session {args.name} made in {path}; open it with: wecook open {args.name}"
           + (f" --root {args.root}" if args.root else ""))
