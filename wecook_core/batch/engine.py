@@ -91,18 +91,24 @@ def run_batch(items: Sequence[BatchItem], stages: Sequence[str], root: str | Pat
                 on_video(snapshot())
             return finished
 
+        def started(workers_now: int) -> None:
+            nonlocal count
+            count = tracker.workers = workers_now
+
         if on_progress is not None:
             on_progress(tracker.progress())
-        if engine == "local":
-            for item in items:
-                for event in run_video(item, plans[item.name], root, options):
-                    take(event)
-        else:
-            def started(workers_now: int) -> None:
-                nonlocal count
-                count = tracker.workers = workers_now
-
-            _run_on_ray(items, plans, root, options, workers, address, take, tracker, started)
+        try:
+            if engine == "local":
+                for item in items:
+                    for event in run_video(item, plans[item.name], root, options):
+                        take(event)
+            else:
+                _run_on_ray(items, plans, root, options, workers, address, take, tracker, started)
+        except BaseException:  # interrupted: the report says what finished, the rest pending
+            if on_video is not None:
+                with contextlib.suppress(Exception):
+                    on_video(snapshot())
+            raise
         run = BatchRun(items, {n: tuple(r) for n, r in tracker.results.items()},
                        time.perf_counter() - tracker.began, engine, count)
         if on_video is not None:

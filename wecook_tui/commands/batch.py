@@ -72,10 +72,9 @@ def run(args: argparse.Namespace) -> int:
                       address=args.address, on_progress=show.update, on_video=writer, manifest=args.manifest,
                       wait=args.wait)
     except KeyboardInterrupt:
-        if writer.report is not None:
-            done = sum(v.status != "pending" for v in writer.report.videos)
-            print(f"wecook: batch stopped: {done}/{len(items)} videos finished, kept and reported in "
-                  f"{root / 'batch.json'}", file=sys.stderr)
+        done = 0 if writer.report is None else sum(v.status != "pending" for v in writer.report.videos)
+        where = f", reported in {root / 'batch.json'}" if writer.report is not None else ""
+        print(f"wecook: batch stopped: {done}/{len(items)} videos finished and kept{where}", file=sys.stderr)
         raise
     report = writer.report
     assert report is not None
