@@ -29,7 +29,7 @@ def register(sub: Any) -> None:
     parser.add_argument("--root", default=None,
                         help="folder holding the sessions (default: $WECOOK_SESSIONS, else ./sessions)")
     parser.add_argument("--workers", type=int, default=None,
-                        help="most tasks at once (default: every CPU of the local Ray, or of the cluster)")
+                        help="most videos at once (default: every CPU of the local Ray, or of the cluster)")
     parser.add_argument("--address", default=None,
                         help="join this running Ray cluster instead of starting one: auto, HOST:PORT (its GCS, "
                              "`ray start --head --port`), or ray://HOST:PORT (Ray Client); the videos and --root "
