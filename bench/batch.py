@@ -97,13 +97,17 @@ def _speed_up() -> list[dict[str, object]]:
     ]
 
 
-def _synth_manifest(folder: Path, videos: int) -> Path:
+def _synth_scenarios(folder: Path) -> None:
+    """The synthetic scenarios, made here (not in the measured driver, whose peak it would raise)."""
     from wecook_core.synth import synthesize, write_scenario
 
     for seed in range(1, SYNTH_SEEDS + 1):
         out = folder / f"seed{seed}"
         if not out.exists():
             write_scenario(synthesize(seed, 2, duration_s=6.0, size=(160, 90)), out, openpose=False)
+
+
+def _synth_manifest(folder: Path, videos: int) -> Path:
     rows = [f"v{i:04d},seed{i % SYNTH_SEEDS + 1}/video.mp4,seed{i % SYNTH_SEEDS + 1}/objects.csv,"
             f"seed{i % SYNTH_SEEDS + 1}/hands.csv" for i in range(videos)]
     manifest = folder / f"m{videos}.csv"
@@ -133,6 +137,7 @@ def _memory() -> list[dict[str, object]]:
     folder = Path(tempfile.mkdtemp(prefix="wecook-bench-batch-mem-"))
     figures: dict[int, dict[str, float]] = {}
     try:
+        _synth_scenarios(folder)
         for videos in (50, 200):
             done = subprocess.run([sys.executable, "-m", "bench.batch", "--memory", str(videos), str(folder)],
                                   capture_output=True, text=True, cwd=Path(__file__).parents[1], check=True)

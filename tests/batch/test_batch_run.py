@@ -150,6 +150,21 @@ def test_batch_json_is_whole_and_up_to_date_as_each_video_finishes(tmp_path: Pat
         assert [s for v, s in dict.fromkeys(stages_seen) if v == video] == ["import", "analyze", "export"]
 
 
+@pytest.mark.slow
+def test_the_command_says_each_videos_stage_and_eta_as_it_goes(tmp_path: Path, demo_manifest: Path,
+                                                               capsys: pytest.CaptureFixture[str]) -> None:
+    two = tmp_path / "two.csv"
+    two.write_text("\n".join(demo_manifest.read_text().splitlines()[:3]) + "\n")
+    root = tmp_path / "s"
+    assert main(["batch", str(two), "--root", str(root), "--engine", "local", "--stages", "import,analyze"]) == 0
+    lines = capsys.readouterr().err.splitlines()
+    assert any(line.startswith("v0 import done") and line.endswith("now v0: analyze 2/2") for line in lines), lines
+    # by v1, import and analyze have been timed once: v1 has an ETA, and so has the batch
+    v1 = next(line for line in lines if line.startswith("v1 import done"))
+    assert "ETA" in v1.split("; now ")[0] and "now v1: analyze 2/2 ETA" in v1, v1
+    assert [v["status"] for v in json.loads((root / "batch.json").read_text())["videos"]] == ["done", "done"]
+
+
 # --------------------------------------------------------------------------------------------- SIGTERM
 
 

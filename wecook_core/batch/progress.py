@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from wecook_core.batch.stages import StageResult
 from wecook_core.batch.video import StageStarted, VideoEvent
@@ -76,9 +76,14 @@ class Tracker:
         mine.append(event)
         if event.status == "done":
             self._times.setdefault(event.stage, []).append(event.seconds)
-        if len(mine) >= len(self.plans[event.video]):
+        plan = self.plans[event.video]
+        if len(mine) >= len(plan):
             self._current.pop(event.video, None)
             return True
+        current = self._current.get(event.video)
+        if current is not None:  # on to its next stage (its StageStarted follows at once)
+            self._current[event.video] = replace(current, stage=plan[len(mine)], index=len(mine),
+                                                 started=time.time())
         return False
 
     def finished(self, name: str) -> bool:
