@@ -47,6 +47,30 @@ def _wait_for(path: Path, text: str, process: subprocess.Popen[bytes], timeout: 
     raise AssertionError(f"ray start did not come up:\n{path.read_text(errors='replace')[-3000:]}")
 
 
+def _wait_for_nodes(ray: str, address: str, count: int, env: dict[str, str], timeout: float = 120.0) -> None:
+    """Until `ray status` lists ``count`` active nodes (a node is up before the head counts it)."""
+    deadline = time.monotonic() + timeout
+    status = ""
+    while time.monotonic() < deadline:
+        status = subprocess.run([ray, "status", "--address", address], capture_output=True, text=True, env=env,
+                                timeout=60).stdout
+        active = status.split("Active:", 1)[-1].split("Pending:", 1)[0] if "Active:" in status else ""
+        if active.count("node_") >= count:
+            return
+        time.sleep(1.0)
+    raise AssertionError(f"the cluster did not reach {count} nodes:\n{status[-2000:]}")
+
+
+def _wait_for_port(port: int, timeout: float = 120.0) -> None:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        with socket.socket() as s:
+            if s.connect_ex(("127.0.0.1", port)) == 0:
+                return
+        time.sleep(0.5)
+    raise AssertionError(f"nothing listens on port {port}")
+
+
 def _stop(processes: list[subprocess.Popen[bytes]]) -> None:
     for process in reversed(processes):  # the second node, then the head
         with contextlib.suppress(ProcessLookupError):
@@ -69,12 +93,15 @@ def _processes_using(folder: Path) -> list[int]:
 
 
 @contextlib.contextmanager
-def local_cluster(cpus_per_node: int = 1) -> Iterator[str]:
-    """A head and a second node on this machine; yields the head's address (HOST:PORT)."""
+def local_cluster(cpus_per_node: int = 1) -> Iterator[tuple[str, str]]:
+    """A head and a second node on this machine; yields the head's address (HOST:PORT) and its Ray Client
+    address (ray://HOST:PORT)."""
     ray = str(Path(sys.executable).parent / "ray")
     temp = Path(tempfile.mkdtemp(prefix="wrc", dir="/tmp"))  # short: Ray's socket paths must fit 107 bytes
-    env = {**os.environ, "RAY_AUTH_MODE": os.environ.get("RAY_AUTH_MODE", "token")}
-    port = _free_port()
+    # every node runs this checkout's wecook, as a cluster runs the wecook installed on each node
+    path = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH", "")) if p)
+    env = {**os.environ, "RAY_AUTH_MODE": os.environ.get("RAY_AUTH_MODE", "token"), "PYTHONPATH": path}
+    port, client = _free_port(), _free_port()
     common = ["--num-cpus", str(cpus_per_node), "--memory", str(2 << 30), "--object-store-memory", str(80 << 20),
               "--temp-dir", str(temp), "--node-ip-address", "127.0.0.1", "--disable-usage-stats", "--block"]
     processes: list[subprocess.Popen[bytes]] = []
@@ -90,10 +117,12 @@ def local_cluster(cpus_per_node: int = 1) -> Iterator[str]:
         _wait_for(log, "Ray runtime started", processes[-1])
 
     try:
-        node("head", ["--head", "--port", str(port), "--ray-client-server-port", str(_free_port()),
+        node("head", ["--head", "--port", str(port), "--ray-client-server-port", str(client),
                       "--include-dashboard", "false"])
         node("second", ["--address", f"127.0.0.1:{port}"])
-        yield f"127.0.0.1:{port}"
+        _wait_for_nodes(ray, f"127.0.0.1:{port}", 2, env)
+        _wait_for_port(client)  # the head's Ray Client server comes up on its own time
+        yield f"127.0.0.1:{port}", f"ray://127.0.0.1:{client}"
     finally:
         _stop(processes)
         time.sleep(1)
@@ -120,14 +149,21 @@ def test_a_two_node_cluster_gives_the_trees_of_one_session_at_a_time(tmp_path: P
     manifest.write_text("videos:\n" + "".join(
         f"  - {{name: {n}, video: {SCENARIOS / n / 'video.mp4'}, objects: {SCENARIOS / n / 'objects.xml'}, "
         f"hands: {SCENARIOS / n / 'openpose'}, truth: {SCENARIOS / n / 'truth.yaml'}}}\n" for n in NAMES))
-    batch_root = tmp_path / "batch"
-    with local_cluster() as address:
+    batch_root, client_root = tmp_path / "batch", tmp_path / "client"
+
+    def batch(manifest: Path, root: Path, address: str) -> None:
         done = subprocess.run(
-            [sys.executable, "-m", "wecook_tui.cli", "batch", str(manifest), "--root", str(batch_root),
+            [sys.executable, "-m", "wecook_tui.cli", "batch", str(manifest), "--root", str(root),
              "--address", address, "--stages", "import,analyze,export"],
             cwd=ROOT, capture_output=True, text=True, timeout=900,
             env={**os.environ, "RAY_AUTH_MODE": os.environ.get("RAY_AUTH_MODE", "token")})
-    assert done.returncode == 0, done.stderr[-3000:]
+        assert done.returncode == 0, done.stderr[-3000:]
+
+    one = tmp_path / "one.yaml"
+    one.write_text("videos:\n" + manifest.read_text().splitlines()[2] + "\n")  # s303
+    with local_cluster() as (address, client):
+        batch(manifest, batch_root, address)
+        batch(one, client_root, client)  # through Ray Client
     report = json.loads((batch_root / "batch.json").read_text())
     assert report["workers"] == 2 and [v["status"] for v in report["videos"]] == ["done"] * 3, report
     nodes = {s["node"] for v in report["videos"] for s in v["stages"]}
@@ -135,3 +171,4 @@ def test_a_two_node_cluster_gives_the_trees_of_one_session_at_a_time(tmp_path: P
     for name in NAMES:
         for file in ("trees.yaml", "graph.yaml", "plans/plan.yaml"):
             assert (batch_root / name / file).read_text() == (one_by_one / name / file).read_text(), (name, file)
+    assert (client_root / "s303" / "trees.yaml").read_text() == (one_by_one / "s303" / "trees.yaml").read_text()

@@ -172,7 +172,9 @@ def _ray(workers: int | None, address: str | None) -> Iterator[Any]:
     try:
         ray.init(address=address, **kwargs)
     except (ConnectionError, ValueError, RuntimeError) as error:
-        raise InputError(None, f"cannot join the Ray cluster at {address}: {str(error).splitlines()[0]}") from None
+        lines = [line.strip() for line in str(error).splitlines() if line.strip()] or [type(error).__name__]
+        why = lines[0] if len(lines) == 1 else f"{lines[0].rstrip(':')}: {lines[-1]}"  # a server's traceback: its end
+        raise InputError(None, f"cannot join the Ray cluster at {address}: {why}") from None
     finally:
         if main and handler is not None:
             signal.signal(signal.SIGTERM, handler)
