@@ -156,11 +156,11 @@ class _Display:
         elif progress.last is not None:
             last = progress.last
             detail = f": {last.error}" if last.error else ""
-            running = "; ".join(f"{v.video}: {v.stage} {v.index + 1}/{v.stages} {_eta(v.eta)}".rstrip()
-                                for v in progress.current[:4])
+            now = "; ".join(f"{v.video}: {v.stage} {v.index + 1}/{v.stages} {_eta(v.eta)}".rstrip()
+                            for v in progress.current[:4])
             more = f" (+{len(progress.current) - 4})" if len(progress.current) > 4 else ""
             print(f"{last.video} {last.stage} {last.status} ({last.seconds:.1f} s){detail}; {text} "
-                  f"{_eta(progress.eta)}".rstrip() + (f"; now {running}{more}" if running else ""),
+                  f"{_eta(progress.eta)}".rstrip() + (f"; now {now}{more}" if now else ""),
                   file=sys.stderr, flush=True)
 
 
