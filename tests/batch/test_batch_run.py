@@ -45,6 +45,17 @@ def _items(manifest: Path, n: int) -> list[BatchItem]:
     return list(read_manifest(manifest))[:n]
 
 
+def test_a_manifest_named_from_here_gives_absolute_paths_for_workers_elsewhere(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    (tmp_path / "in").mkdir()
+    (tmp_path / "in" / "m.csv").write_text("name,video,objects,hands\na,v.mp4,o.csv,h.csv\n")
+    monkeypatch.chdir(tmp_path)
+    from wecook_core.batch.manifest import read_manifest
+
+    [item] = read_manifest("in/m.csv")
+    assert item.video == tmp_path / "in" / "v.mp4" and item.hands == tmp_path / "in" / "h.csv"
+
+
 # ------------------------------------------------------------------------------------------------ the lock
 
 
