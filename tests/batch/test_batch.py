@@ -189,8 +189,12 @@ def test_ray_with_two_workers_gives_what_one_video_at_a_time_gives(tmp_path: Pat
         assert main(["export", name, "--root", str(one_by_one)]) == 0
     items = [i for i in read_manifest(SCENARIOS) if i.name in names]
     batch_root = tmp_path / "batch"
-    run = run_batch(items, ["import", "analyze", "export"], batch_root, engine="ray", workers=2)
+    finished: list[list[str]] = []
+    run = run_batch(items, ["import", "analyze", "export"], batch_root, engine="ray", workers=2,
+                    on_video=lambda so_far: finished.append(sorted(so_far.results)))
     assert run.workers == 2
+    # streamed: each video reported as it finished, one more each time, then the whole run
+    assert [len(f) for f in finished] == [1, 2, 3, 3], finished
     assert len({r.pid for rs in run.results.values() for r in rs}) >= 2, "tasks ran in two worker processes"
     for name in names:
         assert [r.status for r in run.results[name]] == ["done", "done", "done"], run.results[name]

@@ -8,14 +8,15 @@ Three shapes are read, each into the same tuple of :class:`BatchItem`:
   ``objects.json`` or ``objects.txt``), hands (an ``openpose/`` folder or ``hands.csv``; none is allowed) and
   optionally ``truth.yaml`` and ``categories.yaml``; the session is named after the folder.
 
-Relative paths are taken from the manifest's own folder. A row that cannot be used is an :class:`InputError`
-naming the manifest and the row, before anything runs.
+Relative paths are taken from the manifest's own folder (and made absolute). A row that cannot be used is an
+:class:`InputError` naming the manifest and the row, before anything runs.
 """
 
 from __future__ import annotations
 
 import csv
 import io
+import os
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -49,8 +50,9 @@ class BatchItem:
 
 
 def read_manifest(path: str | Path) -> tuple[BatchItem, ...]:
-    """The items of the manifest file or scenario folder at ``path``, in its order; names are unique."""
-    path = Path(path)
+    """The items of the manifest file or scenario folder at ``path``, in its order; names are unique. Every
+    path in them is absolute, so Ray workers, whatever their working folder or node, read the same files."""
+    path = Path(os.path.abspath(path))
     if path.is_dir():
         items = _folder(path)
     elif not path.exists():

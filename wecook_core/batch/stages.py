@@ -6,6 +6,10 @@ execute``: a recording in runs/). Each stage is keyed by a content hash of every
 parameters, corrections, the knowledge tables, the upstream stage's key, wecook's version); its key and result
 are stamped in ``<session>/batch/<stage>.json``, written atomically after the stage's own files, so a second run
 skips a stage whose key is unchanged and a killed batch loses no finished stage.
+
+The stages of one video run in one process (:mod:`wecook_core.batch.video`) and share a :class:`Carry`: the
+digests of the input files (hashed once per video, not once per stage) and the analysis, which ``export``
+lays out instead of analysing the session a second time.
 """
 
 from __future__ import annotations
@@ -65,6 +69,20 @@ class StageResult:
     """The process that ran it (a Ray worker, or this one)."""
     peak_rss_mb: float = 0.0
     """That process's peak resident memory so far, MiB."""
+    started: float = 0.0
+    """Wall clock when the stage began (seconds since the epoch; 0 when skipped)."""
+    node: str = ""
+    """The Ray node that ran it (empty in this process)."""
+
+
+@dataclass
+class Carry:
+    """What one video's stages hand on to the next ones in the same process (never across videos)."""
+
+    digests: dict[Path, str] = field(default_factory=dict)
+    """Content hash of each input file or folder read so far."""
+    analysed: Any = None
+    """The :class:`~wecook_core.workflows.Analysed` of this run's ``analyze``, for ``export``."""
 
 
 def stages_for(item: BatchItem, wanted: Sequence[str]) -> tuple[str, ...]:
@@ -75,12 +93,14 @@ def stages_for(item: BatchItem, wanted: Sequence[str]) -> tuple[str, ...]:
     return tuple(s for s in STAGES if s in wanted and not (s == "hands" and item.hands is not None))
 
 
-def run_stage(item: BatchItem, stage: str, root: Path, options: StageOptions) -> StageResult:
+def run_stage(item: BatchItem, stage: str, root: Path, options: StageOptions,
+              carry: Carry | None = None) -> StageResult:
     """Run ``stage`` for ``item`` under the sessions ``root`` unless its stamp says it is done; never raises
-    for the video's own problems (they are the result's ``error``)."""
-    began = time.perf_counter()
-    result = _run(item, stage, root, options, began)
-    return replace(result, pid=os.getpid(), peak_rss_mb=_peak_rss_mb())
+    for the video's own problems (they are the result's ``error``). ``carry``: what the video's earlier
+    stages in this process left (see :class:`Carry`)."""
+    started, began = time.time(), time.perf_counter()
+    result = _run(item, stage, root, options, began, carry if carry is not None else Carry())
+    return replace(result, pid=os.getpid(), peak_rss_mb=_peak_rss_mb(), started=started)
 
 
 def _peak_rss_mb() -> float:
@@ -89,13 +109,14 @@ def _peak_rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
 
 
-def _run(item: BatchItem, stage: str, root: Path, options: StageOptions, began: float) -> StageResult:
+def _run(item: BatchItem, stage: str, root: Path, options: StageOptions, began: float,
+         carry: Carry) -> StageResult:
     try:
-        key = _key(item, stage, root, options)
+        key = _key(item, stage, root, options, carry)
         stamp = _read_stamp(_stamp_path(root, item.name, stage))
         if not options.force and stamp is not None and stamp.get("key") == key:
             return StageResult(item.name, stage, "cached", 0.0, stamp.get("summary", {}), key=key)
-        summary = _RUN[stage](item, root, options)
+        summary = _RUN[stage](item, root, options, carry)
         result = StageResult(item.name, stage, "done", time.perf_counter() - began, summary, key=key)
         _write_stamp(_stamp_path(root, item.name, stage),
                      {"key": key, "summary": summary, "seconds": result.seconds})
@@ -128,7 +149,17 @@ def _hands_path(item: BatchItem, root: Path) -> Path:
     return item.hands if item.hands is not None else root / f"{item.name}.hands.csv"
 
 
-def _key(item: BatchItem, stage: str, root: Path, options: StageOptions) -> str:
+def _digest(path: Path, carry: Carry) -> str:
+    """Content hash of the file or folder ``path``, once per video (inputs do not change under a batch)."""
+    known = carry.digests.get(path)
+    if known is None:
+        digest = hashlib.sha256()
+        _file_hash(path, digest)
+        known = carry.digests[path] = digest.hexdigest()
+    return known
+
+
+def _key(item: BatchItem, stage: str, root: Path, options: StageOptions, carry: Carry) -> str:
     """Content hash of everything ``stage`` reads for ``item``."""
     digest = hashlib.sha256(f"wecook {__version__} {stage}".encode())
     inputs = [item.video, item.objects, _hands_path(item, root), item.categories]
@@ -137,7 +168,7 @@ def _key(item: BatchItem, stage: str, root: Path, options: StageOptions) -> str:
     for path in inputs:
         if path is not None and path.exists():
             digest.update(str(path.name).encode())
-            _file_hash(path, digest)
+            digest.update(_digest(path, carry).encode())
     session = root / item.name
     if stage in ("analyze", "export", "execute"):
         from wecook_core.knowledge.recognize import KNOWLEDGE_PATH
@@ -145,7 +176,7 @@ def _key(item: BatchItem, stage: str, root: Path, options: StageOptions) -> str:
         for path in (session_paths(session).session_file, session_paths(session).journal):
             if path.exists():
                 _file_hash(path, digest)
-        _file_hash(KNOWLEDGE_PATH, digest)
+        digest.update(_digest(KNOWLEDGE_PATH, carry).encode())
     if stage == "execute":
         digest.update(json.dumps({"seed": options.seed, "record": options.record}).encode())
         plan = session_paths(session).plan
@@ -176,10 +207,25 @@ def _write_stamp(path: Path, data: Mapping[str, Any]) -> None:
 # ---------------------------------------------------------------------------------------------- stages
 
 
-def _hands(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
-    from wecook_core.observations.hands_detect import detect_hands, write_hands
+_HAND_DETECTORS: dict[Any, Any] = {}
+"""This process's hand detectors by their parameters: loaded by the first video, reset for each next one."""
 
-    found = detect_hands(item.video)
+
+def hand_detector(params: Any) -> Any:
+    """This process's :class:`~wecook_core.observations.hands_detect.HandDetector` for ``params``."""
+    from wecook_core.observations.hands_detect import HandDetector
+
+    found = _HAND_DETECTORS.get(params)
+    if found is None:
+        found = _HAND_DETECTORS[params] = HandDetector(params)
+    return found
+
+
+def _hands(item: BatchItem, root: Path, options: StageOptions, carry: Carry) -> dict[str, Any]:
+    from wecook_core.observations.hands_detect import DetectParams, detect_hands, write_hands
+
+    params = DetectParams()
+    found = detect_hands(item.video, params, detector=hand_detector(params))
     out = _hands_path(item, root)
     out.parent.mkdir(parents=True, exist_ok=True)
     write_hands(found, item.video, out)
@@ -187,7 +233,7 @@ def _hands(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]
             "frames_with_hands": found.frames_with_hands}
 
 
-def _import(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
+def _import(item: BatchItem, root: Path, options: StageOptions, carry: Carry) -> dict[str, Any]:
     from wecook_core.session.store import create_session
 
     target = root / item.name
@@ -201,22 +247,28 @@ def _import(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any
     return {"path": str(path)}
 
 
-def _analyze(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
+def _analyze(item: BatchItem, root: Path, options: StageOptions, carry: Carry) -> dict[str, Any]:
     from wecook_core.workflows import analyse_session
 
-    analysis = analyse_session(root / item.name).analysis
+    carry.analysed = analyse_session(root / item.name)
+    analysis = carry.analysed.analysis
     return {"trees": len(analysis.trees), "nodes": len(analysis.graph.nodes),
             "segments": len(analysis.segmentation.segments)}
 
 
-def _export(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
-    from wecook_core.workflows import export_session_plan
+def _export(item: BatchItem, root: Path, options: StageOptions, carry: Carry) -> dict[str, Any]:
+    from wecook_core.workflows import export_session_plan, plan_of, write_checked_plan
 
+    if carry.analysed is not None:  # analysed a moment ago in this process: lay that out, as export would
+        done = carry.analysed
+        plan = plan_of(done.analysis, done.observations)
+        path = write_checked_plan(plan, done.session.paths.plan, replace=True)
+        return {"actions": len(plan.actions), "path": str(path)}
     exported = export_session_plan(root / item.name)
     return {"actions": len(exported.plan.actions), "path": str(exported.path)}
 
 
-def _execute(item: BatchItem, root: Path, options: StageOptions) -> dict[str, Any]:
+def _execute(item: BatchItem, root: Path, options: StageOptions, carry: Carry) -> dict[str, Any]:
     from wecook_core.plan import read_plan
     from wecook_core.recording.run import recorded_run
 

@@ -139,6 +139,11 @@ class HandDetector:
     def close(self) -> None:
         self._solution.close()
 
+    def reset(self) -> None:
+        """Forget the frames seen so far (MediaPipe restarts its graph): the next frame starts a new video, as
+        with a new detector, without loading the model again."""
+        self._solution.reset()
+
     def detect(self, frame: int, bgr: np.ndarray) -> list[HandDetection]:
         """The hands in one BGR image (as OpenCV reads it)."""
         import cv2
@@ -211,15 +216,21 @@ def detect_hands(
     *,
     persons: int | None = None,
     progress: Progress | None = None,
+    detector: HandDetector | None = None,
 ) -> DetectedHands:
-    """Hand tracks of a video: every frame through MediaPipe, then named (see :func:`assign_hands`)."""
+    """Hand tracks of a video: every frame through MediaPipe, then named (see :func:`assign_hands`).
+    ``detector``: one already loaded with ``params`` (a batch worker keeps one for every video it runs); it is
+    reset first and left open."""
     params = params or DetectParams()
     frames, total, fps, size = read_frames(video)
     per_frame: list[list[HandDetection]] = []
     skeletons: dict[int, list[Skeleton]] = {}
     read = 0
     with contextlib.ExitStack() as stack:
-        detector = stack.enter_context(HandDetector(params))
+        if detector is None:
+            detector = stack.enter_context(HandDetector(params))
+        else:
+            detector.reset()
         bodies = stack.enter_context(PoseDetector(fps)) if params.pose else None
         for index, image in frames:
             found = detector.detect(index, image)

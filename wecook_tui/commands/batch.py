@@ -2,7 +2,10 @@
 
 Each video gets its own session under ``--root``, made exactly as the one-video commands make it. A second run
 skips the stages whose inputs and parameters are unchanged (``--force`` redoes them); a failed video is
-reported and the others go on. At the end: a table, and ``batch.json`` in the sessions folder.
+reported and the others go on. ``batch.json`` in the sessions folder is rewritten as each video finishes; at
+the end, a table. One batch at a time on a sessions folder (a second one refuses, naming the first, or waits
+with ``--wait``). Ctrl-C or SIGTERM stop it cleanly (exit 130): the running videos are cancelled, Ray is shut
+down, and what finished is kept and reported.
 """
 
 from __future__ import annotations
@@ -26,8 +29,13 @@ def register(sub: Any) -> None:
     parser.add_argument("--root", default=None,
                         help="folder holding the sessions (default: $WECOOK_SESSIONS, else ./sessions)")
     parser.add_argument("--workers", type=int, default=None,
-                        help="most tasks at once (default: every CPU of the local Ray, or of the cluster)")
-    parser.add_argument("--address", default=None, help="join this Ray cluster instead of starting one")
+                        help="most videos at once (default: every CPU of the local Ray, or of the cluster)")
+    parser.add_argument("--address", default=None,
+                        help="join this running Ray cluster instead of starting one: auto, HOST:PORT (its GCS, "
+                             "`ray start --head --port`), or ray://HOST:PORT (Ray Client); the videos and --root "
+                             "must be on storage every node reads at the same path")
+    parser.add_argument("--wait", action="store_true",
+                        help="wait for another batch running on the same sessions folder instead of refusing")
     parser.add_argument("--engine", choices=("ray", "local"), default="ray",
                         help="ray (default), or local: one task after another in this process")
     parser.add_argument("--force", action="store_true", help="redo stages even when their inputs are unchanged")
@@ -41,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
 
     from wecook_core.batch.engine import run_batch
     from wecook_core.batch.manifest import read_manifest
-    from wecook_core.batch.report import build_report, write_report
+    from wecook_core.batch.report import ReportWriter
     from wecook_core.batch.stages import StageOptions, stages_for
     from wecook_core.errors import InputError
     from wecook_core.session.store import sessions_root
@@ -56,11 +64,21 @@ def run(args: argparse.Namespace) -> int:
     console = Console(stderr=True)
     show = _Display(console, len(items))
     options = StageOptions(seed=args.seed, force=args.force, record=not args.no_record)
-    with show:
-        batch = run_batch(items, stages, root, options=options, engine=args.engine, workers=args.workers,
-                          address=args.address, on_progress=show.update)
-    report = build_report(batch, root)
-    path = write_report(report, root)
+    writer = ReportWriter(root)
+    _stop_on_sigterm()
+    try:
+        with show:
+            run_batch(items, stages, root, options=options, engine=args.engine, workers=args.workers,
+                      address=args.address, on_progress=show.update, on_video=writer, manifest=args.manifest,
+                      wait=args.wait)
+    except KeyboardInterrupt:
+        done = 0 if writer.report is None else sum(v.status != "pending" for v in writer.report.videos)
+        where = f", reported in {root / 'batch.json'}" if writer.report is not None else ""
+        print(f"wecook: batch stopped: {done}/{len(items)} videos finished and kept{where}", file=sys.stderr)
+        raise
+    report = writer.report
+    assert report is not None
+    path = root / "batch.json"
     out = Console()
     if not out.is_terminal:
         out = Console(width=160)
@@ -76,13 +94,36 @@ def run(args: argparse.Namespace) -> int:
     return 0 if report.failed == 0 else 1
 
 
+class BatchStopped(KeyboardInterrupt):
+    """SIGTERM stopped the batch; handled wherever Ctrl-C is (a subclass, see execute's ``RunStopped``)."""
+
+
+def _stop_on_sigterm() -> None:
+    """SIGTERM stops the batch as Ctrl-C does (Ray's own handler would abort the process)."""
+    import signal
+    import threading
+
+    if threading.current_thread() is threading.main_thread():
+        def stop(signum: int, frame: object) -> None:
+            signal.signal(signal.SIGTERM, signal.SIG_IGN)  # one stop is enough
+            raise BatchStopped
+
+        signal.signal(signal.SIGTERM, stop)
+
+
+def _eta(seconds: float | None) -> str:
+    return "" if seconds is None else f"ETA {seconds:.0f} s"
+
+
 class _Display:
-    """Videos done, running, failed and the ETA, as a rich progress bar on a terminal, lines otherwise."""
+    """The whole batch (videos done, running, failed, ETA) and each running video (its stage, ETA): a rich
+    progress display on a terminal, a line per finished stage otherwise."""
 
     def __init__(self, console: Any, videos: int) -> None:
         self.console = console
         self.bar: Any = None
         self.videos = videos
+        self.rows: dict[str, Any] = {}
         if console.is_terminal:
             from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
@@ -100,14 +141,26 @@ class _Display:
             self.bar.stop()
 
     def update(self, progress: Any) -> None:
-        eta = f"ETA {progress.eta:.0f} s" if progress.eta else ""
         text = f"videos: {progress.done} done, {progress.running} running, {progress.failed} failed"
         if self.bar is not None:
-            self.bar.update(self.task, completed=progress.done + progress.failed, description=text, eta=eta)
+            self.bar.update(self.task, completed=progress.done + progress.failed, description=text,
+                            eta=_eta(progress.eta))
+            running = {v.video: v for v in progress.current}
+            for name in [n for n in self.rows if n not in running]:
+                self.bar.remove_task(self.rows.pop(name))
+            for name, video in running.items():
+                line = f"  {name}: {video.stage} ({video.index + 1}/{video.stages})"
+                if name not in self.rows:
+                    self.rows[name] = self.bar.add_task(line, total=video.stages, eta="")
+                self.bar.update(self.rows[name], completed=video.index, description=line, eta=_eta(video.eta))
         elif progress.last is not None:
             last = progress.last
             detail = f": {last.error}" if last.error else ""
-            print(f"{last.video} {last.stage} {last.status} ({last.seconds:.1f} s){detail}; {text} {eta}".rstrip(),
+            now = "; ".join(f"{v.video}: {v.stage} {v.index + 1}/{v.stages} {_eta(v.eta)}".rstrip()
+                            for v in progress.current[:4])
+            more = f" (+{len(progress.current) - 4})" if len(progress.current) > 4 else ""
+            print(f"{last.video} {last.stage} {last.status} ({last.seconds:.1f} s){detail}; {text} "
+                  f"{_eta(progress.eta)}".rstrip() + (f"; now {now}{more}" if now else ""),
                   file=sys.stderr, flush=True)
 
 
