@@ -14,6 +14,7 @@ as it goes (a recording): created exclusively, never truncating anything, with a
 from __future__ import annotations
 
 import contextlib
+import io
 import os
 import stat
 import tempfile
@@ -119,6 +120,7 @@ def write_atomic(path: str | Path, write: Callable[[IO[bytes]], None] | bytes | 
                 handle.write(write.encode("utf-8") if isinstance(write, str) else write)
             handle.flush()
             os.fsync(handle.fileno())
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes its file private; a file written as usual is not
         if replace:
             os.replace(tmp, path)
         else:
@@ -133,6 +135,24 @@ def write_atomic(path: str | Path, write: Callable[[IO[bytes]], None] | bytes | 
         raise
     fsync_dir(path.parent)
     return path
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def write_text_atomic(path: str | Path, write: Callable[[IO[str]], None], *, what: str = "file") -> Path:
+    """:func:`write_atomic` (replacing) of the text ``write`` puts in the open text file it is given (a CSV
+    writer's file, say): UTF-8, newlines as written."""
+    def binary(handle: IO[bytes]) -> None:
+        text = io.TextIOWrapper(handle, encoding="utf-8", newline="", write_through=True)  # type: ignore[type-var]
+        write(text)
+        text.flush()
+        text.detach()  # the binary handle stays open for write_atomic's fsync
+
+    return write_atomic(path, binary, replace=True, what=what)
 
 
 def create_new(path: str | Path, *, number: bool = False, what: str = "file", limit: int = 1000) -> Path:

@@ -149,8 +149,10 @@ def cached_shot_cuts(session: str | Path, video: str) -> tuple[int, ...]:
     except (OSError, ValueError, TypeError):
         pass
     cuts = shot_cuts(source)
-    with contextlib.suppress(OSError):  # a read-only session still analyses
-        cache.write_text(json.dumps({**key, "cuts": list(cuts)}) + "\n", encoding="utf-8")
+    from wecook_core.files import write_atomic
+
+    with contextlib.suppress(OSError, InputError):  # a read-only session still analyses
+        write_atomic(cache, json.dumps({**key, "cuts": list(cuts)}) + "\n", replace=True, what="shot cache")
     return cuts
 
 

@@ -16,7 +16,7 @@ import sys
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, TextIO
+from typing import IO, Any, TextIO
 
 import numpy as np
 
@@ -234,9 +234,7 @@ def write_hands(found: DetectedHands, video: str | Path, output: str | Path) -> 
     if not found.tracks:
         raise InputError(video, f"no hand found in any of the {found.frames_read} frames")
     output = Path(output)
-    partial = output.with_name(f".{output.name}.partial")
-    write_hands_csv(partial, found.tracks)
-    partial.replace(output)
+    write_hands_csv(output, found.tracks)  # atomically: the old file stays whole until the new one is
     return output
 
 
@@ -245,10 +243,14 @@ def write_detections_csv(path: str | Path, assigned: tuple[AssignedHand, ...]) -
     CSV holds the names and places only)."""
     import csv
 
-    with Path(path).open("w", newline="", encoding="utf-8") as handle:
+    from wecook_core.files import write_text_atomic
+
+    def write(handle: IO[str]) -> None:
         writer = csv.writer(handle, lineterminator="\n")
         writer.writerow(DETECTION_COLUMNS)
         for a in assigned:
             d = a.detection
             writer.writerow([d.frame, a.hand, d.label, f"{d.score:.3f}",
                              *(f"{v:.1f}" for v in (*d.xy, *d.box))])
+
+    write_text_atomic(path, write, what="detections file")

@@ -16,7 +16,6 @@ nothing behind.
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import datetime as dt
 import os
@@ -31,7 +30,7 @@ import yaml
 
 from wecook_core import __version__
 from wecook_core.errors import InputError, yaml_error
-from wecook_core.files import read_text
+from wecook_core.files import fsync_dir, read_text, write_atomic
 from wecook_core.formats.detect import HAND_FORMATS, OBJECT_FORMATS
 from wecook_core.formats.video import probe_video, usable_frames
 from wecook_core.model import Corrections, Observations, VideoInfo
@@ -57,14 +56,6 @@ if TYPE_CHECKING:
 SESSION_FORMAT = 1
 MAX_SESSION_BYTES = 1 << 20
 """The largest session.yaml read (1 MiB; wecook writes about 2 KB)."""
-
-def _fsync_dir(path: Path) -> None:
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
-
 
 # ---------------------------------------------------------------------------------------- session
 
@@ -289,20 +280,9 @@ def _video(value: Any) -> VideoInfo | None:
 
 
 def _write_yaml(path: Path, data: Mapping[str, Any]) -> None:
-    """Write ``path`` atomically: a temporary file in the same folder, fsynced, renamed over it."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            yaml.safe_dump(dict(data), handle, sort_keys=False, allow_unicode=True)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
-    _fsync_dir(path.parent)
-
+    """Write ``path`` atomically (:func:`~wecook_core.files.write_atomic`)."""
+    write_atomic(path, yaml.safe_dump(dict(data), sort_keys=False, allow_unicode=True), replace=True,
+                 what="session file")
 
 # ----------------------------------------------------------------------------------- create / open
 
@@ -366,11 +346,11 @@ def create_session(
         paths.journal.touch()
         paths.plans.mkdir()
         paths.runs.mkdir()
-        _fsync_dir(building)
+        fsync_dir(building)
         if target.exists():
             raise InputError(target, "a session of that name already exists")
         os.rename(building, target)
-        _fsync_dir(root)
+        fsync_dir(root)
     except BaseException:
         shutil.rmtree(building, ignore_errors=True)
         raise
