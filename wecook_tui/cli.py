@@ -95,6 +95,25 @@ def main(argv: Sequence[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 141
+    except OSError as error:  # a full disk, a read-only folder, a missing permission: one line, exit 2
+        from wecook_core.files import os_error_line
+
+        print(f"wecook: error: {os_error_line(error, _subject(args))}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        subject = _subject(args)
+        print(f"wecook: error: {subject + ': ' if subject else ''}out of memory (a memory limit: `ulimit -v`?)",
+              file=sys.stderr)
+        return 2
+
+
+def _subject(args: argparse.Namespace) -> str | None:
+    """The file a command works on, for an error that names none: its video, recording, plan, session or output."""
+    for name in ("video", "record", "plan", "name", "output", "out", "manifest"):
+        value = getattr(args, name, None)
+        if value is not None and not callable(value):
+            return str(value)
+    return None
 
 
 if __name__ == "__main__":

@@ -23,15 +23,16 @@ from wecook_core.trees.treefile import dump_tree_spans, read_tree_file, write_tr
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def run_child(code: str, *, cwd: Path, fsize: int | None = None) -> subprocess.CompletedProcess[str]:
+def run_child(code: str, *, cwd: Path, fsize: int | None = None,
+              user: list[str] | None = None) -> subprocess.CompletedProcess[str]:
     """``code`` run by a fresh interpreter importing this worktree (and the tests' helpers), under a file-size
-    limit of ``fsize`` bytes when given."""
+    limit of ``fsize`` bytes when given, started by the command ``user`` when given (another user's)."""
     prelude = "import resource, signal\n"
     if fsize is not None:
         prelude += (f"signal.signal(signal.SIGXFSZ, signal.SIG_IGN)\n"
                     f"resource.setrlimit(resource.RLIMIT_FSIZE, ({fsize}, {fsize}))\n")
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), str(ROOT / "tests")])}
-    return subprocess.run([sys.executable, "-c", prelude + textwrap.dedent(code)], cwd=cwd, env=env,
+    return subprocess.run([*(user or []), sys.executable, "-c", prelude + textwrap.dedent(code)], cwd=cwd, env=env,
                           capture_output=True, text=True, timeout=300)
 
 

@@ -47,10 +47,16 @@ def add_detection_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _refuse_overwrite(path: Path, force: bool) -> None:
+    """Refuse an output that cannot or may not be written, before the (long) detection."""
+    from wecook_core.files import check_writable
+
+    if path.is_dir():
+        raise InputError(path, "is a folder; give the name of the CSV file to write")
     if not path.parent.is_dir():
         raise InputError(path, f"the folder {path.parent} does not exist")
     if path.exists() and not force:
         raise InputError(path, "exists; not overwritten (give --force to replace it)")
+    check_writable(path.parent)
 
 
 def detect_to_csv(video: str | Path, output: Path, args: argparse.Namespace) -> DetectedHands:

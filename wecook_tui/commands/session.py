@@ -69,6 +69,9 @@ def run_new(args: argparse.Namespace) -> int:
 
     if (root / args.name).exists():
         raise InputError(root / args.name, "a session of that name already exists")
+    from wecook_core.files import check_writable
+
+    check_writable(root, "sessions folder")  # before the import (and a detection of the hands)
     table = None
     if args.categories:
         from wecook_core.knowledge.categories import load_categories
