@@ -96,7 +96,7 @@ def open_review(path: str | Path) -> Review:
     from wecook_core.knowledge.recognize import load_knowledge
     from wecook_core.session.store import open_session
 
-    session = open_session(path)
+    session = open_session(path, lock=True)  # one writer per session, held while it is open
     review = Review(session, None, None, [str(w) for w in session.warnings])
     try:
         imported = session.import_observations(video_optional=True)

@@ -63,7 +63,7 @@ MAX_SESSION_BYTES = 1 << 20
 class Session:
     """An open session. Corrections go through :meth:`record`, :meth:`undo` and :meth:`redo`."""
 
-    def __init__(self, path: Path, meta: Mapping[str, Any], warnings: list[str]) -> None:
+    def __init__(self, path: Path, meta: Mapping[str, Any], warnings: list[str], *, lock: bool = False) -> None:
         self.path = path
         self.paths = SessionPaths(path)
         self.name = path.name
@@ -76,9 +76,20 @@ class Session:
         self.params: Params = _params(meta.get("params"), warnings, path / SESSION_FILE)
         self.video: VideoInfo | None = _video(meta.get("video"))
         """The video's facts when the session was made (without opening the video)."""
-        self.journal = Journal(self.paths.journal)
+        self.journal = Journal(self.paths.journal, lock=lock)
+        """Its writer lock is taken at open with ``lock`` (the workbench), else at the first correction."""
         self.warnings.extend(self.journal.warnings)
         self._imported: Imported | None = None
+
+    def close(self) -> None:
+        """Let go of the session's writer lock (:meth:`Journal.close`)."""
+        self.journal.close()
+
+    def __enter__(self) -> Session:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
     # paths
     @property
@@ -360,10 +371,11 @@ def create_session(
     return target
 
 
-def open_session(path: str | Path) -> Session:
+def open_session(path: str | Path, *, lock: bool = False) -> Session:
     """Open the session folder ``path``. Missing or changed inputs, torn or unreadable journal lines are
     :attr:`Session.warnings`; only a folder that is not a session (no readable ``session.yaml``) is an
-    InputError."""
+    InputError, as is, with ``lock`` (the session held for writing while open), a session another process
+    holds."""
     path = Path(path)
     meta_path = path / SESSION_FILE
     if not path.is_dir():
@@ -384,7 +396,7 @@ def open_session(path: str | Path) -> Session:
     version = meta.get("wecook_session", SESSION_FORMAT)
     if not isinstance(version, int) or version > SESSION_FORMAT:
         warnings.append(f"{meta_path}: made by a newer wecook (session format {meta.get('wecook_session')})")
-    return Session(path, meta, warnings)
+    return Session(path, meta, warnings, lock=lock)
 
 
 @dataclass(frozen=True)
