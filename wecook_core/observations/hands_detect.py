@@ -167,14 +167,16 @@ def _detection(frame: int, label: str, score: float, points: np.ndarray, width: 
     return HandDetection(frame, label, score, centre, tuple(float(v) for v in box))  # type: ignore[arg-type]
 
 
-def read_frames(path: str | Path) -> tuple[Iterator[tuple[int, np.ndarray]], int, float, tuple[int, int]]:
-    """(frames as (index, BGR image), declared frame count, fps, (width, height)) of a video."""
+def read_frames(path: str | Path, fps: float | None = None) -> tuple[Iterator[tuple[int, np.ndarray]], int, float,
+                                                                    tuple[int, int]]:
+    """(frames as (index, BGR image), declared frame count, fps, (width, height)) of a video; ``fps`` the rate
+    given by the user for a container whose own is unusable."""
     os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
     import cv2
 
     from wecook_core.formats.video import probe_video
 
-    info = probe_video(path)
+    info = probe_video(path, fps=fps)
     total = info.decoded_frames if info.decoded_frames is not None else info.frame_count
 
     def frames() -> Iterator[tuple[int, np.ndarray]]:
@@ -200,10 +202,12 @@ def detect_hands(
     *,
     persons: int | None = None,
     progress: Progress | None = None,
+    fps: float | None = None,
 ) -> DetectedHands:
-    """Hand tracks of a video: every frame through MediaPipe, then named (see :func:`assign_hands`)."""
+    """Hand tracks of a video: every frame through MediaPipe, then named (see :func:`assign_hands`); ``fps``
+    the rate given for a container whose own is unusable."""
     params = params or DetectParams()
-    frames, total, fps, size = read_frames(video)
+    frames, total, fps, size = read_frames(video, fps)
     per_frame: list[list[HandDetection]] = []
     skeletons: dict[int, list[Skeleton]] = {}
     read = 0

@@ -76,6 +76,9 @@ class Session:
         self.params: Params = _params(meta.get("params"), warnings, path / SESSION_FILE)
         self.video: VideoInfo | None = _video(meta.get("video"))
         """The video's facts when the session was made (without opening the video)."""
+        rate = meta.get("video_fps")
+        self.video_fps: float | None = float(rate) if isinstance(rate, int | float) and rate > 0 else None
+        """The frame rate given with ``--fps`` when the session was made (its container's is unusable)."""
         self.journal = Journal(self.paths.journal, lock=lock)
         """Its writer lock is taken at open with ``lock`` (the workbench), else at the first correction."""
         self.warnings.extend(self.journal.warnings)
@@ -170,12 +173,13 @@ class Session:
         from wecook_core.session.cache import cache_key, load_cached, save_cached
 
         key = cache_key(self.inputs)
-        self._imported = load_cached(self.paths.cache, key)
-        if self._imported is not None:
-            return self._imported
         video = self._input("video")
+        self._imported = load_cached(self.paths.cache, key)
+        if self._imported is not None:  # its video by the recorded path (a cache may hold a relative one)
+            self._imported = _with_video_path(self._imported, video.path)
+            return self._imported
         try:
-            facts = probe_video(video.path)
+            facts = probe_video(video.path, fps=self.video_fps)
         except InputError as error:
             if not video_optional or self.video is None:
                 raise
@@ -236,6 +240,14 @@ class Session:
         self.meta["params"] = dataclasses.asdict(params)
         _write_yaml(self.path / SESSION_FILE, self.meta)
         self.params = params
+
+
+def _with_video_path(imported: Imported, path: str) -> Imported:
+    """``imported`` with its video's path set to ``path``."""
+    obs = imported.observations
+    if obs.video.path == path:
+        return imported
+    return replace(imported, observations=replace(obs, video=replace(obs.video, path=path)))
 
 
 def _same_video(a: VideoInfo, b: VideoInfo) -> bool:
@@ -312,6 +324,7 @@ def create_session(
     select: str | None = None,
     params: Params | None = None,
     imported: Imported | None = None,
+    fps: float | None = None,
 ) -> Path:
     """Make ``root/name`` from the inputs, after importing them all; return its path.
 
@@ -319,7 +332,8 @@ def create_session(
     name and renamed into place). ``objects`` None makes a session of a video alone (boxes drawn later in the
     workbench's box mode). ``labels`` is MOT's labels file and ``categories`` a file of extra object
     categories (both recorded as inputs); ``select`` the video of a COCO-VID file holding several.
-    ``imported`` skips the import when the caller already did it with the same arguments.
+    ``imported`` skips the import when the caller already did it with the same arguments. ``fps``: the video's
+    frame rate given by the user (its container's is unusable), recorded and used whenever the video is read.
     """
     check_name(name)
     root = Path(root)
@@ -329,8 +343,10 @@ def create_session(
     if imported is None:
         imported = import_observations(video, objects, hands, objects_format=objects_format,
                                        hands_format=hands_format, labels=labels, select=select,
-                                       categories=_category_table(Path(categories) if categories else None))
+                                       categories=_category_table(Path(categories) if categories else None),
+                                       video_facts=probe_video(video, fps=fps) if fps is not None else None)
     inputs = {"video": record_input("video", video)}
+    imported = _with_video_path(imported, inputs["video"].path)  # absolute: found from any folder
     if objects is not None:  # else a video alone: its boxes are drawn in the workbench
         inputs["objects"] = record_input("objects", objects, imported.objects_format, select)
     inputs["hands"] = record_input("hands", hands, imported.hands_format)
@@ -348,6 +364,7 @@ def create_session(
         "video": dataclasses.asdict(imported.observations.video),
         "params": dataclasses.asdict(params or Params()),
         "uncategorised": list(imported.uncategorised),  # labels taken as ingredients until the user says
+        **({"video_fps": fps} if fps is not None else {}),
     }
     root.mkdir(parents=True, exist_ok=True)
     building = Path(tempfile.mkdtemp(prefix=f".{name}.creating-", dir=root))
