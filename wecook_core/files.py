@@ -204,7 +204,7 @@ def write_text_atomic(path: str | Path, write: Callable[[IO[str]], None], *, wha
     """:func:`write_atomic` (replacing) of the text ``write`` puts in the open text file it is given (a CSV
     writer's file, say): UTF-8, newlines as written."""
     def binary(handle: IO[bytes]) -> None:
-        text = io.TextIOWrapper(handle, encoding="utf-8", newline="", write_through=True)  # type: ignore[type-var]
+        text = io.TextIOWrapper(handle, encoding="utf-8", newline="", write_through=True)
         write(text)
         text.flush()
         text.detach()  # the binary handle stays open for write_atomic's fsync

@@ -78,12 +78,12 @@ def probe_video(path: str | Path, *, count_frames: bool = False, fps: float | No
             decoded = 1 + _count_from(capture)
             count = decoded if fps is not None or declared <= 0 else declared
             return VideoInfo(str(path), fps or rate, count, width, height, decoded)
-        decoded = _check_declared(capture, declared)
-        if decoded is None:  # seeking is unreliable here (a variable frame rate): count by decoding in order,
+        checked = _check_declared(capture, declared)
+        if checked is None:  # seeking is unreliable here (a variable frame rate): count by decoding in order,
             capture.release()  # from a capture never seeked (seeking back to 0 is no more reliable)
             capture = cv2.VideoCapture(str(path))
-            decoded = _count_from(capture)
-        return VideoInfo(str(path), rate, declared, width, height, decoded)
+            checked = _count_from(capture)
+        return VideoInfo(str(path), rate, declared, width, height, checked)
     finally:
         capture.release()
 
