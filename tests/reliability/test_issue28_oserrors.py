@@ -206,3 +206,23 @@ def test_a_memory_limit_in_new_is_one_line(made: Path, tmp_path: Path) -> None:
     assert "exit 2" in done.stdout, (done.stdout, done.stderr)
     line = _one_line(done.stderr)
     assert "out of memory" in line and str(made / "in" / "take.avi") in line
+
+
+def test_a_video_that_fails_to_decode_for_lack_of_memory_says_so(tmp_path: Path) -> None:
+    """Under a lower memory limit the decoder failed and the line said "not a readable video"."""
+    from grey_video import write_grey_video
+
+    video = write_grey_video(tmp_path / "big.avi", 3, (4000, 3000), 10.0)
+    small = write_grey_video(tmp_path / "small.avi", 3, (64, 48), 10.0)
+    done = run_child(f"""
+        import resource
+        from wecook_tui.cli import main
+        import wecook_core.observations.hands_detect  # (OpenBLAS hangs when loaded past the limit)
+        from wecook_core.formats.video import probe_video
+        probe_video({str(small)!r})  # OpenCV loaded as the command loads it (its library fails to map past it)
+        used = int(open("/proc/self/statm").read().split()[0]) * resource.getpagesize()
+        resource.setrlimit(resource.RLIMIT_AS, (used + (40 << 20), resource.RLIM_INFINITY))
+        print("exit", main(["hands", {str(video)!r}, "-o", {str(tmp_path / "h.csv")!r}]))
+    """, cwd=Path(__file__).parent)
+    assert "exit 2" in done.stdout, (done.stdout, done.stderr)
+    assert _one_line(done.stderr) == f"wecook: error: {video}: out of memory (a memory limit: `ulimit -v`?)"

@@ -39,6 +39,7 @@ def probe_video(path: str | Path, *, count_frames: bool = False, fps: float | No
     says otherwise.
     """
     os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
+    os.environ.setdefault("OPENCV_LOG_LEVEL", "FATAL")  # its errors are said by the InputError (or MemoryError)
     import cv2
 
     path = Path(path)
@@ -67,6 +68,7 @@ def probe_video(path: str | Path, *, count_frames: bool = False, fps: float | No
         _check_size(path, width, height)  # before a frame is decoded
         ok, frame = capture.read()
         if not ok or frame is None:
+            _check_memory(width, height)  # a decoder short of memory fails as if the video were unreadable
             raise InputError(path, "no frame decodes: not a readable video")
         if width <= 0 or height <= 0:
             height, width = frame.shape[:2]
@@ -117,6 +119,14 @@ def _count_from(capture: Any, limit: int | None = None) -> int:
     while (limit is None or count < limit) and capture.grab():
         count += 1
     return count
+
+
+def _check_memory(width: int, height: int, frames: int = 4) -> None:
+    """MemoryError when ``frames`` frames of that size (what a decoder holds) cannot be had."""
+    import numpy as np
+
+    if width > 0 and height > 0:
+        np.empty((frames, height, width, 3), np.uint8)  # address space only: nothing is written
 
 
 def _check_size(path: Path, width: int, height: int) -> None:
