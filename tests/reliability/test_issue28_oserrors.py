@@ -22,7 +22,7 @@ NOBODY = 65534
 
 
 def _one_line(err: str) -> str:
-    lines = err.strip().splitlines()
+    lines = [line for line in err.strip().splitlines() if not line.startswith("pybullet build time")]  # its banner
     assert len(lines) == 1 and "Traceback" not in err, err
     return lines[0]
 
@@ -124,10 +124,15 @@ def _unprivileged() -> list[str]:
 
 def test_a_read_only_sessions_folder_is_said_before_any_work(made: Path) -> None:
     """A read-only folder gave tracebacks in new, analyze, export and (after 11 s of detection) hands."""
+    from wecook_core.execution.plan_samples import ONE_ARM_CUTS
+
     readonly = made / "readonly"
     readonly.mkdir(exist_ok=True)
     shutil.copytree(made / "sessions" / "kitchen", readonly / "kitchen", dirs_exist_ok=True)
-    for path in (readonly / "kitchen", readonly / "kitchen" / "plans", readonly):
+    plan = readonly / "kitchen" / "plans" / "cuts.yaml"
+    plan.write_text(ONE_ARM_CUTS)
+    os.chmod(plan, 0o644)
+    for path in (readonly / "kitchen", readonly / "kitchen" / "plans", readonly / "kitchen" / "runs", readonly):
         os.chmod(path, 0o555)
     try:
         cases = [
@@ -135,6 +140,9 @@ def test_a_read_only_sessions_folder_is_said_before_any_work(made: Path) -> None
             (["analyze", "kitchen", "--root", str(readonly)], readonly / "kitchen"),
             (["export", "kitchen", "--root", str(readonly)], readonly / "kitchen" / "plans"),
             (["hands", str(made / "in" / "take.avi"), "-o", str(readonly / "h.csv")], readonly),
+            (["execute", str(plan)], readonly / "kitchen" / "runs"),
+            (["execute", str(plan), "--record", str(readonly / "kitchen" / "runs" / "r.mcap")],
+             readonly / "kitchen" / "runs" / "r.mcap"),
         ]
         for argv, named in cases:
             code = """
@@ -144,13 +152,15 @@ def test_a_read_only_sessions_folder_is_said_before_any_work(made: Path) -> None
                     raise SystemExit("the long work ran before the output was checked")
                 hands_detect.detect_hands = never
                 workflows.analyse = never
+                import wecook_core.execution.run as executor
+                executor.execute_plan = never
             """
             done = run_child(textwrap.dedent(code) + textwrap.dedent(_cli(argv)), cwd=made, user=_unprivileged())
             assert "exit 2" in done.stdout, (argv, done.stdout, done.stderr)
             line = _one_line(done.stderr)
             assert str(named) in line and "permission denied" in line, (argv, line)
     finally:
-        for path in (readonly, readonly / "kitchen", readonly / "kitchen" / "plans"):
+        for path in (readonly, readonly / "kitchen", readonly / "kitchen" / "plans", readonly / "kitchen" / "runs"):
             os.chmod(path, 0o755)
 
 
@@ -226,3 +236,38 @@ def test_a_video_that_fails_to_decode_for_lack_of_memory_says_so(tmp_path: Path)
     """, cwd=Path(__file__).parent)
     assert "exit 2" in done.stdout, (done.stdout, done.stderr)
     assert _one_line(done.stderr) == f"wecook: error: {video}: out of memory (a memory limit: `ulimit -v`?)"
+
+
+def test_a_full_disk_during_execute_record_is_one_line_and_keeps_the_old_recording(tmp_path: Path) -> None:
+    """A full disk in ``execute --record`` was a traceback; with --force the old recording must stay whole and
+    no hidden .part file be left."""
+    from wecook_core.execution.plan_samples import ONE_ARM_CUTS
+
+    plan = tmp_path / "plan.yaml"
+    plan.write_text(ONE_ARM_CUTS)
+    record = tmp_path / "run.mcap"
+    old = b"the finished recording\n" * 10
+    record.write_bytes(old)
+    code = f"""
+        import wecook_core.execution.run as executor
+        from wecook_core.execution.schedule.executor import ActionResult, RunResult
+        from wecook_core.recording.synthetic_run import synthetic_run
+
+        def run(plan, observer, **kwargs):  # a long synthetic run instead of the simulation
+            synthetic_run(observer, actions=400, seconds_per_action=1.0)
+            return RunResult([], 400.0, 0.1, 0)
+
+        executor.execute_plan = run
+    """
+    cases = ((["--record", str(record), "--force"], str(record)),
+             (["--record", str(tmp_path / "new.mcap")], str(tmp_path / "new.mcap")),
+             ([], str(tmp_path / "runs" / "plan-")))  # the default recording, which only the error can name
+    for argv, named in cases:
+        done = run_child(textwrap.dedent(code) + textwrap.dedent(_cli(["execute", str(plan), *argv])),
+                         cwd=Path(__file__).parent, fsize=64 << 10)
+        assert "exit 2" in done.stdout, (done.stdout, done.stderr)
+        line = done.stderr.strip().splitlines()[-1]
+        assert "Traceback" not in done.stderr and "file too large" in line, done.stderr
+        assert f"wecook: error: {named}" in line, line
+    assert record.read_bytes() == old
+    assert not [p.name for p in tmp_path.iterdir() if ".part" in p.name]

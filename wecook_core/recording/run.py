@@ -174,6 +174,9 @@ def recorded_run(plan: Plan, record: Path | None, observers: Sequence[RunObserve
     except InputError:
         unstarted = True
         raise
+    except OSError as error:  # the recording's writes (a full disk): name the file the user knows
+        _name(error, record)
+        raise
     finally:
         if over is not None:
             over()
@@ -182,6 +185,9 @@ def recorded_run(plan: Plan, record: Path | None, observers: Sequence[RunObserve
             try:
                 recorder.close()
                 closed = True
+            except OSError as error:
+                _name(error, record)
+                raise
             finally:
                 # A replacement is kept only when its run finished and its file is complete: an interrupted or
                 # failed one leaves the old recording as it was. A new recording is kept as the module says.
@@ -190,6 +196,12 @@ def recorded_run(plan: Plan, record: Path | None, observers: Sequence[RunObserve
                 settle_recording(written, record, keep=ended or (written == record and not unstarted))
                 _tell(say, record, ended=ended, replaced=written != record, unstarted=unstarted)
     return RecordedRun(result, record)
+
+
+def _name(error: OSError, record: Path | None) -> None:
+    """Name the recording in an OS error of its writes (which name no file)."""
+    if record is not None and error.errno is not None and error.filename is None:
+        error.filename = str(record)
 
 
 def _tell(say: Callable[[str], None] | None, record: Path, *, ended: bool, replaced: bool, unstarted: bool) -> None:
