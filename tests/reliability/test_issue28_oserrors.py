@@ -248,7 +248,7 @@ def test_a_full_disk_during_execute_record_is_one_line_and_keeps_the_old_recordi
     record = tmp_path / "run.mcap"
     old = b"the finished recording\n" * 10
     record.write_bytes(old)
-    code = f"""
+    code = """
         import wecook_core.execution.run as executor
         from wecook_core.execution.schedule.executor import ActionResult, RunResult
         from wecook_core.recording.synthetic_run import synthetic_run
