@@ -260,12 +260,6 @@ class Journal:
         self.close()
 
     @property
-    def _replay(self) -> Replay:
-        if self._corrections is None:  # folded again only when asked after an append
-            self._corrections = fold([self._by_seq[s] for s in self._applied])
-        return Replay(tuple(self._applied), tuple(self._undone), self._corrections)
-
-    @property
     def entries(self) -> tuple[JournalEntry, ...]:
         return tuple(self._entries)
 
@@ -276,7 +270,9 @@ class Journal:
 
     @property
     def corrections(self) -> Corrections:
-        return self._replay.corrections
+        if self._corrections is None:  # folded again only when asked for after an append
+            self._corrections = fold([self._by_seq[s] for s in self._applied])
+        return self._corrections
 
     @property
     def applied(self) -> tuple[JournalEntry, ...]:
