@@ -14,6 +14,7 @@ as it goes (a recording): created exclusively, never truncating anything, with a
 from __future__ import annotations
 
 import contextlib
+import io
 import os
 import stat
 import tempfile
@@ -110,7 +111,11 @@ def write_atomic(path: str | Path, write: Callable[[IO[bytes]], None] | bytes | 
     :class:`InputError` unless ``replace``; either way the old file stays whole until the new one is complete."""
     path = check_output(path, replace=replace, what=what)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    except OSError as error:  # a read-only or full folder: name the file asked for, not the temporary one
+        error.filename = str(path)
+        raise
     try:
         with os.fdopen(fd, "wb") as handle:
             if callable(write):
@@ -119,6 +124,7 @@ def write_atomic(path: str | Path, write: Callable[[IO[bytes]], None] | bytes | 
                 handle.write(write.encode("utf-8") if isinstance(write, str) else write)
             handle.flush()
             os.fsync(handle.fileno())
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes its file private; a file written as usual is not
         if replace:
             os.replace(tmp, path)
         else:
@@ -127,12 +133,83 @@ def write_atomic(path: str | Path, write: Callable[[IO[bytes]], None] | bytes | 
             except FileExistsError:
                 raise InputError(path, f"exists; not overwritten (pass --force to replace the {what})") from None
             os.unlink(tmp)
-    except BaseException:
+    except BaseException as error:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
+        if isinstance(error, OSError) and error.errno is not None and error.filename in (None, tmp):  # name it
+            error.filename = str(path)
         raise
     fsync_dir(path.parent)
     return path
+
+
+def check_writable(folder: str | Path, what: str = "folder") -> Path:
+    """``folder`` when a file can be made in it (or, when it does not exist yet, in its nearest existing parent):
+    a probe file is created and removed there, so a read-only or full file system, a missing permission or a
+    path through a file is said at once, before long work, as the :class:`InputError` of :func:`os_problem`."""
+    folder = Path(folder)
+    here = next((p for p in (folder, *folder.parents) if p.exists() or p.is_symlink()), Path("."))
+    if not here.is_dir():
+        raise InputError(here, f"is not a folder, so the {what} {folder} cannot be made in it")
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".wecook-probe-", dir=here)
+    except OSError as error:
+        raise InputError(here, f"cannot write here: {os_problem(error)}") from None
+    os.close(fd)
+    os.unlink(probe)
+    return folder
+
+
+OS_CAUSES = {
+    "ENOSPC": "no space left on the device",
+    "EDQUOT": "the disk quota is used up",
+    "EFBIG": "file too large (past a file-size limit: `ulimit -f`?)",
+    "EROFS": "the file system is read-only",
+    "EACCES": "permission denied",
+    "EPERM": "operation not permitted",
+    "EISDIR": "is a folder, not a file",
+    "ENOTDIR": "a part of the path is a file, not a folder",
+    "ENOENT": "no such file or folder",
+    "EEXIST": "exists already",
+    "ENAMETOOLONG": "the name is too long",
+    "ELOOP": "a loop of symbolic links",
+    "EMFILE": "too many open files",
+    "EIO": "input/output error (a failing disk?)",
+}
+"""What each operating-system error means, in the words of the one line wecook prints."""
+
+
+def os_problem(error: OSError) -> str:
+    """The cause of an operating-system error in a few words (:data:`OS_CAUSES`), or its own message."""
+    import errno as errnos
+
+    name = errnos.errorcode.get(error.errno or -1, "")
+    return OS_CAUSES.get(name) or (error.strerror or str(error) or type(error).__name__).lower()
+
+
+def os_error_line(error: OSError, fallback: str | Path | None = None) -> str:
+    """One line naming the file of ``error`` (or ``fallback`` when the error names none) and its cause."""
+    names = [str(n) for n in (error.filename, error.filename2) if n is not None]
+    where = " -> ".join(names) if names else (str(fallback) if fallback is not None else "")
+    return (f"{where}: " if where else "") + os_problem(error)
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def write_text_atomic(path: str | Path, write: Callable[[IO[str]], None], *, what: str = "file") -> Path:
+    """:func:`write_atomic` (replacing) of the text ``write`` puts in the open text file it is given (a CSV
+    writer's file, say): UTF-8, newlines as written."""
+    def binary(handle: IO[bytes]) -> None:
+        text = io.TextIOWrapper(handle, encoding="utf-8", newline="", write_through=True)
+        write(text)
+        text.flush()
+        text.detach()  # the binary handle stays open for write_atomic's fsync
+
+    return write_atomic(path, binary, replace=True, what=what)
 
 
 def create_new(path: str | Path, *, number: bool = False, what: str = "file", limit: int = 1000) -> Path:

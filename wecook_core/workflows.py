@@ -96,7 +96,7 @@ def open_review(path: str | Path) -> Review:
     from wecook_core.knowledge.recognize import load_knowledge
     from wecook_core.session.store import open_session
 
-    session = open_session(path)
+    session = open_session(path, lock=True)  # one writer per session, held while it is open
     review = Review(session, None, None, [str(w) for w in session.warnings])
     try:
         imported = session.import_observations(video_optional=True)
@@ -149,8 +149,10 @@ def cached_shot_cuts(session: str | Path, video: str) -> tuple[int, ...]:
     except (OSError, ValueError, TypeError):
         pass
     cuts = shot_cuts(source)
-    with contextlib.suppress(OSError):  # a read-only session still analyses
-        cache.write_text(json.dumps({**key, "cuts": list(cuts)}) + "\n", encoding="utf-8")
+    from wecook_core.files import write_atomic
+
+    with contextlib.suppress(OSError, InputError):  # a read-only session still analyses
+        write_atomic(cache, json.dumps({**key, "cuts": list(cuts)}) + "\n", replace=True, what="shot cache")
     return cuts
 
 
@@ -172,6 +174,12 @@ def analyse_session(path: str | Path, knowledge: Knowledge | None = None, *, wri
     from wecook_core.session.store import open_session
 
     session = open_session(path)
+    if write:  # a trees.yaml that cannot be written is said before the analysis
+        from wecook_core.files import check_output, check_writable
+
+        check_output(session.trees_path, replace=True, what="tree file")
+        check_output(session.graph_path, replace=True, what="graph file")
+        check_writable(session.path, "session folder")
     obs = session.load_observations()
     corrections, table = session.applied_corrections, session.category_table()
     analysis = analyse(obs, knowledge if knowledge is not None else load_knowledge(), session.params,
@@ -223,11 +231,12 @@ def export_session_plan(session_path: str | Path, out: str | Path | None = None,
     ``<session>/plans/plan.yaml``, wecook's own file, replaced whole on every export); ``robot`` is the arms'
     URDF (relative to ``pybullet_data`` unless absolute). Unreadable inputs, an invalid plan, or an ``out`` that
     is a folder or exists (unless ``force``) raise :class:`InputError`."""
-    from wecook_core.files import check_output
+    from wecook_core.files import check_output, check_writable
 
     replace = force or out is None
     if out is not None:
         check_output(out, replace=replace, what="plan")  # before the analysis, not after
+    check_writable(Path(out).parent if out is not None else Path(session_path) / "plans", "plan")
     plan, plans_dir, warnings = session_plan(session_path, table=table, robot=robot)
     path = write_checked_plan(plan, Path(out) if out is not None else plans_dir / "plan.yaml", replace=replace)
     return Exported(plan, path, warnings)

@@ -208,6 +208,34 @@ def test_sigterm_stops_the_run_with_a_closed_recording(tmp_path: Path) -> None:
     assert report.actions["a1"] == "failed: interrupted"
 
 
+@pytest.mark.sim
+def test_ctrl_c_on_a_forced_replacement_keeps_the_previous_recording(tmp_path: Path) -> None:
+    """Ctrl-C during ``execute --record F --force`` replaced the finished recording F with the interrupted run
+    (issue 28): F stays as it was, and no hidden ``.F.*.part.mcap`` is left."""
+    import json
+    import signal
+    import subprocess
+    import sys
+
+    plan = tmp_path / "plan.yaml"
+    plan.write_text(ONE_ARM)
+    record = tmp_path / "run.mcap"
+    old = b"the finished recording, not to be lost\n"
+    record.write_bytes(old)
+    child = subprocess.Popen([sys.executable, "-m", "wecook_tui.cli", "execute", str(plan), "--record", str(record),
+                              "--force", "--jsonl"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert child.stdout is not None and child.stderr is not None
+    for line in child.stdout:
+        if json.loads(line)["kind"] == "primitive_start":  # well inside the first action
+            child.send_signal(signal.SIGINT)
+            break
+    assert child.wait(timeout=60) == 130
+    said = " ".join((child.stdout.read() + child.stderr.read()).split())  # rich wraps its lines
+    assert f"no recording: {record} left as it was" in said
+    assert record.read_bytes() == old
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["plan.yaml", "run.mcap"]
+
+
 def test_plan_check_says_which_action_cannot_be_reached(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     plan = tmp_path / "plan.yaml"
     good = PLAN.replace("tool: spoon", "tool: knife")

@@ -124,7 +124,6 @@ def test_a_run_that_never_starts_leaves_no_recording(tmp_path: Path, monkeypatch
 def test_an_interrupted_run_closes_its_story_and_keeps_its_recording(tmp_path: Path,
                                                                       monkeypatch: pytest.MonkeyPatch) -> None:
     record = tmp_path / "run.mcap"
-    record.write_bytes(OLD)
     _executor(monkeypatch, end=False, then=KeyboardInterrupt())
     events: list[tuple[str, str | None, str]] = []
 
@@ -136,12 +135,48 @@ def test_an_interrupted_run_closes_its_story_and_keeps_its_recording(tmp_path: P
             events.append((event.kind, event.action_id, event.detail))
 
     with pytest.raises(KeyboardInterrupt):
-        recorded_run(_plan(), record, [Watch()], replace=True)  # type: ignore[list-item]
+        recorded_run(_plan(), record, [Watch()])  # type: ignore[list-item]
     assert events[-1] == ("action_failed", "a2", "interrupted")  # the observers hear it too
     report = check_recording(record)
     assert report.ok, report.problems
     assert report.actions["a2"] == "failed: interrupted" and report.actions["a1"].startswith("done")
     assert _leftovers(tmp_path) == ["run.layout.json", "run.mcap"]
+
+
+def test_an_interrupted_replacement_keeps_the_previous_recording(tmp_path: Path,
+                                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    """Ctrl-C on ``execute --record F --force`` (issue 28): the finished recording F stays; the interrupted run
+    is dropped with its hidden files."""
+    record = tmp_path / "run.mcap"
+    record.write_bytes(OLD)
+    _executor(monkeypatch, end=False, then=KeyboardInterrupt())
+    told: list[str] = []
+    with pytest.raises(KeyboardInterrupt):
+        recorded_run(_plan(), record, replace=True, say=told.append)
+    assert record.read_bytes() == OLD
+    assert _leftovers(tmp_path) == ["run.mcap"]
+    assert told == [f"no recording: {record} left as it was"]
+
+
+def test_a_replacement_whose_file_cannot_be_finished_leaves_nothing(tmp_path: Path,
+                                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    """A full disk while the recording is closed: the old recording stays, no ``.run.mcap.*.part.mcap``."""
+    import errno
+
+    from wecook_core.recording.writer import McapRecorder
+
+    record = tmp_path / "run.mcap"
+    record.write_bytes(OLD)
+    _executor(monkeypatch)
+
+    def full(self: McapRecorder) -> None:
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(McapRecorder, "close", full)
+    with pytest.raises(OSError):
+        recorded_run(_plan(), record, replace=True)
+    assert record.read_bytes() == OLD
+    assert _leftovers(tmp_path) == ["run.mcap"]
 
 
 def test_a_run_not_recorded_writes_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -9,9 +9,10 @@ import csv
 import math
 from collections.abc import Iterator, Sequence
 from pathlib import Path
+from typing import IO
 
 from wecook_core.errors import InputError
-from wecook_core.files import regular_file
+from wecook_core.files import regular_file, write_text_atomic
 from wecook_core.formats.fields import MAX_COORDINATE, check_frame, check_id
 from wecook_core.formats.tracks import hand_tracks, object_tracks
 from wecook_core.model import HANDS, HandTrack, ObjectTrack
@@ -127,10 +128,12 @@ def write_objects_csv(path: str | Path, tracks: Sequence[ObjectTrack]) -> None:
         for frame, box in zip(track.frames.tolist(), track.boxes.tolist(), strict=True):
             rows.append((frame, track.track_id, track.label, *box))
     rows.sort(key=lambda r: (r[0], r[1]))
-    with Path(path).open("w", newline="", encoding="utf-8") as handle:
+    def write(handle: IO[str]) -> None:
         writer = csv.writer(handle, lineterminator="\n")
         writer.writerow(OBJECT_COLUMNS)
         writer.writerows((f, t, label, *(_number(v) for v in box)) for f, t, label, *box in rows)
+
+    write_text_atomic(path, write, what="object box file")
 
 
 def write_hands_csv(path: str | Path, tracks: Sequence[HandTrack]) -> None:
@@ -141,7 +144,9 @@ def write_hands_csv(path: str | Path, tracks: Sequence[HandTrack]) -> None:
         for frame, xy, box in zip(track.frames.tolist(), track.xy.tolist(), track.boxes.tolist(), strict=True):
             rows.append((frame, track.hand, *xy, *box))
     rows.sort(key=lambda r: (r[0], order[r[1]]))
-    with Path(path).open("w", newline="", encoding="utf-8") as handle:
+    def write(handle: IO[str]) -> None:
         writer = csv.writer(handle, lineterminator="\n")
         writer.writerow(HAND_COLUMNS)
         writer.writerows((f, hand, *(_number(v) for v in values)) for f, hand, *values in rows)
+
+    write_text_atomic(path, write, what="hands file")

@@ -6,6 +6,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from wecook_core.files import write_atomic
 from wecook_core.knowledge.archive import ARCHIVE_LICENCE, ARCHIVE_SOURCE, is_archive, read_archive
 from wecook_core.knowledge.categories import (
     CATEGORIES_PATH,
@@ -120,8 +121,7 @@ def extract_recipes(root: Path, out: Path, *, origin: str = "", licence: str = "
     lines.append("action,objects,group")
     for record in corpus.records:
         lines.append(f"{record.action},{';'.join(record.objects)},{record.group}")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    write_atomic(out, "\n".join(lines) + "\n", replace=True, what="corpus")
     return len(corpus.records)
 
 
@@ -137,8 +137,7 @@ def extract_archive(path: Path, out: Path, *, origin: str = ARCHIVE_ORIGIN, lice
              "(wecook_core.knowledge.archive)",
              f"# licence: {licence}", "action,objects,group"]
     lines += [f"{r.action},{';'.join(r.objects)},{r.group}" for r in kept]
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    write_atomic(out, "\n".join(lines) + "\n", replace=True, what="corpus")
     return len(kept)
 
 
@@ -187,10 +186,10 @@ def build(paths: Sequence[Path], out: Path = KNOWLEDGE_DIR, *, alpha: float = 1.
         header = (f"Derived by `{command}` from the EPIC-KITCHENS noun classes' `category` column\n"
                   f"(licence {EPIC_LICENCE}); assets/categories.yaml overrides these. Do not edit: rebuild.")
         files.append(out / "epic_categories.yaml")
-        files[-1].write_text(format_categories(derived, header), encoding="utf-8")
+        write_atomic(files[-1], format_categories(derived, header), replace=True, what="category table")
     files.append(out / "SOURCE.md")
-    files[-1].write_text(source_markdown(corpus, knowledge, runs, command=command, alpha=alpha, context=context,
-                                         held_s=held_s, records=len(fold(corpus)[0]), per_group=per_group,
-                                         categories=categories), encoding="utf-8")
+    write_atomic(files[-1], source_markdown(corpus, knowledge, runs, command=command, alpha=alpha, context=context,
+                                            held_s=held_s, records=len(fold(corpus)[0]), per_group=per_group,
+                                            categories=categories), replace=True, what="source notes")
     ours = next(iter(runs.values()), ())
     return Built(knowledge, ours[0] if ours else None, categories, tuple(files), ours)

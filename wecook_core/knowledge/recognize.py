@@ -160,8 +160,9 @@ def knowledge_to_json(knowledge: Knowledge) -> str:
 
 
 def save_knowledge(knowledge: Knowledge, path: Path) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(knowledge_to_json(knowledge), encoding="utf-8")
+    from wecook_core.files import write_atomic
+
+    write_atomic(path, knowledge_to_json(knowledge), replace=True, what="knowledge file")
 
 
 def knowledge_from_json(data: Any, path: Path) -> Knowledge:

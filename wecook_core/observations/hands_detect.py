@@ -16,7 +16,7 @@ import sys
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, TextIO
+from typing import IO, Any, TextIO
 
 import numpy as np
 
@@ -183,14 +183,16 @@ def _detection(frame: int, label: str, score: float, points: np.ndarray, width: 
                          pointing=pointing)
 
 
-def read_frames(path: str | Path) -> tuple[Iterator[tuple[int, np.ndarray]], int, float, tuple[int, int]]:
-    """(frames as (index, BGR image), declared frame count, fps, (width, height)) of a video."""
+def read_frames(path: str | Path, fps: float | None = None) -> tuple[Iterator[tuple[int, np.ndarray]], int, float,
+                                                                    tuple[int, int]]:
+    """(frames as (index, BGR image), declared frame count, fps, (width, height)) of a video; ``fps`` the rate
+    given by the user for a container whose own is unusable."""
     os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
     import cv2
 
     from wecook_core.formats.video import probe_video
 
-    info = probe_video(path)
+    info = probe_video(path, fps=fps)
     total = info.decoded_frames if info.decoded_frames is not None else info.frame_count
 
     def frames() -> Iterator[tuple[int, np.ndarray]]:
@@ -217,12 +219,13 @@ def detect_hands(
     persons: int | None = None,
     progress: Progress | None = None,
     detector: HandDetector | None = None,
+    fps: float | None = None,
 ) -> DetectedHands:
     """Hand tracks of a video: every frame through MediaPipe, then named (see :func:`assign_hands`).
     ``detector``: one already loaded with ``params`` (a batch worker keeps one for every video it runs); it is
-    reset first and left open."""
+    reset first and left open. ``fps``: the rate given for a container whose own is unusable."""
     params = params or DetectParams()
-    frames, total, fps, size = read_frames(video)
+    frames, total, fps, size = read_frames(video, fps)
     per_frame: list[list[HandDetection]] = []
     skeletons: dict[int, list[Skeleton]] = {}
     read = 0
@@ -256,9 +259,7 @@ def write_hands(found: DetectedHands, video: str | Path, output: str | Path) -> 
     if not found.tracks:
         raise InputError(video, f"no hand found in any of the {found.frames_read} frames")
     output = Path(output)
-    partial = output.with_name(f".{output.name}.partial")
-    write_hands_csv(partial, found.tracks)
-    partial.replace(output)
+    write_hands_csv(output, found.tracks)  # atomically: the old file stays whole until the new one is
     return output
 
 
@@ -267,10 +268,14 @@ def write_detections_csv(path: str | Path, assigned: tuple[AssignedHand, ...]) -
     CSV holds the names and places only)."""
     import csv
 
-    with Path(path).open("w", newline="", encoding="utf-8") as handle:
+    from wecook_core.files import write_text_atomic
+
+    def write(handle: IO[str]) -> None:
         writer = csv.writer(handle, lineterminator="\n")
         writer.writerow(DETECTION_COLUMNS)
         for a in assigned:
             d = a.detection
             writer.writerow([d.frame, a.hand, d.label, f"{d.score:.3f}",
                              *(f"{v:.1f}" for v in (*d.xy, *d.box))])
+
+    write_text_atomic(path, write, what="detections file")

@@ -276,6 +276,8 @@ def write_pddl(export: PddlExport, folder: str | Path) -> tuple[Path, Path, Path
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     paths = (out / "domain.pddl", out / "problem.pddl", out / "plan.pddl")
+    from wecook_core.files import write_atomic
+
     for path, text in zip(paths, (export.domain, export.problem, export.plan_text()), strict=True):
-        path.write_text(text)
+        write_atomic(path, text, replace=True, what="PDDL file")
     return paths

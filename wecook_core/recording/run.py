@@ -7,7 +7,8 @@ ended (:func:`settle_recording`): the user's old file is never lost, and no temp
 
 What is kept, by how the run ended:
 
-- it ended, or was interrupted (Ctrl-C, SIGTERM) with the running actions failed ``interrupted``: kept;
+- it ended, or was interrupted (Ctrl-C, SIGTERM) with the running actions failed ``interrupted``: kept, except
+  that a replacement is kept only when its run finished (an interrupted one leaves the old recording whole);
 - it never started (an :class:`~wecook_core.errors.InputError`, e.g. a robot PyBullet cannot load): removed;
 - it crashed midway: a new recording is kept (``wecook runs recover`` reads it), a replacement is removed.
 """
@@ -154,7 +155,11 @@ def recorded_run(plan: Plan, record: Path | None, observers: Sequence[RunObserve
     written: Path | None = None
     if record is not None:
         written = staging_path(record) if replace else record
-        recorder = McapRecorder(written)
+        try:
+            recorder = McapRecorder(written)
+        except BaseException:
+            settle_recording(written, record, keep=written == record)  # the hidden file is not left behind
+            raise
     running = _Running(plan)
     everyone = FanOut(*((recorder,) if recorder is not None else ()), *observers, running)
     result: RunResult | None = None
@@ -169,15 +174,34 @@ def recorded_run(plan: Plan, record: Path | None, observers: Sequence[RunObserve
     except InputError:
         unstarted = True
         raise
+    except OSError as error:  # the recording's writes (a full disk): name the file the user knows
+        _name(error, record)
+        raise
     finally:
         if over is not None:
             over()
         if recorder is not None and written is not None and record is not None:
-            recorder.close()
-            ended = ended or result is not None
-            settle_recording(written, record, keep=ended or (written == record and not unstarted))
-            _tell(say, record, ended=ended, replaced=written != record, unstarted=unstarted)
+            closed = False
+            try:
+                recorder.close()
+                closed = True
+            except OSError as error:
+                _name(error, record)
+                raise
+            finally:
+                # A replacement is kept only when its run finished and its file is complete: an interrupted or
+                # failed one leaves the old recording as it was. A new recording is kept as the module says.
+                finished = result is not None and closed
+                ended = finished if written != record else ended or result is not None
+                settle_recording(written, record, keep=ended or (written == record and not unstarted))
+                _tell(say, record, ended=ended, replaced=written != record, unstarted=unstarted)
     return RecordedRun(result, record)
+
+
+def _name(error: OSError, record: Path | None) -> None:
+    """Name the recording in an OS error of its writes (which name no file)."""
+    if record is not None and error.errno is not None and error.filename is None:
+        error.filename = str(record)
 
 
 def _tell(say: Callable[[str], None] | None, record: Path, *, ended: bool, replaced: bool, unstarted: bool) -> None:

@@ -28,8 +28,11 @@ A line is written, flushed and fsynced before :meth:`Journal.record` (and :meth:
 in order; ``undo`` takes back the latest applied one, ``redo`` re-applies the latest undone one, and a new
 correction forgets what could be redone. So undo and redo are unlimited and survive closing the file. A torn
 last line (a crash mid-write) is reported as a warning and skipped, as is any other unreadable line; the next
-append sets the torn bytes aside in ``journal.jsonl.torn`` first. Two writers are not supported: an append that finds
-the file grown since it was read raises :class:`JournalChangedError` (the file is locked while appending).
+append sets the torn bytes aside in ``journal.jsonl.torn`` first. One process writes a session's journal: the
+first append (or an open with ``lock=True``, as the workbench's) takes an OS lock held until the journal is
+closed, and another process's append is refused, naming the holder. Within one process, an append that finds
+the file grown since it was read raises :class:`JournalChangedError`. The state is that of the bytes read, and
+an append takes constant time (the corrections are folded again only when asked for).
 """
 
 from __future__ import annotations
@@ -40,6 +43,7 @@ import fcntl
 import functools
 import json
 import os
+import weakref
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -49,6 +53,7 @@ from wecook_core.files import read_bytes
 from wecook_core.model import Corrections, Segment
 from wecook_core.session.corrections import TYPES, Correction, parse, to_record
 from wecook_core.session.corrections import fold as fold_corrections
+from wecook_core.session.lock import WriterLock
 
 TORN_SUFFIX = ".torn"
 """Torn bytes cut off the journal go to a file named like it with this suffix added."""
@@ -144,9 +149,20 @@ def fold(entries: Sequence[JournalEntry], segments: Sequence[Segment] | None = N
 
 def read_journal(path: Path) -> tuple[list[JournalEntry], list[str], bool]:
     """(entries, warnings, torn tail): unreadable lines are warnings, never errors."""
+    entries, warnings, torn, _ = _read(path)
+    return entries, warnings, torn
+
+
+def _read(path: Path) -> tuple[list[JournalEntry], list[str], bool, int]:
+    """:func:`read_journal` and the number of bytes it read (the journal's state is that of these bytes)."""
     if not path.exists() and not path.is_symlink():
-        return [], [], False
+        return [], [], False, 0
     data = read_bytes(path, "journal", MAX_JOURNAL_BYTES)  # a folder, a FIFO, too large: InputError
+    entries, warnings, torn = _parse(path, data)
+    return entries, warnings, torn, len(data)
+
+
+def _parse(path: Path, data: bytes) -> tuple[list[JournalEntry], list[str], bool]:
     entries: list[JournalEntry] = []
     warnings: list[str] = []
     lines = data.split(b"\n")
@@ -204,16 +220,44 @@ class JournalChangedError(RuntimeError):
 
 
 class Journal:
-    """An open journal file: its entries, their replay, and durable appends."""
+    """An open journal file: its entries, their replay, and durable appends.
 
-    def __init__(self, path: str | Path) -> None:
+    ``lock``: take the session's writer lock now (:mod:`wecook_core.session.lock`) and hold it until
+    :meth:`close`; else it is taken at the first append. Another process holding it is an
+    :class:`~wecook_core.errors.InputError` saying which (pid, command)."""
+
+    def __init__(self, path: str | Path, *, lock: bool = False) -> None:
         self.path = Path(path)
-        entries, warnings, self._torn = read_journal(self.path)
+        self._lock: WriterLock | None = None
+        self._release: weakref.finalize | None = None
+        if lock:
+            self._hold()
+        entries, warnings, self._torn, self._size = _read(self.path)  # the size of the very bytes parsed
         self._entries = entries
-        self._replay = replay(entries)
-        self.warnings: list[str] = warnings + list(self._replay.warnings)
+        self._by_seq = {e.seq: e for e in entries}
+        self._last_seq = max(self._by_seq, default=0)
+        folded = replay(entries)
+        self._applied = list(folded.applied)
+        self._undone = list(folded.undone)
+        self._corrections: Corrections | None = folded.corrections
+        self.warnings: list[str] = warnings + list(folded.warnings)
         """Unreadable lines (a torn last one) and undo / redo lines that did not fit the history."""
-        self._size = self.path.stat().st_size if self.path.exists() else 0
+
+    def _hold(self) -> None:
+        self._lock = WriterLock.take(self.path)
+        self._release = weakref.finalize(self, self._lock.release)  # also when the journal is dropped unclosed
+
+    def close(self) -> None:
+        """Let go of the writer lock (another process may write the journal then)."""
+        if self._release is not None:
+            self._release()
+        self._lock = self._release = None
+
+    def __enter__(self) -> Journal:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
     @property
     def entries(self) -> tuple[JournalEntry, ...]:
@@ -226,21 +270,22 @@ class Journal:
 
     @property
     def corrections(self) -> Corrections:
-        return self._replay.corrections
+        if self._corrections is None:  # folded again only when asked for after an append
+            self._corrections = fold([self._by_seq[s] for s in self._applied])
+        return self._corrections
 
     @property
     def applied(self) -> tuple[JournalEntry, ...]:
         """Corrections in effect, oldest first."""
-        by_seq = {e.seq: e for e in self._entries}
-        return tuple(by_seq[s] for s in self._replay.applied)
+        return tuple(self._by_seq[s] for s in self._applied)
 
     @property
     def can_undo(self) -> bool:
-        return bool(self._replay.applied)
+        return bool(self._applied)
 
     @property
     def can_redo(self) -> bool:
-        return bool(self._replay.undone)
+        return bool(self._undone)
 
     @property
     def applied_corrections(self) -> tuple[Correction, ...]:
@@ -257,18 +302,20 @@ class Journal:
 
     def undo(self) -> JournalEntry | None:
         """Take back the latest correction in effect; None when there is none."""
-        if not self._replay.applied:
+        if not self._applied:
             return None
-        return self._append("undo", {"target": self._replay.applied[-1]})
+        return self._append("undo", {"target": self._applied[-1]})
 
     def redo(self) -> JournalEntry | None:
         """Re-apply the latest undone correction; None when there is none."""
-        if not self._replay.undone:
+        if not self._undone:
             return None
-        return self._append("redo", {"target": self._replay.undone[-1]})
+        return self._append("redo", {"target": self._undone[-1]})
 
     def _append(self, op: str, fields: dict[str, Any], typed: Correction | None = None) -> JournalEntry:
-        seq = max((e.seq for e in self._entries), default=0) + 1
+        if self._lock is None:
+            self._hold()  # one writer per session: an InputError naming the other
+        seq = self._last_seq + 1
         entry = JournalEntry(seq, _now(), op, fields) if typed is None else _entry(seq, _now(), op, fields, typed)
         line = (entry.to_json() + "\n").encode("utf-8")
         fd = os.open(self.path, os.O_RDWR | os.O_APPEND | os.O_CREAT, 0o644)
@@ -301,7 +348,16 @@ class Journal:
             os.close(fd)
         self._size = size + len(line)
         self._entries.append(entry)
-        self._replay = replay(self._entries)
+        self._by_seq[seq] = entry
+        self._last_seq = seq
+        if op == "undo":
+            self._undone.append(self._applied.pop())
+        elif op == "redo":
+            self._applied.append(self._undone.pop())
+        else:
+            self._applied.append(seq)
+            self._undone.clear()
+        self._corrections = None  # constant time: no replay, the fold waits until the corrections are asked for
         return entry
 
     def _set_torn_aside(self, fd: int) -> int:
@@ -315,7 +371,7 @@ class Journal:
         tail = data[keep:]
         if tail:
             entry, _ = _parse_line(tail)
-            if entry is not None and entry.seq in {e.seq for e in self._entries}:
+            if entry is not None and entry.seq in self._by_seq:
                 os.write(fd, b"\n")  # a complete entry that only lacks its newline
                 os.fsync(fd)
                 self._torn = False

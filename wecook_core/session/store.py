@@ -16,7 +16,6 @@ nothing behind.
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import datetime as dt
 import os
@@ -31,7 +30,7 @@ import yaml
 
 from wecook_core import __version__
 from wecook_core.errors import InputError, yaml_error
-from wecook_core.files import read_text
+from wecook_core.files import fsync_dir, read_text, write_atomic
 from wecook_core.formats.detect import HAND_FORMATS, OBJECT_FORMATS
 from wecook_core.formats.video import probe_video, usable_frames
 from wecook_core.model import Corrections, Observations, VideoInfo
@@ -58,21 +57,13 @@ SESSION_FORMAT = 1
 MAX_SESSION_BYTES = 1 << 20
 """The largest session.yaml read (1 MiB; wecook writes about 2 KB)."""
 
-def _fsync_dir(path: Path) -> None:
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
-
-
 # ---------------------------------------------------------------------------------------- session
 
 
 class Session:
     """An open session. Corrections go through :meth:`record`, :meth:`undo` and :meth:`redo`."""
 
-    def __init__(self, path: Path, meta: Mapping[str, Any], warnings: list[str]) -> None:
+    def __init__(self, path: Path, meta: Mapping[str, Any], warnings: list[str], *, lock: bool = False) -> None:
         self.path = path
         self.paths = SessionPaths(path)
         self.name = path.name
@@ -85,9 +76,23 @@ class Session:
         self.params: Params = _params(meta.get("params"), warnings, path / SESSION_FILE)
         self.video: VideoInfo | None = _video(meta.get("video"))
         """The video's facts when the session was made (without opening the video)."""
-        self.journal = Journal(self.paths.journal)
+        rate = meta.get("video_fps")
+        self.video_fps: float | None = float(rate) if isinstance(rate, int | float) and rate > 0 else None
+        """The frame rate given with ``--fps`` when the session was made (its container's is unusable)."""
+        self.journal = Journal(self.paths.journal, lock=lock)
+        """Its writer lock is taken at open with ``lock`` (the workbench), else at the first correction."""
         self.warnings.extend(self.journal.warnings)
         self._imported: Imported | None = None
+
+    def close(self) -> None:
+        """Let go of the session's writer lock (:meth:`Journal.close`)."""
+        self.journal.close()
+
+    def __enter__(self) -> Session:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
     # paths
     @property
@@ -168,12 +173,13 @@ class Session:
         from wecook_core.session.cache import cache_key, load_cached, save_cached
 
         key = cache_key(self.inputs)
-        self._imported = load_cached(self.paths.cache, key)
-        if self._imported is not None:
-            return self._imported
         video = self._input("video")
+        self._imported = load_cached(self.paths.cache, key)
+        if self._imported is not None:  # its video by the recorded path (a cache may hold a relative one)
+            self._imported = _with_video_path(self._imported, video.path)
+            return self._imported
         try:
-            facts = probe_video(video.path)
+            facts = probe_video(video.path, fps=self.video_fps)
         except InputError as error:
             if not video_optional or self.video is None:
                 raise
@@ -236,6 +242,14 @@ class Session:
         self.params = params
 
 
+def _with_video_path(imported: Imported, path: str) -> Imported:
+    """``imported`` with its video's path set to ``path``."""
+    obs = imported.observations
+    if obs.video.path == path:
+        return imported
+    return replace(imported, observations=replace(obs, video=replace(obs.video, path=path)))
+
+
 def _same_video(a: VideoInfo, b: VideoInfo) -> bool:
     """Whether two probes of a video found the same size, rate and usable frames."""
     return (a.width, a.height, a.fps, usable_frames(a)) == (b.width, b.height, b.fps, usable_frames(b))
@@ -290,20 +304,9 @@ def _video(value: Any) -> VideoInfo | None:
 
 
 def _write_yaml(path: Path, data: Mapping[str, Any]) -> None:
-    """Write ``path`` atomically: a temporary file in the same folder, fsynced, renamed over it."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            yaml.safe_dump(dict(data), handle, sort_keys=False, allow_unicode=True)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
-    _fsync_dir(path.parent)
-
+    """Write ``path`` atomically (:func:`~wecook_core.files.write_atomic`)."""
+    write_atomic(path, yaml.safe_dump(dict(data), sort_keys=False, allow_unicode=True), replace=True,
+                 what="session file")
 
 # ----------------------------------------------------------------------------------- create / open
 
@@ -323,6 +326,7 @@ def create_session(
     annotation_fps: float | None = None,
     params: Params | None = None,
     imported: Imported | None = None,
+    fps: float | None = None,
 ) -> Path:
     """Make ``root/name`` from the inputs, after importing them all; return its path.
 
@@ -331,7 +335,8 @@ def create_session(
     workbench's box mode). ``labels`` is MOT's labels file and ``categories`` a file of extra object
     categories (both recorded as inputs); ``select`` the video of a COCO-VID file holding several;
     ``annotation_fps`` the frame rate a Label Studio annotation was made at (None: read from the file).
-    ``imported`` skips the import when the caller already did it with the same arguments.
+    ``imported`` skips the import when the caller already did it with the same arguments. ``fps``: the video's
+    frame rate given by the user (its container's is unusable), recorded and used whenever the video is read.
     """
     check_name(name)
     root = Path(root)
@@ -342,8 +347,10 @@ def create_session(
         imported = import_observations(video, objects, hands, objects_format=objects_format,
                                        hands_format=hands_format, labels=labels, select=select,
                                        annotation_fps=annotation_fps,
-                                       categories=_category_table(Path(categories) if categories else None))
+                                       categories=_category_table(Path(categories) if categories else None),
+                                       video_facts=probe_video(video, fps=fps) if fps is not None else None)
     inputs = {"video": record_input("video", video)}
+    imported = _with_video_path(imported, inputs["video"].path)  # absolute: found from any folder
     if objects is not None:  # else a video alone: its boxes are drawn in the workbench
         inputs["objects"] = record_input("objects", objects, imported.objects_format, select, annotation_fps)
     inputs["hands"] = record_input("hands", hands, imported.hands_format)
@@ -361,6 +368,7 @@ def create_session(
         "video": dataclasses.asdict(imported.observations.video),
         "params": dataclasses.asdict(params or Params()),
         "uncategorised": list(imported.uncategorised),  # labels taken as ingredients until the user says
+        **({"video_fps": fps} if fps is not None else {}),
     }
     root.mkdir(parents=True, exist_ok=True)
     building = Path(tempfile.mkdtemp(prefix=f".{name}.creating-", dir=root))
@@ -370,11 +378,11 @@ def create_session(
         paths.journal.touch()
         paths.plans.mkdir()
         paths.runs.mkdir()
-        _fsync_dir(building)
+        fsync_dir(building)
         if target.exists():
             raise InputError(target, "a session of that name already exists")
         os.rename(building, target)
-        _fsync_dir(root)
+        fsync_dir(root)
     except BaseException:
         shutil.rmtree(building, ignore_errors=True)
         raise
@@ -384,10 +392,11 @@ def create_session(
     return target
 
 
-def open_session(path: str | Path) -> Session:
+def open_session(path: str | Path, *, lock: bool = False) -> Session:
     """Open the session folder ``path``. Missing or changed inputs, torn or unreadable journal lines are
     :attr:`Session.warnings`; only a folder that is not a session (no readable ``session.yaml``) is an
-    InputError."""
+    InputError, as is, with ``lock`` (the session held for writing while open), a session another process
+    holds."""
     path = Path(path)
     meta_path = path / SESSION_FILE
     if not path.is_dir():
@@ -408,7 +417,7 @@ def open_session(path: str | Path) -> Session:
     version = meta.get("wecook_session", SESSION_FORMAT)
     if not isinstance(version, int) or version > SESSION_FORMAT:
         warnings.append(f"{meta_path}: made by a newer wecook (session format {meta.get('wecook_session')})")
-    return Session(path, meta, warnings)
+    return Session(path, meta, warnings, lock=lock)
 
 
 @dataclass(frozen=True)

@@ -364,7 +364,10 @@ def dump_graph(graph: ActionGraph) -> str:
 
 
 def write_graph_file(path: str | Path, graph: ActionGraph) -> None:
-    Path(path).write_text(dump_graph(graph), encoding="utf-8")
+    """Write the graph file atomically (a reader sees the old file or the new one, never a torn one)."""
+    from wecook_core.files import write_atomic
+
+    write_atomic(path, dump_graph(graph), replace=True, what="graph file")
 
 
 def read_graph_file(path: str | Path) -> ActionGraph:

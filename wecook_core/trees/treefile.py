@@ -8,6 +8,7 @@ from pathlib import Path
 import yaml
 
 from wecook_core.errors import InputError, read_input_text, yaml_error
+from wecook_core.files import write_atomic
 from wecook_core.model import TreeSpan
 from wecook_core.trees.notation import TreeSyntaxError, format_tree, parse_tree
 
@@ -21,7 +22,8 @@ def dump_tree_spans(spans: Sequence[TreeSpan]) -> str:
 
 
 def write_tree_file(path: str | Path, spans: Sequence[TreeSpan]) -> None:
-    Path(path).write_text(dump_tree_spans(spans), encoding="utf-8")
+    """Write the tree file atomically (a reader sees the old file or the new one, never a torn one)."""
+    write_atomic(path, dump_tree_spans(spans), replace=True, what="tree file")
 
 
 def read_tree_file(path: str | Path) -> tuple[TreeSpan, ...]:

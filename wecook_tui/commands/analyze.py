@@ -8,6 +8,7 @@ and prints what was found, per tree case, and which segments are unsure and why.
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -36,6 +37,8 @@ def run(args: argparse.Namespace) -> int:
     knowledge = load_knowledge(Path(args.knowledge) if args.knowledge else None)
     done = analyse_session(path, knowledge)
     session, obs, analysis = done.session, done.observations, done.analysis
+    for warning in session.warnings:  # torn or repeated journal lines, changed inputs: as export says them
+        print(f"wecook: warning: {warning}", file=sys.stderr)
     counts = Counter(case_of(action, obs.categories) for action in analysis.actions)
     rejected = sum(1 for s in analysis.corrections.status.values() if s is SegmentStatus.REJECTED)
     seconds = sum(analysis.seconds.values())

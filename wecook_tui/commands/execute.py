@@ -286,6 +286,10 @@ def run_execute(args: argparse.Namespace) -> int:
     if not args.no_record:
         force = getattr(args, "force", False)
         replacing = force and args.record is not None and (args.record.exists() or args.record.is_symlink())
+        if replacing:  # the run is written beside the old recording: its folder must take a file
+            from wecook_core.files import check_writable
+
+            check_writable(args.record.parent, "recording")
         record_path = recording_path(args.record, args.plan, force=force)
     server = _live_server(args, console)
     if server is not None:

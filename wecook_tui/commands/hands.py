@@ -44,13 +44,22 @@ def add_detection_options(parser: argparse.ArgumentParser) -> None:
                              "(faster; by default each hand is named by the arm it ends)")
     parser.add_argument("--mirrored", action="store_true",
                         help="the video is mirrored (a selfie camera): take MediaPipe's handedness as it is")
+    parser.add_argument("--fps", type=float, default=None, metavar="HZ",
+                        help="the video's frame rate, when its container gives none that is usable (0, say); its "
+                             "frames are then counted by decoding")
 
 
 def _refuse_overwrite(path: Path, force: bool) -> None:
+    """Refuse an output that cannot or may not be written, before the (long) detection."""
+    from wecook_core.files import check_writable
+
+    if path.is_dir():
+        raise InputError(path, "is a folder; give the name of the CSV file to write")
     if not path.parent.is_dir():
         raise InputError(path, f"the folder {path.parent} does not exist")
     if path.exists() and not force:
         raise InputError(path, "exists; not overwritten (give --force to replace it)")
+    check_writable(path.parent)
 
 
 def detect_to_csv(video: str | Path, output: Path, args: argparse.Namespace) -> DetectedHands:
@@ -81,7 +90,8 @@ def detect_to_csv(video: str | Path, output: Path, args: argparse.Namespace) -> 
             def progress(done: int, total: int) -> None:
                 bar.update(task, completed=done, total=total)
 
-            found = detect_hands(video, params, assign, persons=args.persons, progress=progress)
+            found = detect_hands(video, params, assign, persons=args.persons, progress=progress,
+                                 fps=getattr(args, "fps", None))
     write_hands(found, video, output)
     return found
 
@@ -94,6 +104,7 @@ def summary(found: DetectedHands, fps: float | None = None) -> str:
 
 
 def run_hands(args: argparse.Namespace) -> int:
+    from wecook_core.formats.video import probe_video
     from wecook_core.observations.hands_detect import write_detections_csv
 
     output = Path(args.output)
@@ -101,6 +112,7 @@ def run_hands(args: argparse.Namespace) -> int:
     detections = Path(args.detections) if args.detections else None
     if detections is not None:
         _refuse_overwrite(detections, args.force)
+    probe_video(args.video, fps=args.fps)  # an unreadable video, a rate to give, too many pixels: said first
     found = detect_to_csv(args.video, output, args)
     if detections is not None:
         write_detections_csv(detections, found.assigned)

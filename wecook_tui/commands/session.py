@@ -72,6 +72,9 @@ def run_new(args: argparse.Namespace) -> int:
 
     if (root / args.name).exists():
         raise InputError(root / args.name, "a session of that name already exists")
+    from wecook_core.files import check_writable
+
+    check_writable(root, "sessions folder")  # before the import (and a detection of the hands)
     table = None
     if args.categories:
         from wecook_core.knowledge.categories import load_categories
@@ -90,20 +93,26 @@ def run_new(args: argparse.Namespace) -> int:
         if detected.exists():
             raise InputError(detected, "exists; give it with --hands, or remove it to detect the hands again")
         # The boxes are checked before the (slow) detection; the detected hands stay if the import fails later.
-        info = probe_video(args.video)
+        info = probe_video(args.video, fps=args.fps)
         if args.objects is not None:
             read_objects(args.objects, args.objects_format, labels=args.labels, video=info,
                          select=args.select_video, fps=args.annotation_fps)
         root.mkdir(parents=True, exist_ok=True)
         print(summary(detect_to_csv(args.video, detected, args)))
         args.hands = str(detected)
+    facts = None
+    if args.fps is not None:  # the container's rate is unusable: the user's stands in
+        from wecook_core.formats.video import probe_video
+
+        facts = probe_video(args.video, fps=args.fps)
     imported = import_observations(args.video, args.objects, args.hands, objects_format=args.objects_format,
                                    hands_format=args.hands_format, labels=args.labels, select=args.select_video,
-                                   annotation_fps=args.annotation_fps, categories=table, checks=checks)
+                                   annotation_fps=args.annotation_fps, categories=table, checks=checks,
+                                   video_facts=facts)
     path = create_session(root, args.name, args.video, args.objects, args.hands,
                           objects_format=imported.objects_format, hands_format=imported.hands_format,
                           labels=args.labels, categories=args.categories, select=args.select_video,
-                          annotation_fps=args.annotation_fps, imported=imported)
+                          annotation_fps=args.annotation_fps, imported=imported, fps=args.fps)
     print(describe(imported, args.objects, args.hands))
     print(f"session {args.name} made in {path}; open it with: wecook open {args.name}"
           + (f" --root {args.root}" if args.root else ""))

@@ -29,10 +29,18 @@ def quiet_decoders() -> None:
 
 
 def launch(path: Path) -> int:
+    """Open the workbench on the session ``path``, holding its writer lock while it is open: a session open in
+    another workbench (or written by another command) is refused at once, naming the holder (exit 2)."""
     quiet_decoders()
+    from wecook_core.session.lock import WriterLock
+    from wecook_core.session.paths import SessionPaths
     from wecook_tui.app import WecookApp
 
-    WecookApp(path).run()
+    lock = WriterLock.take(SessionPaths(path).journal)
+    try:
+        WecookApp(path).run()
+    finally:
+        lock.release()
     return 0
 
 

@@ -10,6 +10,7 @@ its recording and reports the action under way as interrupted, which shows as st
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import subprocess
@@ -29,6 +30,7 @@ from textual.screen import Screen
 from textual.widgets import DataTable, Footer, OptionList, ProgressBar, RichLog, Static
 from textual.widgets.option_list import Option
 
+from wecook_core.errors import InputError
 from wecook_tui.messages import RunEvent, RunFinished, RunOutput
 from wecook_tui.screens.plan_review import plan_file
 
@@ -276,7 +278,10 @@ class RunScreen(Screen[None]):
         seconds = time.perf_counter() - started
         record = {"returncode": code, "mcap": str(mcap), "log": str(log_path), "seconds": round(seconds, 2),
                   "actions": states, "verbs": verbs, "tail": tail[-40:], **({"live": live} if live else {})}
-        mcap.with_suffix(".json").write_text(json.dumps(record, indent=1))
+        from wecook_core.files import write_atomic
+
+        with contextlib.suppress(OSError, InputError):  # the run's summary beside it: a convenience
+            write_atomic(mcap.with_suffix(".json"), json.dumps(record, indent=1), replace=True, what="run summary")
         self.post_message(RunFinished(code, mcap, log_path, seconds))
 
     def _show_plan(self, plan: Any) -> None:
