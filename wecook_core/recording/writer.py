@@ -83,13 +83,20 @@ class McapRecorder:
     def __init__(self, path: str | Path, *, flush_every_s: float = 1.0, time_origin_ns: int | None = None,
                  state_hz: float | None = 50.0, compression: Literal["zstd", "lz4", "none"] = "zstd",
                  on_flush: Callable[[int], None] | None = None, meshes: bool = True,
-                 layout: bool = True) -> None:
+                 layout: bool = True, scene_every_s: float = 1.0) -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.meshes = meshes
         """Draw arm links with their URDF meshes (``/robot``); else as the boxes the executor gives."""
         self.layout = layout
         self.flush_every_s = flush_every_s
+        """Wall seconds between flushes (what a crash can lose): the only thing in the file the machine's speed
+        decides, and it decides where chunks end, never what messages there are."""
+        self.scene_every_s = scene_every_s
+        """Simulated seconds between repeats of ``/scene`` (a reader that seeks, or the part of a file a crash
+        left, can draw the table and objects from the last one). Repeated at flushes (wall time) it made the
+        messages depend on the machine's load: the same plan and seed wrote 17 and 32 ``/scene`` messages."""
+        self._last_scene: float | None = None
         self.time_origin_ns = time.time_ns() if time_origin_ns is None else int(time_origin_ns)
         self.on_flush = on_flush
         """Called after each flush with :attr:`flushed_messages`."""
@@ -144,8 +151,6 @@ class McapRecorder:
     def _flush(self) -> None:
         if self._closed:
             return
-        if self._frames:  # repeat the scene so every flushed piece of the file can draw it
-            self._write("/scene", self._last_ns, foxglove.scene_update(self._last_ns, self._frames))
         self._writer.flush()
         self._last_flush = time.monotonic()
         self.flushed_messages = self.message_count
@@ -173,6 +178,7 @@ class McapRecorder:
             if robot:
                 self._write("/robot", ns, foxglove.robot_update(ns, robot))
             self._write("/scene", ns, foxglove.scene_update(ns, self._frames))
+            self._last_scene = 0.0
             self._write("/log", ns, foxglove.log(ns, "info", f"run started: seed {seed}, {len(self._frames)} frames, "
                                                  f"wecook {info['wecook']}"))
             self._flush()
@@ -187,6 +193,9 @@ class McapRecorder:
             self._write("/tf", ns, foxglove.frame_transforms_json(ns, poses))
             if joints:
                 self._write("/joint_states", ns, self._joint_state(t, ns, joints))
+            if self._frames and self._last_scene is not None and t - self._last_scene >= self.scene_every_s - 1e-9:
+                self._last_scene = t  # repeated on simulated time, so the messages are the run's alone
+                self._write("/scene", ns, foxglove.scene_update(ns, self._frames))
             self._maybe_flush()
 
     def _joint_state(self, t: float, ns: int, joints: Mapping[str, tuple[Sequence[str], Sequence[float]]]
