@@ -151,19 +151,26 @@ def test_a_two_node_cluster_gives_the_trees_of_one_session_at_a_time(tmp_path: P
         f"hands: {SCENARIOS / n / 'openpose'}, truth: {SCENARIOS / n / 'truth.yaml'}}}\n" for n in NAMES))
     batch_root, client_root = tmp_path / "batch", tmp_path / "client"
 
-    def batch(manifest: Path, root: Path, address: str) -> None:
-        done = subprocess.run(
-            [sys.executable, "-m", "wecook_tui.cli", "batch", str(manifest), "--root", str(root),
-             "--address", address, "--stages", "import,analyze,export"],
-            cwd=ROOT, capture_output=True, text=True, timeout=900,
-            env={**os.environ, "RAY_AUTH_MODE": os.environ.get("RAY_AUTH_MODE", "token")})
+    def batch(manifest: Path, root: Path, address: str, tries: int = 1) -> None:
+        for attempt in range(tries):
+            done = subprocess.run(
+                [sys.executable, "-m", "wecook_tui.cli", "batch", str(manifest), "--root", str(root),
+                 "--address", address, "--stages", "import,analyze,export"],
+                cwd=ROOT, capture_output=True, text=True, timeout=900,
+                env={**os.environ, "RAY_AUTH_MODE": os.environ.get("RAY_AUTH_MODE", "token")})
+            if done.returncode == 0 or "Starting Ray client server failed" not in done.stderr \
+                    or attempt == tries - 1:
+                break
+            shutil.rmtree(root, ignore_errors=True)  # Ray's own start of its per-client server failed: again
         assert done.returncode == 0, done.stderr[-3000:]
 
     one = tmp_path / "one.yaml"
     one.write_text("videos:\n" + manifest.read_text().splitlines()[2] + "\n")  # s303
     with local_cluster() as (address, client):
         batch(manifest, batch_root, address)
-        batch(one, client_root, client)  # through Ray Client
+        # through Ray Client; its proxy starts a server process per client, which on a loaded machine (load 6-10
+        # here) failed to come up in 1 of 2 runs before any wecook code ran: one more try then
+        batch(one, client_root, client, tries=2)
     report = json.loads((batch_root / "batch.json").read_text())
     assert report["workers"] == 2 and [v["status"] for v in report["videos"]] == ["done"] * 3, report
     nodes = {s["node"] for v in report["videos"] for s in v["stages"]}
