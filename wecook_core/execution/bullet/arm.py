@@ -18,10 +18,11 @@ from scipy.spatial.transform import Rotation, Slerp
 
 from wecook_core.execution.bullet.bodies import SIM_HZ
 from wecook_core.execution.bullet.planning_scene import ARM_MARGIN, boxes_overlap
-from wecook_core.execution.bullet.robot import HOME, LOWER, MAX_SPEED, REST, UPPER
+from wecook_core.execution.bullet.robot import HOME, LOWER, MAX_ACCEL, MAX_SPEED, REST, UPPER
 from wecook_core.execution.bullet.scene import BulletScene
 from wecook_core.execution.bullet.traffic import Traffic
 from wecook_core.execution.planning.motion import MotionProblem, path_free, plan_motion
+from wecook_core.execution.planning.timing import timed_path
 from wecook_core.execution.schedule.program import WAIT, WORK, ActionFailed, PathBlocked, Program
 from wecook_core.execution.skills.tsr import TSR, sample, xyzrpy_to_matrix
 from wecook_core.execution.world.protocols import YIELD_SECONDS, Accept, Rank
@@ -190,14 +191,15 @@ class BulletArm:
         return list(result.path)
 
     def _follow(self, path: Sequence[np.ndarray], durations: Sequence[float] | None = None) -> Program:
-        """Move along joint waypoints (linear interpolation), ``durations[k]`` seconds for segment k."""
-        for k, (a, b) in enumerate(itertools.pairwise(path)):
-            d = durations[k] if durations is not None else float(np.max(np.abs(b - a) / (MAX_SPEED * JOINT_SPEED)))
-            n = max(math.ceil(d * SIM_HZ), 1)
-            for i in range(1, n + 1):
-                self.scene.commands[self.pid] = a + (b - a) * (i / n)
-                self.traffic.moved_at[self.pid] = self.scene.time
-                yield WORK
+        """Move along joint waypoints, from rest to rest, within the joints' velocity and acceleration limits
+        (:func:`~wecook_core.execution.planning.timing.timed_path`) and never faster than ``durations[k]``
+        seconds for segment k (default: :data:`JOINT_SPEED` of the speed limits)."""
+        if durations is None:
+            durations = [float(np.max(np.abs(b - a) / (MAX_SPEED * JOINT_SPEED))) for a, b in itertools.pairwise(path)]
+        for q in timed_path(path, durations, MAX_SPEED, MAX_ACCEL, SIM_HZ):
+            self.scene.commands[self.pid] = q
+            self.traffic.moved_at[self.pid] = self.scene.time
+            yield WORK
 
     def _reserve(self, path: Sequence[np.ndarray]) -> Program:
         """Wait until the swept region of ``path`` is clear of the other arm's moving region, then hold it."""

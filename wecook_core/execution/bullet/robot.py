@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import pybullet as p
 
+from wecook_core.execution.planning.limits import arm_acceleration, arm_velocity
 from wecook_core.execution.skills.tsr import matrix_to_pose, pose_to_matrix
 
 ARM_JOINTS = (0, 1, 2, 3, 4, 5, 6)
@@ -29,8 +30,10 @@ FINGER_OPEN = 0.04
 LOWER = np.array([-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973])
 UPPER = np.array([2.8973, 1.7628, 2.8973, -0.0698, 2.8973, 3.7525, 2.8973])
 """Franka's documented limits (the URDF's are close); the planner and IK keep inside them."""
-MAX_SPEED = np.array([2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61])
-"""Radians per second (Franka's limits); motions use a fraction of them."""
+MAX_SPEED = arm_velocity()
+"""Radians per second (the URDF's, Franka's published ones); motions use a fraction of them."""
+MAX_ACCEL = arm_acceleration()
+"""Radians per second squared (Franka's published limits; the URDF has none)."""
 
 
 @dataclass
@@ -106,12 +109,18 @@ class Panda:
                     return q
         return None
 
-    def set_fingers(self, width: float) -> None:
-        """Finger opening per finger (metres), held by the motors."""
-        for j in FINGER_JOINTS:
-            p.resetJointState(self.body, j, float(width), physicsClientId=self.client)
+    def finger_pair(self) -> tuple[float, float]:
+        """Each finger's opening (metres), from its own joint."""
+        states = p.getJointStates(self.body, FINGER_JOINTS, physicsClientId=self.client)
+        return float(states[0][0]), float(states[1][0])
+
+    def set_fingers(self, width: float | tuple[float, float], velocity: tuple[float, float] = (0.0, 0.0)) -> None:
+        """Finger opening per finger (metres; one for both, or each its own), held by the motors."""
+        widths = (width, width) if isinstance(width, float | int) else width
+        for j, w, v in zip(FINGER_JOINTS, widths, velocity, strict=True):
+            p.resetJointState(self.body, j, float(w), float(v), physicsClientId=self.client)
         p.setJointMotorControlArray(self.body, list(FINGER_JOINTS), p.POSITION_CONTROL,
-                                    targetPositions=[float(width)] * 2, forces=[50.0, 50.0],
+                                    targetPositions=[float(w) for w in widths], forces=[50.0, 50.0],
                                     physicsClientId=self.client)
 
 

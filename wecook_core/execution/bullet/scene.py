@@ -16,6 +16,8 @@ import pybullet as p
 from wecook_core.execution.bullet.bodies import SIM_HZ, SceneBodies, build_scene, link_frames, world_poses
 from wecook_core.execution.bullet.planning_scene import PlanningScene
 from wecook_core.execution.bullet.robot import EE_LINK, REST, Panda, attach, detach, set_arm_collisions
+from wecook_core.execution.planning.limits import FINGER_ACCEL, finger_velocity
+from wecook_core.execution.planning.timing import toward
 from wecook_core.execution.schedule.observer import FrameInfo, RunEvent, RunObserver
 from wecook_core.execution.schedule.program import WORK, Program
 from wecook_core.execution.skills.library import Half, SkillLibrary, object_kind
@@ -25,6 +27,8 @@ from wecook_core.model import Category
 from wecook_core.plan import Plan, PlanAction
 
 JOINT_NAMES = [f"panda_joint{k + 1}" for k in range(7)] + ["panda_finger_joint1", "panda_finger_joint2"]
+FINGER_SPEED = finger_velocity()
+"""Metres per second per finger (the URDF's)."""
 STATE_EVERY = SIM_HZ // 30
 """Steps between two ``on_state`` calls (30 Hz)."""
 CONTACT_EVERY = 2
@@ -63,9 +67,13 @@ class BulletScene:
         self._touching = False
         self._riding: set[str] = set()
         """Objects riding on a hand at the last step."""
+        self.fingers: dict[str, list[list[float]]] = {}
+        """Arm -> each finger's [opening (m), speed (m/s), target (m)]: the fingers are driven to their targets
+        within the gripper's limits, a step at a time."""
         for pid, arm in self.robots.items():
             arm.set_q(REST, 0.04)
             self.commands[pid] = REST.copy()
+            self.fingers[pid] = [[0.04, 0.0, 0.04], [0.04, 0.0, 0.04]]
         for _ in range(60):  # let the objects settle before the clock starts
             p.stepSimulation(physicsClientId=self.client)
         self._frames = link_frames(self.bodies)
@@ -97,8 +105,14 @@ class BulletScene:
         return self._frames
 
     def hold(self, seconds: float) -> Program:
+        """``seconds``, and on until every finger has reached its target."""
         for _ in range(max(int(seconds * SIM_HZ), 1)):
             yield WORK
+        while self.fingers_moving():
+            yield WORK
+
+    def fingers_moving(self) -> bool:
+        return any(f[0] != f[2] or f[1] != 0.0 for fingers in self.fingers.values() for f in fingers)
 
     def sync(self) -> None:
         self.planning.sync(self.bodies, {pid: h.riding for pid, h in self.hands.items()})
@@ -111,6 +125,11 @@ class BulletScene:
         c = self.client
         for pid, arm in self.robots.items():  # kinematic arms: exactly where commanded, every step
             arm.set_q(self.commands[pid])
+            fingers = self.fingers[pid]  # kinematic fingers too: where driven, never pushed by contacts
+            for f in fingers:
+                if f[0] != f[2] or f[1] != 0.0:
+                    f[0], f[1] = toward(f[0], f[1], f[2], FINGER_SPEED, FINGER_ACCEL, 1 / SIM_HZ)
+            arm.set_fingers((fingers[0][0], fingers[1][0]), (fingers[0][1], fingers[1][1]))
         for pid, hand in self.hands.items():
             if hand.riding:
                 state = p.getLinkState(self.bodies.arms[pid].body, EE_LINK, computeForwardKinematics=True,
@@ -140,7 +159,7 @@ class BulletScene:
     def publish_state(self) -> None:
         if self.observer is None:
             return
-        joints = {pid: (JOINT_NAMES, [*arm.q(), arm.fingers(), arm.fingers()]) for pid, arm in self.robots.items()}
+        joints = {pid: (JOINT_NAMES, [*arm.q(), *arm.finger_pair()]) for pid, arm in self.robots.items()}
         self.observer.on_state(self.time, world_poses(self.bodies), joints)
 
     def _check_arm_contact(self) -> None:
@@ -320,5 +339,7 @@ class BulletScene:
                                      physicsClientId=self.client)
 
     def set_grip(self, pid: str, width: float) -> None:
+        """Drive both fingers to ``width`` each (metres); they get there over the next steps."""
         self.hands[pid].grip = width
-        self.robots[pid].set_fingers(width)
+        for f in self.fingers[pid]:
+            f[2] = float(width)
