@@ -1,13 +1,15 @@
 """A recorded run of the demo plan (seed 0) read back as a roboticist would: every joint within its limits in
-every recorded step."""
+every recorded step, link frames at the URDF's link origins, each finger from its own joint."""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 from mcap.reader import make_reader
+from scipy.spatial.transform import Rotation
 
 from wecook_core.execution.run import execute_plan
 from wecook_core.recording.check import check_recording
@@ -37,3 +39,41 @@ def test_the_recorded_demo_run_does_every_action_with_no_joint_over_its_limits(d
     assert report.problems == ()
     states = _messages(path, "/joint_states")
     assert len(states) > 30 * result.sim_time * 0.95  # the executed trajectory at the recording rate (30 Hz)
+
+
+def _by_time(path: Path, topic: str) -> dict[int, dict]:
+    with open(path, "rb") as f:
+        return {m.log_time: json.loads(m.data) for _, c, m in make_reader(f).iter_messages(topics=[topic])}
+
+
+def _matrix(transform: dict) -> np.ndarray:
+    t, r = transform["translation"], transform["rotation"]
+    out = np.eye(4)
+    out[:3, :3] = Rotation.from_quat([r["x"], r["y"], r["z"], r["w"]]).as_matrix()
+    out[:3, 3] = [t["x"], t["y"], t["z"]]
+    return out
+
+
+def test_link_frames_sit_at_the_urdfs_link_origins_and_each_finger_follows_its_own_joint(demo_run) -> None:
+    """``P*/panda_link0`` is the plan's base (not the base's centre of mass, 5 cm up); each finger's frame is
+    where its own joint puts it in the hand (URDF: 5.84 cm out, along +y for finger 1 and -y for finger 2)."""
+    from wecook_core.workflows import demo_plan
+
+    path, _ = demo_run
+    bases = {a.pid: (a.base_position, a.base_yaw) for a in demo_plan().agents}
+    tfs, joints = _by_time(path, "/tf"), _by_time(path, "/joint_states")
+    both = sorted(set(tfs) & set(joints))
+    assert len(both) > 100
+    for stamp in both[::10]:
+        frames = {t["child_frame_id"]: _matrix(t) for t in tfs[stamp]["transforms"]}
+        state = dict(zip(joints[stamp]["name"], joints[stamp]["position"], strict=True))
+        for pid, (xyz, yaw) in bases.items():
+            base = frames[f"{pid}/panda_link0"]
+            assert np.allclose(base[:3, 3], xyz, atol=1e-6)
+            assert np.allclose(base[:3, :3], Rotation.from_euler("z", yaw).as_matrix(), atol=1e-6)
+            hand = np.linalg.inv(frames[f"{pid}/panda_hand"])
+            left = (hand @ frames[f"{pid}/panda_leftfinger"])[:3, 3]
+            right = (hand @ frames[f"{pid}/panda_rightfinger"])[:3, 3]
+            q1, q2 = state[f"{pid}/panda_finger_joint1"], state[f"{pid}/panda_finger_joint2"]
+            assert np.allclose(left, [0.0, q1, 0.0584], atol=1e-5)
+            assert np.allclose(right, [0.0, -q2, 0.0584], atol=1e-5)
