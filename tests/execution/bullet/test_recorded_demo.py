@@ -1,12 +1,16 @@
 """A recorded run of the demo plan (seed 0) read back as a roboticist would: every joint within its limits in
-every recorded step, link frames at the URDF's link origins, each finger from its own joint."""
+every recorded step, link frames at the URDF's link origins, each finger from its own joint, fingers closed on
+what they take and never into it."""
 
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
+from unittest import mock
 
 import numpy as np
+import pybullet
 import pytest
 from mcap.reader import make_reader
 from scipy.spatial.transform import Rotation
@@ -18,12 +22,31 @@ from wecook_core.recording.writer import McapRecorder
 pytestmark = [pytest.mark.sim, pytest.mark.slow]
 
 
+GRIPS: list[tuple[str, float, float, float, float]] = []
+"""(object, finger 1's and finger 2's distance to it in metres (negative: inside), their openings) at every
+attach of the run."""
+
+
 @pytest.fixture(scope="module")
 def demo_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, object]:
+    from wecook_core.execution.bullet.robot import FINGER_JOINTS
+    from wecook_core.execution.bullet.scene import BulletScene
     from wecook_core.workflows import demo_plan
 
+    attach = BulletScene.attach
+
+    def measured(scene: BulletScene, pid: str, name: str) -> None:  # the fingers have closed: how far from it?
+        scene.sync()
+        c, arm = scene.planning.client, scene.planning.arms[pid].body
+        body = scene.planning.bodies.objects[name].body
+        gaps = [min((x[8] for x in pybullet.getClosestPoints(arm, body, 0.05, linkIndexA=j, physicsClientId=c)),
+                    default=0.05) for j in FINGER_JOINTS]
+        GRIPS.append((name, gaps[0], gaps[1], *scene.robots[pid].finger_pair()))
+        attach(scene, pid, name)
+
     path = tmp_path_factory.mktemp("demo") / "run.mcap"
-    result = execute_plan(demo_plan(), McapRecorder(path), seed=0, images=False)
+    with mock.patch.object(BulletScene, "attach", measured):
+        result = execute_plan(demo_plan(), McapRecorder(path), seed=0, images=False)
     return path, result
 
 
@@ -77,3 +100,18 @@ def test_link_frames_sit_at_the_urdfs_link_origins_and_each_finger_follows_its_o
             q1, q2 = state[f"{pid}/panda_finger_joint1"], state[f"{pid}/panda_finger_joint2"]
             assert np.allclose(left, [0.0, q1, 0.0584], atol=1e-5)
             assert np.allclose(right, [0.0, -q2, 0.0584], atol=1e-5)
+
+
+def test_every_grasp_closes_each_finger_onto_the_object_never_into_it_and_says_how_wide(demo_run) -> None:
+    """The old grasp closed to a width from the skill table (1.9 mm per finger on the bowl's 8 mm wall: into it);
+    each finger now stops where it touches the part it takes, and /log says the width."""
+    path, _ = demo_run
+    assert any(g[0] == "bowl" for g in GRIPS)
+    for name, *gaps, open1, open2 in GRIPS:
+        for gap, opening in zip(gaps, (open1, open2), strict=True):
+            if opening >= 0.04 - 1e-6:  # wide open and still in the wall: the grasp pose itself (the pot's rim)
+                continue  # put it there, which the fingers cannot undo (issue 25, not solved)
+            assert -0.0005 <= gap <= 0.001, (name, gaps, open1, open2)  # touching, not inside
+    logs = [m["message"] for m in _messages(path, "/log")]
+    widths = [line for line in logs if re.match(r"P[12] grips \w+: [0-9.]+ mm between the fingers", line)]
+    assert len(widths) == len(GRIPS)

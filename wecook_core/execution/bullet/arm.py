@@ -18,7 +18,16 @@ from scipy.spatial.transform import Rotation, Slerp
 
 from wecook_core.execution.bullet.bodies import SIM_HZ
 from wecook_core.execution.bullet.planning_scene import ARM_MARGIN, boxes_overlap
-from wecook_core.execution.bullet.robot import HOME, LOWER, MAX_ACCEL, MAX_SPEED, REST, UPPER
+from wecook_core.execution.bullet.robot import (
+    FINGER_JOINTS,
+    FINGER_OPEN,
+    HOME,
+    LOWER,
+    MAX_ACCEL,
+    MAX_SPEED,
+    REST,
+    UPPER,
+)
 from wecook_core.execution.bullet.scene import BulletScene
 from wecook_core.execution.bullet.traffic import Traffic
 from wecook_core.execution.planning.motion import MotionProblem, path_free, plan_motion
@@ -33,6 +42,8 @@ LINEAR_SPEED = 0.12
 """Metres per second of straight moves and actuations."""
 TURN_SPEED = 1.2
 """Radians per second of the effector's rotation in straight moves and actuations."""
+TOUCH = 2e-4
+"""Metres: a finger this close to what it grips touches it."""
 CROWDED = 0.35
 """Metres: when the other arm's hand is this close to where a pose is sought, the poses farthest from it come
 first."""
@@ -58,6 +69,34 @@ class BulletArm:
 
     def set_grip(self, width: float) -> None:
         self.scene.set_grip(self.pid, width)
+
+    def close_on(self, name: str, width: float) -> tuple[float, float]:
+        """Each finger closed until it touches ``name`` (found in the planning client: the finger moved by its
+        gap to the object until the gap is under :data:`TOUCH`), never into it; a finger with nothing within
+        5 cm closes to ``width``. The fingers are driven there; returns each one's opening (metres)."""
+        self.scene.sync()
+        c = self.planning.client
+        arm = self.planning.arms[self.pid]
+        body = self.planning.bodies.objects[name].body
+        openings = list(arm.finger_pair())
+        for k, joint in enumerate(FINGER_JOINTS):  # a finger's link has its joint's index
+            opening = openings[k]
+            for _ in range(10):
+                p.resetJointState(arm.body, joint, opening, physicsClientId=c)
+                points = p.getClosestPoints(arm.body, body, 0.05, linkIndexA=joint, physicsClientId=c)
+                if not points:
+                    opening = width
+                    break
+                gap = min(x[8] for x in points)
+                if abs(gap) < TOUCH:
+                    break
+                opening = min(max(opening - gap, 0.0), FINGER_OPEN)  # the gap is at most along the finger's axis
+            openings[k] = opening
+        pair = (openings[0], openings[1])
+        self.scene.set_fingers(self.pid, pair)
+        self.scene.log("info", f"{self.pid} grips {name}: {1000 * (pair[0] + pair[1]):.1f} mm between the fingers "
+                               f"(finger 1 {1000 * pair[0]:.1f} mm, finger 2 {1000 * pair[1]:.1f} mm open)")
+        return pair
 
     def clear_blockers(self) -> None:
         self.traffic.goal_blockers = set()

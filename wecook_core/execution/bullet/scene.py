@@ -338,6 +338,12 @@ class BulletScene:
             p.setCollisionFilterPair(self.bodies.objects[a].body, self.bodies.objects[b].body, -1, -1, int(enabled),
                                      physicsClientId=self.client)
 
+    def set_fingers(self, pid: str, openings: tuple[float, float]) -> None:
+        """Drive each finger to its own opening (metres)."""
+        self.hands[pid].grip = (openings[0] + openings[1]) / 2
+        for f, w in zip(self.fingers[pid], openings, strict=True):
+            f[2] = float(w)
+
     def set_grip(self, pid: str, width: float) -> None:
         """Drive both fingers to ``width`` each (metres); they get there over the next steps."""
         self.hands[pid].grip = width

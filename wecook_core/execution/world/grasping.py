@@ -94,7 +94,7 @@ def grasp(cell: Cell, action: PlanAction, pid: str, name: str, *, lift: bool = T
         except ActionFailed as error:
             scene.collide_with_arm(pid, name, enabled=True)
             return str(error)
-        arm.set_grip(grip)
+        arm.close_on(name, grip)  # each finger stops where it touches the part it takes
         yield from scene.hold(0.2)
         scene.attach(pid, name)
         for content in scene.contents(name):  # what lies in a container moves with it
