@@ -38,13 +38,16 @@ def execute_plan(plan: Plan, observer: RunObserver, *, seed: int = 0, realtime: 
         observer.on_start(world.frames(), yaml.safe_dump(plan_to_dict(plan), sort_keys=False), seed, meta)
         world.publish_state()
         limit = default_timeout(plan) if timeout is None else timeout
+        waited: dict[str, float] = {}
         results = run_schedule(plan, world, observer, timeout=max(limit - (time.perf_counter() - began), 1.0),
-                               stop_at_first_failure=stop_at_first_failure, failures_in_a_row=failures_in_a_row)
+                               stop_at_first_failure=stop_at_first_failure, failures_in_a_row=failures_in_a_row,
+                               waited=waited)
         done = sum(r.status == "done" for r in results)
+        waits = {pid: round(s, 3) for pid, s in sorted(waited.items())}
         observer.on_event(world.time, RunEvent("run_end", detail=f"{done}/{len(results)} actions done",
                                                data={"done": done, "total": len(results),
-                                                     "arm_contacts": world.arm_contacts}))
+                                                     "arm_contacts": world.arm_contacts, "waited_s": waits}))
         observer.on_end(world.time)
-        return RunResult(results, world.time, time.perf_counter() - began, seed, world.arm_contacts)
+        return RunResult(results, world.time, time.perf_counter() - began, seed, world.arm_contacts, waits)
     finally:
         world.close()

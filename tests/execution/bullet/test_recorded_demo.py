@@ -115,3 +115,47 @@ def test_every_grasp_closes_each_finger_onto_the_object_never_into_it_and_says_h
     logs = [m["message"] for m in _messages(path, "/log")]
     widths = [line for line in logs if re.match(r"P[12] grips \w+: [0-9.]+ mm between the fingers", line)]
     assert len(widths) == len(GRIPS)
+
+
+class _Logs:
+    def __init__(self) -> None:
+        self.logs: list[tuple[str, str]] = []
+
+    def on_log(self, t: float, level: str, message: str) -> None:
+        self.logs.append((level, message))
+
+    def on_event(self, t: float, event: object) -> None:
+        pass
+
+
+def test_retries_and_primitive_failures_go_to_the_log_with_their_level() -> None:
+    from wecook_core.execution.bullet.scene import BulletScene
+    from wecook_core.execution.skills.library import load_skills
+    from wecook_core.workflows import demo_plan
+
+    plan = demo_plan()
+    logs = _Logs()
+    scene = BulletScene(plan, logs, load_skills(), images=False)  # type: ignore[arg-type]
+    try:
+        action = plan.actions[0]
+        scene.event("retry", action, "P1", "grasp of knife: attempt 2 (no reachable grasp)", "grasp")
+        scene.event("primitive_failed", action, "P2", "put down peeler: out of reach", "place")
+    finally:
+        scene.close()
+    assert logs.logs == [
+        ("warning", f"{action.id} P1 grasp: retry: grasp of knife: attempt 2 (no reachable grasp)"),
+        ("error", f"{action.id} P2 place: primitive failed: put down peeler: out of reach")]
+
+
+def test_every_wait_of_the_demo_run_is_explained_and_every_retry_logged(demo_run) -> None:
+    path, result = demo_run
+    events = _messages(path, "/plan/events")
+    waits = [e for e in events if e["kind"] == "wait"]
+    assert waits and all(e["agent"] in ("P1", "P2") for e in waits)
+    assert not [e for e in waits if "does not name" in e["detail"]]
+    end = events[-1]
+    assert end["kind"] == "run_end" and set(end["data"]["waited_s"]) == {"P1", "P2"}
+    assert dict(result.waited) == end["data"]["waited_s"]
+    warnings = [m["message"] for m in _messages(path, "/log") if m["level"] == 3]  # foxglove.Log WARNING
+    for retry in (e for e in events if e["kind"] == "retry"):
+        assert any(retry["detail"] in w for w in warnings)

@@ -32,7 +32,7 @@ from wecook_core.execution.bullet.scene import BulletScene
 from wecook_core.execution.bullet.traffic import Traffic
 from wecook_core.execution.planning.motion import MotionProblem, path_free, plan_motion
 from wecook_core.execution.planning.timing import timed_path
-from wecook_core.execution.schedule.program import WAIT, WORK, ActionFailed, PathBlocked, Program
+from wecook_core.execution.schedule.program import WORK, ActionFailed, PathBlocked, Program, waiting
 from wecook_core.execution.skills.tsr import TSR, sample, xyzrpy_to_matrix
 from wecook_core.execution.world.protocols import YIELD_SECONDS, Accept, Rank
 
@@ -250,9 +250,10 @@ class BulletArm:
             theirs = self.traffic.reserved[other]
             if not boxes_overlap(boxes, theirs):  # type: ignore[arg-type]
                 break
+            tick = waiting(f"the other arm's region ({other}'s motion crosses this one's path)")
             while self.traffic.reserved[other] is theirs:  # the same motion still runs
                 waited += 1
-                yield WAIT
+                yield tick
         self.traffic.reserved[self.pid] = boxes
         if waited:
             raise _Replan()
@@ -370,20 +371,22 @@ class BulletArm:
         if other is not None and self.traffic.other_in_the_way:
             self.traffic.other_in_the_way = False
             self.traffic.right_of_way = self.pid  # the other arm, once home, waits for this primitive to end
+            tick = waiting(f"{other} to go home (it was in the way of the last attempt)")
             for i in range(int(YIELD_SECONDS * SIM_HZ)):
                 if np.max(np.abs(self.scene.robots[other].q() - REST)) < 1e-2:
                     return
                 if i > 2 * SIM_HZ and self.scene.time - self.traffic.moved_at[other] > 3.0:  # itself waiting: go on
                     return
-                yield WAIT
+                yield tick
             return
         if other is None or self.traffic.reserved[other] is None:
             return
         current = self.traffic.reserved[other]
+        tick = waiting(f"{other}'s motion to end before a retry")
         for _ in range(int(limit * SIM_HZ)):
             if self.traffic.reserved[other] is not current:
                 return
-            yield WAIT
+            yield tick
 
     def park(self, what: str = "move to rest") -> Program:
         """A planned move to :data:`REST` (no retries)."""
@@ -412,10 +415,11 @@ class BulletArm:
         finally:
             if self.traffic.right_of_way == self.pid:
                 self.traffic.right_of_way = None
+        tick = waiting(f"{self.traffic.right_of_way}'s primitive to end (it has the right of way)")
         for _ in range(int(YIELD_SECONDS * SIM_HZ)):
             if self.traffic.right_of_way in (None, self.pid):
                 break
-            yield WAIT
+            yield tick
 
 
 class _Replan(Exception):

@@ -177,9 +177,7 @@ class BulletScene:
             x = min(points, key=lambda q: q[8])
             detail = (f"the two arms touched: {pids[0]} {names_a[x[3] + 1]} and {pids[1]} {names_b[x[4] + 1]} "
                       f"({-x[8] * 1000:.1f} mm deep)")
-            self.event("primitive_failed", None, None, detail)
-            if self.observer is not None:
-                self.observer.on_log(self.time, "error", detail)
+            self.event("primitive_failed", None, None, detail)  # logged as an error by event()
         self._touching = touching
 
     def event(self, kind: str, action: PlanAction | None, pid: str | None, detail: str = "",
@@ -187,6 +185,10 @@ class BulletScene:
         if kind in ("primitive_end", "primitive_failed") and pid is not None:
             for call in self.ended:
                 call(pid)
+        if kind in ("retry", "primitive_failed"):  # in /log too, with their level
+            who = " ".join(x for x in (action.id if action else None, pid, primitive) if x)
+            self.log("warning" if kind == "retry" else "error",
+                     (f"{who}: " if who else "") + f"{kind.replace('_', ' ')}: {detail}")
         if self.observer is not None:
             self.observer.on_event(self.time, RunEvent(kind, action.id if action else None, primitive, pid, detail))  # type: ignore[arg-type]
 
