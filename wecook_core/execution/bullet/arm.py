@@ -93,7 +93,7 @@ class BulletArm:
                 opening = min(max(opening - gap, 0.0), FINGER_OPEN)  # the gap is at most along the finger's axis
             openings[k] = opening
         pair = (openings[0], openings[1])
-        self.scene.set_fingers(self.pid, pair)
+        self.scene.set_fingers(self.pid, pair, grips=True)
         self.scene.log("info", f"{self.pid} grips {name}: {1000 * (pair[0] + pair[1]):.1f} mm between the fingers "
                                f"(finger 1 {1000 * pair[0]:.1f} mm, finger 2 {1000 * pair[1]:.1f} mm open)")
         return pair

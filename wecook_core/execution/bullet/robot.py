@@ -12,7 +12,13 @@ from dataclasses import dataclass
 import numpy as np
 import pybullet as p
 
-from wecook_core.execution.planning.limits import arm_acceleration, arm_velocity
+from wecook_core.execution.planning.limits import (
+    ARM_JOINT_NAMES,
+    FINGER_JOINT_NAMES,
+    arm_acceleration,
+    arm_velocity,
+    urdf_limits,
+)
 from wecook_core.execution.skills.tsr import matrix_to_pose, pose_to_matrix
 
 ARM_JOINTS = (0, 1, 2, 3, 4, 5, 6)
@@ -122,6 +128,29 @@ class Panda:
         p.setJointMotorControlArray(self.body, list(FINGER_JOINTS), p.POSITION_CONTROL,
                                     targetPositions=[float(w) for w in widths], forces=[50.0, 50.0],
                                     physicsClientId=self.client)
+
+
+def drive(arm: Panda, q: np.ndarray, fingers: tuple[float, float]) -> None:
+    """Physics mode: position control of the arm's joints toward ``q`` and of the fingers toward ``fingers``,
+    each motor within its URDF effort and velocity limits."""
+    c = arm.client
+    limits = urdf_limits()
+    for j, (name, target) in enumerate(zip(ARM_JOINT_NAMES, q, strict=True)):
+        lim = limits[name]
+        p.setJointMotorControl2(arm.body, ARM_JOINTS[j], p.POSITION_CONTROL, targetPosition=float(target),
+                                force=lim.effort, maxVelocity=lim.velocity, positionGain=0.3, velocityGain=1.0,
+                                physicsClientId=c)
+    for joint, name, target in zip(FINGER_JOINTS, FINGER_JOINT_NAMES, fingers, strict=True):
+        lim = limits[name]
+        p.setJointMotorControl2(arm.body, joint, p.POSITION_CONTROL, targetPosition=max(float(target), 0.0),
+                                force=lim.effort, maxVelocity=lim.velocity, physicsClientId=c)
+
+
+def grip_friction(arm: Panda, friction: float = 1.5) -> None:
+    """The fingers' pads grip (physics mode): high lateral and some spinning friction."""
+    for link in FINGER_JOINTS:
+        p.changeDynamics(arm.body, link, lateralFriction=friction, spinningFriction=0.05,
+                         physicsClientId=arm.client)
 
 
 def attach(client: int, arm_body: int, obj: int) -> tuple[int, np.ndarray]:

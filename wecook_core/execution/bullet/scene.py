@@ -15,7 +15,16 @@ import pybullet as p
 
 from wecook_core.execution.bullet.bodies import SIM_HZ, SceneBodies, build_scene, link_frames, world_poses
 from wecook_core.execution.bullet.planning_scene import PlanningScene
-from wecook_core.execution.bullet.robot import EE_LINK, REST, Panda, attach, detach, set_arm_collisions
+from wecook_core.execution.bullet.robot import (
+    EE_LINK,
+    REST,
+    Panda,
+    attach,
+    detach,
+    drive,
+    grip_friction,
+    set_arm_collisions,
+)
 from wecook_core.execution.planning.limits import FINGER_ACCEL, finger_velocity
 from wecook_core.execution.planning.timing import toward
 from wecook_core.execution.schedule.observer import FrameInfo, RunEvent, RunObserver
@@ -29,6 +38,9 @@ from wecook_core.plan import Plan, PlanAction
 JOINT_NAMES = [f"panda_joint{k + 1}" for k in range(7)] + ["panda_finger_joint1", "panda_finger_joint2"]
 FINGER_SPEED = finger_velocity()
 """Metres per second per finger (the URDF's)."""
+SQUEEZE = 0.004
+"""Metres per finger the physics mode's finger motors aim inside what they grip (they press with the URDF's
+effort, 20 N, and stop on it)."""
 STATE_EVERY = SIM_HZ // 30
 """Steps between two ``on_state`` calls (30 Hz)."""
 CONTACT_EVERY = 2
@@ -44,8 +56,12 @@ class BulletScene:
     planning copy the arms plan in."""
 
     def __init__(self, plan: Plan, observer: RunObserver | None, skills: SkillLibrary, *, realtime: bool = False,
-                 images: bool = True):
+                 images: bool = True, dynamics: bool = False):
         self.plan = plan
+        self.dynamics = dynamics
+        """Physics mode: the joints follow their commands by position control within the URDF's effort and
+        velocity limits (:func:`~.robot.drive`), held objects by the fingers' friction (no constraint, the
+        arm's collisions with them on); else the joints are set to their commands every step."""
         self.observer = observer
         self.skills = skills
         self.client = p.connect(p.DIRECT)
@@ -74,6 +90,11 @@ class BulletScene:
             arm.set_q(REST, 0.04)
             self.commands[pid] = REST.copy()
             self.fingers[pid] = [[0.04, 0.0, 0.04], [0.04, 0.0, 0.04]]
+        self.squeeze = {pid: (0.0, 0.0) for pid in self.robots}
+        """Arm -> metres each finger's motor target lies inside what it grips (physics mode: it presses)."""
+        if dynamics:
+            for arm in self.robots.values():
+                grip_friction(arm)
         for _ in range(60):  # let the objects settle before the clock starts
             p.stepSimulation(physicsClientId=self.client)
         self._frames = link_frames(self.bodies)
@@ -123,15 +144,20 @@ class BulletScene:
 
     def step(self) -> None:
         c = self.client
-        for pid, arm in self.robots.items():  # kinematic arms: exactly where commanded, every step
-            arm.set_q(self.commands[pid])
-            fingers = self.fingers[pid]  # kinematic fingers too: where driven, never pushed by contacts
+        for pid, arm in self.robots.items():
+            fingers = self.fingers[pid]
             for f in fingers:
                 if f[0] != f[2] or f[1] != 0.0:
                     f[0], f[1] = toward(f[0], f[1], f[2], FINGER_SPEED, FINGER_ACCEL, 1 / SIM_HZ)
+            if self.dynamics:  # driven: the motors pull toward the commands, within their limits
+                drive(arm, self.commands[pid], (fingers[0][0] - self.squeeze[pid][0],
+                                                fingers[1][0] - self.squeeze[pid][1]))
+                continue
+            arm.set_q(self.commands[pid])  # kinematic arms: exactly where commanded, every step
+            # kinematic fingers too: where driven, never pushed by contacts
             arm.set_fingers((fingers[0][0], fingers[1][0]), (fingers[0][1], fingers[1][1]))
         for pid, hand in self.hands.items():
-            if hand.riding:
+            if hand.riding and not self.dynamics:
                 state = p.getLinkState(self.bodies.arms[pid].body, EE_LINK, computeForwardKinematics=True,
                                        physicsClientId=c)
                 for r in hand.riding:
@@ -305,13 +331,17 @@ class BulletScene:
 
     def attach(self, pid: str, name: str) -> None:
         self._picked_from[name] = self.pose(name)
-        constraint, T_ee_obj = attach(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body)
+        if self.dynamics:  # held by the fingers' friction: no constraint, the arm still collides with it
+            constraint, T_ee_obj = None, np.linalg.inv(self.robots[pid].ee()) @ self.pose(name)
+        else:
+            constraint, T_ee_obj = attach(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body)
         hand = self.hands[pid]
         hand.carried, hand.constraint = name, constraint
         hand.riding = [Riding(name, T_ee_obj)]
 
     def detach(self, pid: str) -> None:
         hand = self.hands[pid]
+        self.squeeze[pid] = (0.0, 0.0)
         if hand.constraint is not None:
             detach(self.client, hand.constraint)
         hand.carried, hand.constraint, hand.riding = None, None, []
@@ -333,6 +363,8 @@ class BulletScene:
         return next((k for k, h in self.hands.items() if k != pid and any(r.name == name for r in h.riding)), None)
 
     def collide_with_arm(self, pid: str, name: str, *, enabled: bool) -> None:
+        if self.dynamics:  # the fingers hold by touching: the arm always collides with the objects
+            return
         set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body, enabled=enabled)
 
     def set_collisions(self, pairs: Sequence[tuple[str, str]], *, enabled: bool) -> None:
@@ -340,8 +372,10 @@ class BulletScene:
             p.setCollisionFilterPair(self.bodies.objects[a].body, self.bodies.objects[b].body, -1, -1, int(enabled),
                                      physicsClientId=self.client)
 
-    def set_fingers(self, pid: str, openings: tuple[float, float]) -> None:
-        """Drive each finger to its own opening (metres)."""
+    def set_fingers(self, pid: str, openings: tuple[float, float], grips: bool = False) -> None:
+        """Drive each finger to its own opening (metres); ``grips``: the openings are where the fingers touch
+        what they take (physics mode: the motors then aim :data:`SQUEEZE` inside it and press)."""
+        self.squeeze[pid] = (SQUEEZE, SQUEEZE) if grips and self.dynamics else (0.0, 0.0)
         self.hands[pid].grip = (openings[0] + openings[1]) / 2
         for f, w in zip(self.fingers[pid], openings, strict=True):
             f[2] = float(w)

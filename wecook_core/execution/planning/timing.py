@@ -15,6 +15,7 @@ small fraction of :data:`DENSE` (corners are where it strays most, and where TOP
 from __future__ import annotations
 
 import itertools
+import logging
 import math
 from collections.abc import Sequence
 
@@ -76,7 +77,8 @@ def _toppra(points: np.ndarray, clock: np.ndarray, velocity: np.ndarray, acceler
     import toppra.algorithm
     import toppra.constraint
 
-    toppra.setup_logging("WARNING")
+    logging.getLogger("toppra").setLevel(logging.WARNING)  # its debug lines cost time (not setup_logging:
+    # that adds a console handler at every call)
     dof = points.shape[1]
     s = (clock - clock[0]) / clock[-1]  # the path parameter, 0..1
     spline = toppra.SplineInterpolator(s, np.column_stack([points, clock]))
@@ -86,16 +88,30 @@ def _toppra(points: np.ndarray, clock: np.ndarray, velocity: np.ndarray, acceler
                    toppra.constraint.JointAccelerationConstraint(np.column_stack([-amax, amax]))]
     grid = np.unique(np.concatenate([np.linspace(a, b, GRID + 1) for a, b in itertools.pairwise(s)]))
     try:
-        solver = toppra.algorithm.TOPPRA(constraints, spline, gridpoints=grid, parametrizer="ParametrizeConstAccel")
-        trajectory = solver.compute_trajectory(0.0, 0.0)
+        solver = toppra.algorithm.TOPPRA(constraints, spline, gridpoints=grid)
+        sdd, sd, _ = solver.compute_parameterization(0.0, 0.0)
     except Exception:  # toppra raises plain exceptions on numerical trouble
         return None
-    if trajectory is None:
+    if sd is None or sdd is None or np.isnan(sd).any() or np.isnan(sdd).any():
         return None
-    duration = float(trajectory.duration)
+    return _sampled(spline, grid, np.maximum(sd, 0.0), sdd, hz)[:, :dof]
+
+
+def _sampled(spline: object, grid: np.ndarray, sd: np.ndarray, sdd: np.ndarray, hz: float) -> np.ndarray:
+    """The path at every ``1 / hz`` s of the parameterisation (constant path acceleration ``sdd[i]`` between
+    grid points ``i`` and ``i + 1``, path speeds ``sd`` at the grid points), its end last. Vectorised: toppra's
+    own trajectory object evaluates it at some 50 ms a path."""
+    ds = np.diff(grid)
+    dt = 2 * ds / np.maximum(sd[:-1] + sd[1:], 1e-9)
+    starts = np.concatenate([[0.0], np.cumsum(dt)])
+    duration = float(starts[-1])
     n = max(math.ceil(duration * hz - 1e-9), 1)
     times = np.minimum(np.arange(1, n + 1) / hz, duration)
-    return np.asarray(trajectory(times))[:, :dof]
+    seg = np.clip(np.searchsorted(starts, times, side="right") - 1, 0, len(ds) - 1)
+    tau = np.minimum(times - starts[seg], dt[seg])
+    s = np.minimum(grid[seg] + sd[seg] * tau + 0.5 * sdd[seg] * tau * tau, grid[seg + 1])
+    s = np.maximum(s, grid[seg])
+    return np.asarray(spline(s))  # type: ignore[operator]
 
 
 def _rest_to_rest(points: np.ndarray, velocity: np.ndarray, acceleration: np.ndarray, hz: float) -> np.ndarray:
