@@ -160,17 +160,17 @@ def summarize_recording(path: str | Path) -> RunSummary:
     for ns, event in events:
         t = (ns - origin) / 1e9
         kind, aid = event.get("kind"), event.get("action_id")
-        data = event.get("data") if isinstance(event.get("data"), dict) else {}
+        payload: dict[str, Any] = event["data"] if isinstance(event.get("data"), dict) else {}
         if kind == "run_end":
             finished, end_detail = True, str(event.get("detail") or "")
-            if isinstance(data.get("waited_s"), dict):
-                waited = {str(k): float(v) for k, v in data["waited_s"].items()}
+            if isinstance(payload.get("waited_s"), dict):
+                waited = {str(k): float(v) for k, v in payload["waited_s"].items()}
             continue
-        if kind == "wait" and "seconds" in data:
-            seconds, agent = float(data["seconds"]), str(event.get("agent") or "?")
+        if kind == "wait" and "seconds" in payload:
+            seconds, agent = float(payload["seconds"]), str(event.get("agent") or "?")
             told[agent] = told.get(agent, 0.0) + seconds
-            longest.append((seconds, f"{agent} {seconds:.1f} s from {float(data.get('since', t)):.1f} s for "
-                                     f"{data.get('for', '?')}"))
+            longest.append((seconds, f"{agent} {seconds:.1f} s from {float(payload.get('since', t)):.1f} s for "
+                                     f"{payload.get('for', '?')}"))
             if aid is not None and str(aid) in lines:
                 lines[str(aid)]["waited"] = lines[str(aid)].get("waited", 0.0) + seconds
             continue
