@@ -136,7 +136,12 @@ class BulletScene:
         return any(f[0] != f[2] or f[1] != 0.0 for fingers in self.fingers.values() for f in fingers)
 
     def sync(self) -> None:
+        """The planning copy brought up to date, each finger where it is driven to (plans are for when it is
+        there: a grasp's goals are checked with the fingers at the approach opening just set, not still wide)."""
         self.planning.sync(self.bodies, {pid: h.riding for pid, h in self.hands.items()})
+        for pid, arm in self.planning.arms.items():
+            fingers = self.fingers[pid]
+            arm.set_fingers((fingers[0][2], fingers[1][2]))
 
     def log(self, level: Literal["debug", "info", "warning", "error"], text: str) -> None:
         if self.observer is not None:
