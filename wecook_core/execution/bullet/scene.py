@@ -159,8 +159,9 @@ class BulletScene:
                                                 fingers[1][0] - self.squeeze[pid][1]))
                 continue
             arm.set_q(self.commands[pid])  # kinematic arms: exactly where commanded, every step
-            # kinematic fingers too: where driven, never pushed by contacts
-            arm.set_fingers((fingers[0][0], fingers[1][0]), (fingers[0][1], fingers[1][1]))
+            # kinematic fingers too: where driven, never pushed by contacts, and at rest to the physics as the arm
+            # joints are (a finger set moving would shove what it touches)
+            arm.set_fingers((fingers[0][0], fingers[1][0]))
         for pid, hand in self.hands.items():
             if hand.riding and not self.dynamics:
                 state = p.getLinkState(self.bodies.arms[pid].body, EE_LINK, computeForwardKinematics=True,
@@ -181,11 +182,19 @@ class BulletScene:
         if self.steps % CONTACT_EVERY == 0:
             self._check_arm_contact()
         if self.steps % STATE_EVERY == 0:
+            if not self.dynamics:  # a contact may have nudged a joint during the step: kinematic joints are where
+                self._reassert()  # commanded, and the recording says so (a finger pushed 2 mm showed as 2.5 m/s²)
             self.publish_state()
         if self.realtime:
             ahead = self.time - (time.perf_counter() - self.wall_start)
             if ahead > 0:
                 time.sleep(ahead)
+
+    def _reassert(self) -> None:
+        for pid, arm in self.robots.items():
+            fingers = self.fingers[pid]
+            arm.set_q(self.commands[pid])
+            arm.set_fingers((fingers[0][0], fingers[1][0]))
 
     def publish_state(self) -> None:
         if self.observer is None:
