@@ -18,7 +18,13 @@
   of up to :data:`VARIANT_SHIFT` of the frame (:data:`VARIANT_DRAWS` draws per scenario), then analysed and laid
   out as a user's own would be, run seed 0.
 - ``scenario_sim_speed_recording``: simulated seconds per wall second over those plans while recording MCAP
-  (target: at least 10); baseline: the same runs with an observer that drops everything.
+  (target: at least 10); baseline: the same runs with an observer that drops everything. Every recording is
+  checked by ``wecook runs check``, joint limits included (the note counts the steps over a limit).
+- ``demo_plan_done_dynamics`` / ``scenario_plans_done_dynamics``: the same shares in the physics mode
+  (``execute --dynamics``: position control within the URDF's effort and velocity limits, objects held by
+  friction), the demo at run seeds :data:`DYNAMICS_SEEDS`; ratio: against the kinematic mode's share on the same
+  runs. ``scenario_sim_speed_dynamics``: its simulated seconds per wall second, recording; ratio against the
+  kinematic mode's, recording.
   For the shares the note lists the failures.
 - ``all_failing_plan_wall``: wall seconds of a 40-action plan whose actions all fail (the knife out of the arm's
   reach, under its base: every grasp fails after its retries, nothing simulated); baseline: the same plan cut to
@@ -51,6 +57,8 @@ DEMO_SEEDS = tuple(range(20))
 """Run seeds of the demo's plan whose share of actions done is reported."""
 VIDEO_SEEDS = tuple(range(10))
 """Synthetic videos (``wecook synth --seed``) whose exported plans are run."""
+DYNAMICS_SEEDS = tuple(range(6))
+"""Run seeds of the demo's plan run in both modes (the kinematic and the physics one)."""
 VARIANT_DRAWS = (1, 2, 3)
 """Draws of shifted object boxes per shared scenario (``scenario_variants_done``)."""
 VARIANT_SHIFT = 0.04
@@ -103,6 +111,11 @@ def run() -> list[dict[str, object]]:
                 f"wall s; baseline without recording {bare.sim_time / bare.wall_time:.2f}x (target >= 5x)"})
     rows.append(_done_share("demo_plan_done", [(plan, seed) for seed in DEMO_SEEDS],
                             f"the demo's plan at run seeds {DEMO_SEEDS[0]}-{DEMO_SEEDS[-1]}"))
+    kinematic = _done_share("demo_plan_done", [(plan, seed) for seed in DYNAMICS_SEEDS], "")
+    rows.append(_done_share("demo_plan_done_dynamics", [(plan, seed) for seed in DYNAMICS_SEEDS],
+                            f"the demo's plan at run seeds {DYNAMICS_SEEDS[0]}-{DYNAMICS_SEEDS[-1]} in the physics "
+                            f"mode (kinematic on the same seeds: {kinematic['value']})", dynamics=True,
+                            baseline=float(kinematic["value"])))  # type: ignore[arg-type]
     rows.append(_done_share("synthetic_plans_done", [(synthetic_plan(k), 0) for k in range(10)],
                             "10 synthetic plans (seeds 0-9), run seed 0"))
     rows.append(_done_share("video_plans_done", [(_video_plan(k), 0) for k in VIDEO_SEEDS],
@@ -186,38 +199,63 @@ def scenario_variants() -> list[tuple[str, Plan]]:
     return out
 
 
-def _scenario_rows() -> list[dict[str, object]]:
+def _recorded(plans: list[tuple[str, Plan]], dynamics: bool) -> dict[str, object]:
+    """Each plan run at seed 0, recorded and checked: done, total, failures, sim and wall seconds, arm contacts,
+    the recordings failing the check and the recorded steps over a joint limit."""
     from wecook_core.recording.check import check_recording
 
-    plans = scenario_plans()
-    done, total, failures, sim, wall, bare_sim, bare_wall, bad = 0, 0, [], 0.0, 0.0, 0.0, 0.0, []
-    contacts = 0
+    out: dict = {"done": 0, "total": 0, "failures": [], "sim": 0.0, "wall": 0.0, "contacts": 0, "bad": [],
+                 "over": 0}
     with tempfile.TemporaryDirectory() as tmp:
         for name, plan in plans:
-            bare = execute_plan(plan, Discard(), seed=0)
-            bare_sim += bare.sim_time
-            bare_wall += bare.wall_time
             path = Path(tmp) / f"{name}.mcap"
             recorder = McapRecorder(path)
             began = time.perf_counter()
-            result = execute_plan(plan, recorder, seed=0)
-            wall += time.perf_counter() - began
-            sim += result.sim_time
-            contacts += result.arm_contacts
-            done += sum(a.status == "done" for a in result.actions)
-            total += len(result.actions)
-            failures += [f"{name} {a.action_id} {a.status}: {a.reason[:70]}" for a in result.actions
-                         if a.status == "failed"]
-            if not check_recording(path).ok:
-                bad.append(name)
+            result = execute_plan(plan, recorder, seed=0, dynamics=dynamics)
+            out["wall"] += time.perf_counter() - began
+            out["sim"] += result.sim_time
+            out["contacts"] += result.arm_contacts
+            out["done"] += sum(a.status == "done" for a in result.actions)
+            out["total"] += len(result.actions)
+            out["failures"] += [f"{name} {a.action_id} {a.status}: {a.reason[:70]}" for a in result.actions
+                                if a.status == "failed"]
+            report = check_recording(path)
+            out["over"] += sum(" over its limit " in p for p in report.problems)
+            if not report.ok:
+                out["bad"].append(name)
+    return out
+
+
+def _scenario_rows() -> list[dict[str, object]]:
+    plans = scenario_plans()
+    bare_sim, bare_wall = 0.0, 0.0
+    for _, plan in plans:
+        bare = execute_plan(plan, Discard(), seed=0)
+        bare_sim += bare.sim_time
+        bare_wall += bare.wall_time
+    kin = _recorded(plans, dynamics=False)
+    dyn = _recorded(plans, dynamics=True)
+    done, total, failures, sim, wall = kin["done"], kin["total"], kin["failures"], kin["sim"], kin["wall"]
+    contacts, bad = kin["contacts"], kin["bad"]
     names = ", ".join(n for n, _ in plans)
-    speed, bare_speed = sim / wall, bare_sim / bare_wall
+    speed, bare_speed = sim / wall, bare_sim / bare_wall  # type: ignore[operator]
+    dyn_share, dyn_speed = dyn["done"] / dyn["total"], dyn["sim"] / dyn["wall"]  # type: ignore[operator]
     return [
         {"benchmark": "scenario_plans_done", "value": round(done / total, 3), "unit": "share of actions",
          "ratio_vs_baseline": round(done / total, 3),
          "note": f"plans of scenarios {names} (imported, analysed, laid out, exported), run seed 0, recorded: "
-                 f"{done}/{total} actions done, arm contacts {contacts}, recordings failing `runs check`: "
-                 f"{', '.join(bad) or 'none'}; " + ("; ".join(failures) if failures else "no failures")},
+                 f"{done}/{total} actions done, arm contacts {contacts}, recorded steps over a joint limit "
+                 f"{kin['over']}, recordings failing `runs check`: {', '.join(bad) or 'none'}; "  # type: ignore[arg-type]
+                 + ("; ".join(failures) if failures else "no failures")},  # type: ignore[arg-type]
+        {"benchmark": "scenario_plans_done_dynamics", "value": round(dyn_share, 3), "unit": "share of actions",
+         "ratio_vs_baseline": round(dyn_share / (done / total), 3),  # type: ignore[operator]
+         "note": f"the same plans in the physics mode (execute --dynamics), recorded: {dyn['done']}/{dyn['total']} "
+                 f"done (kinematic {done}/{total}), arm contacts {dyn['contacts']}, recorded steps over a joint "
+                 f"limit {dyn['over']}; " + "; ".join(dyn["failures"][:8])},  # type: ignore[index]
+        {"benchmark": "scenario_sim_speed_dynamics", "value": round(dyn_speed, 2), "unit": "sim s / wall s",
+         "ratio_vs_baseline": round(dyn_speed / speed, 3),
+         "note": f"the physics mode recording: {dyn['sim']:.0f} sim s in {dyn['wall']:.0f} wall s; baseline the "
+                 f"kinematic mode recording {speed:.2f}x"},
         {"benchmark": "scenario_sim_speed_recording", "value": round(speed, 2), "unit": "sim s / wall s",
          "ratio_vs_baseline": round(speed / bare_speed, 3),
          "note": f"the same runs: {sim:.0f} sim s in {wall:.0f} wall s recording; baseline without recording "
@@ -236,18 +274,20 @@ def _video_plan(seed: int) -> Plan:
     return plan_from_graph(analyze(scenario.observations, load_knowledge()).graph, scenario.observations)
 
 
-def _done_share(name: str, runs: list[tuple[Plan, int]], what: str) -> dict[str, object]:
-    """Share of the actions done over ``runs`` (plan, run seed); the note lists the failures."""
+def _done_share(name: str, runs: list[tuple[Plan, int]], what: str, dynamics: bool = False,
+                baseline: float | None = None) -> dict[str, object]:
+    """Share of the actions done over ``runs`` (plan, run seed); the note lists the failures. ``baseline``: the
+    share the ratio is against (default: the share itself)."""
     done, total, failures, sim, wall = 0, 0, [], 0.0, 0.0
     for k, (plan, seed) in enumerate(runs):
-        result = execute_plan(plan, Discard(), seed=seed, images=False)
+        result = execute_plan(plan, Discard(), seed=seed, images=False, dynamics=dynamics)
         done += sum(a.status == "done" for a in result.actions)
         total += len(result.actions)
         sim += result.sim_time
         wall += result.wall_time
         failures += [f"run {k} {a.action_id}: {a.reason[:80]}" for a in result.actions if a.status == "failed"]
     return {"benchmark": name, "value": round(done / total, 3), "unit": "share of actions",
-            "ratio_vs_baseline": round(done / total, 3),
+            "ratio_vs_baseline": round(done / total / (baseline or 1.0), 3) if baseline != 0 else 0.0,
             "note": f"{what}: {done}/{total} actions done, {sim:.0f} sim s in {wall:.0f} wall s; "
                     + ("; ".join(failures) if failures else "no failures")}
 

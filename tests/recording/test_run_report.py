@@ -112,3 +112,30 @@ def test_export_writes_joint_states_and_events_as_csv(tmp_path: Path, capsys: py
         export_csv(path, out)
     assert main(["runs", "export", str(path), "--csv", str(out)]) == 2
     assert (out / "events.csv").read_bytes() == before
+
+
+def test_show_says_how_long_each_arm_waited_and_for_what(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Issue 25: P2 stood still 52 s at the start of a squeeze and nothing said why. The run's wait events and
+    its run_end totals become the table's waited column and a line per arm."""
+    path = tmp_path / "waits.mcap"
+    rec = McapRecorder(path, time_origin_ns=1_000_000_000_000)
+    stats = synthetic_run(rec, actions=2, seconds_per_action=0.5, plan_yaml=PLAN, end=False)
+    t = stats.sim_seconds
+    why = "the other arm's region: a1 works where a2 would"
+    rec.on_event(t, RunEvent("wait", "a2", agent="P2", detail=f"waits for {why}", data={"for": why, "since": t}))
+    rec.on_event(t + 52.0, RunEvent("wait", "a2", agent="P2", detail=f"waited 52.0 s for {why}",
+                                    data={"for": why, "since": t, "seconds": 52.0}))
+    rec.on_event(t + 52.0, RunEvent("run_end", detail="2/4 actions done",
+                                    data={"done": 2, "total": 4, "waited_s": {"P1": 0.4, "P2": 52.3}}))
+    rec.on_end(t + 52.0)
+    rec.close()
+    summary = summarize_recording(path)
+    assert summary.waited == {"P1": 0.4, "P2": 52.3}
+    assert next(a for a in summary.actions if a.id == "a2").waited == pytest.approx(52.0)
+    assert main(["runs", "show", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "waited: P1 0.4 s, P2 52.3 s" in out
+    assert f"  longest: P2 52.0 s from {t:.1f} s for {why}" in out
+    header = next(line for line in out.splitlines() if line.startswith("action "))
+    assert header.split()[:7] == ["action", "agents", "verb", "status", "start", "end", "waited"]
+    assert next(line for line in out.splitlines() if line.startswith("a2 ")).split()[6] == "52.0"

@@ -3,8 +3,9 @@
 A recording is checked by one sequential pass (chunk and data-section CRCs verified, every message decoded as
 JSON, the first :data:`SCHEMA_CHECKED` of each topic checked against their channel's JSON Schema) plus the
 seeking reader's summary: expected topics with their schema names, the plan attachment and the
-metadata, per-topic log times that never go back, and an event sequence where every started action ends or
-fails and the run ends.
+metadata, per-topic log times that never go back, an event sequence where every started action ends or
+fails and the run ends, and every recorded joint step within the arm's position, velocity and acceleration limits
+(:mod:`.limits`).
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from wecook_core.errors import InputError
 from wecook_core.execution.schedule.observer import RunEvent
 from wecook_core.recording import foxglove
 from wecook_core.recording.json_schema import schema_json, schema_problems
+from wecook_core.recording.limits import JointTrack, limit_violations
 
 
 @dataclass(frozen=True)
@@ -185,6 +187,8 @@ class _Scan:
     last_time: dict[str, int] = field(default_factory=dict)
     """Topic -> log time of its last message."""
     problems: list[str] = field(default_factory=list)
+    joints: JointTrack = field(default_factory=JointTrack)
+    """``/joint_states`` positions, for the limit check."""
 
     @property
     def duration_s(self) -> float:
@@ -229,6 +233,8 @@ def _scan_message(scan: _Scan, record: Message) -> None:
         return
     if topic == "/plan/events":
         scan.events.append(decoded)
+    elif topic == "/joint_states" and isinstance(decoded, dict):
+        scan.joints.add(record.log_time / 1e9, decoded.get("name") or [], decoded.get("position") or [])
     schema = scan.schemas.get(channel.schema_id)
     if n <= SCHEMA_CHECKED and schema is not None:
         wrong = schema_problems(decoded, schema_json(schema), f"{topic}[{n - 1}]")
@@ -301,6 +307,7 @@ def check_recording(path: str | Path) -> CheckReport:
     scan = _scan(read.records)
     event_problems, actions = _event_problems(scan.events)
     problems += scan.problems + _topic_problems(scan) + _content_problems(scan, summary) + event_problems
+    problems += limit_violations(scan.joints)
     return CheckReport(str(path), tuple(problems), dict(scan.counts), scan.duration_s, actions,
                        tuple(scan.attachments), scan.metadata)
 

@@ -18,6 +18,9 @@ from typing import Any
 
 from wecook_core.errors import InputError
 
+LONGEST_WAITS = 3
+"""Waits listed in the summary's head, longest first."""
+
 
 @dataclass(frozen=True)
 class ActionLine:
@@ -31,6 +34,8 @@ class ActionLine:
     reason: str = ""
     start: float | None = None
     end: float | None = None
+    waited: float = 0.0
+    """Simulated seconds its arms waited in it (waits told as ``wait`` events: half a second or more)."""
 
 
 @dataclass(frozen=True)
@@ -49,6 +54,11 @@ class RunSummary:
     finished: bool = True
     """The run ended (a ``run_end`` event is there)."""
     end_detail: str = ""
+    waited: dict[str, float] = field(default_factory=dict)
+    """Arm -> simulated seconds it waited in the run (every wait; from the ``run_end`` event, else the sum of its
+    ``wait`` events)."""
+    longest_waits: tuple[str, ...] = ()
+    """The longest waits, one line each: ``P2 52.0 s at 3.1 s for ...``."""
 
     @property
     def done(self) -> int:
@@ -145,11 +155,25 @@ def summarize_recording(path: str | Path) -> RunSummary:
         scene = plan.get("scene")
         objects = len(scene.get("objects") or ()) if isinstance(scene, dict) else 0
     finished, end_detail = False, ""
+    waited: dict[str, float] = {}
+    told: dict[str, float] = {}
+    longest: list[tuple[float, str]] = []
     for ns, event in events:
         t = (ns - origin) / 1e9
         kind, aid = event.get("kind"), event.get("action_id")
+        payload: dict[str, Any] = event["data"] if isinstance(event.get("data"), dict) else {}
         if kind == "run_end":
             finished, end_detail = True, str(event.get("detail") or "")
+            if isinstance(payload.get("waited_s"), dict):
+                waited = {str(k): float(v) for k, v in payload["waited_s"].items()}
+            continue
+        if kind == "wait" and "seconds" in payload:
+            seconds, agent = float(payload["seconds"]), str(event.get("agent") or "?")
+            told[agent] = told.get(agent, 0.0) + seconds
+            longest.append((seconds, f"{agent} {seconds:.1f} s from {float(payload.get('since', t)):.1f} s for "
+                                     f"{payload.get('for', '?')}"))
+            if aid is not None and str(aid) in lines:
+                lines[str(aid)]["waited"] = lines[str(aid)].get("waited", 0.0) + seconds
             continue
         if aid is None:
             continue
@@ -167,8 +191,10 @@ def summarize_recording(path: str | Path) -> RunSummary:
             line.update(status=status, reason=detail, end=t if started else None)
     actions = tuple(ActionLine(**line) for line in lines.values())
     duration = (last - origin) / 1e9 if last is not None else 0.0
+    longest.sort(key=lambda w: -w[0])
     return RunSummary(str(path), actions, max(duration, 0.0), {t: (schemas[t], n) for t, n in sorted(topics.items())},
-                      meta, agents, objects, finished, end_detail)
+                      meta, agents, objects, finished, end_detail, waited or told,
+                      tuple(line for _, line in longest[:LONGEST_WAITS]))
 
 
 def format_summary(summary: RunSummary) -> str:
@@ -183,12 +209,15 @@ def format_summary(summary: RunSummary) -> str:
         head.append(f"run end: {summary.end_detail}")
     head.append(f"plan: {len(summary.actions)} actions, {len(summary.agents)} arms"
                 + (f" ({'; '.join(summary.agents)})" if summary.agents else "") + f", {summary.objects} objects")
-    rows = [("action", "agents", "verb", "status", "start", "end", "reason")]
+    if summary.waited:
+        head.append("waited: " + ", ".join(f"{pid} {s:.1f} s" for pid, s in sorted(summary.waited.items())))
+        head += [f"  longest: {line}" for line in summary.longest_waits]
+    rows = [("action", "agents", "verb", "status", "start", "end", "waited", "reason")]
     for a in summary.actions:
         rows.append((a.id, a.agents, a.verb, a.status, "" if a.start is None else f"{a.start:.2f}",
-                     "" if a.end is None else f"{a.end:.2f}", a.reason))
-    widths = [max(len(r[k]) for r in rows) for k in range(6)]
-    table = ["  ".join(r[k].ljust(widths[k]) for k in range(6)) + ("  " + r[6] if r[6] else "") for r in rows]
+                     "" if a.end is None else f"{a.end:.2f}", f"{a.waited:.1f}" if a.waited else "", a.reason))
+    widths = [max(len(r[k]) for r in rows) for k in range(7)]
+    table = ["  ".join(r[k].ljust(widths[k]) for k in range(7)) + ("  " + r[7] if r[7] else "") for r in rows]
     topic_rows = [f"  {topic:<16} {schema:<28} {n} messages" for topic, (schema, n) in summary.topics.items()]
     return "\n".join([*head, "", *table, "", "topics:", *topic_rows])
 

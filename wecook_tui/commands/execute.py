@@ -58,6 +58,10 @@ def register(sub: Any) -> None:
     execute.add_argument("--stop-at-first-failure", action="store_true",
                          help="skip every action not yet started once one has failed (default: only the actions "
                               "that depend on the failure through their objects are skipped)")
+    execute.add_argument("--dynamics", action="store_true",
+                         help="physics mode: joints driven by position control within the URDF's effort and "
+                              "velocity limits, objects held by friction (default: kinematic arms, held objects "
+                              "fixed to the hand)")
     execute.set_defaults(func=run_execute)
 
 
@@ -305,7 +309,8 @@ def run_execute(args: argparse.Namespace) -> int:
     _interrupt_on_sigterm()
     result = recorded_run(plan, record_path, observers, replace=replacing, camera_hz=args.camera_hz, over=over,
                           say=console.print, seed=args.seed, realtime=args.realtime, images=not args.camera_hz,
-                          timeout=args.timeout, stop_at_first_failure=args.stop_at_first_failure).result
+                          timeout=args.timeout, stop_at_first_failure=args.stop_at_first_failure,
+                          dynamics=args.dynamics).result
     wall = time.perf_counter() - clock
     rows = list(progress.rows.values())
     merge_result(progress.rows, result)

@@ -197,6 +197,10 @@ class FakeArm:
         self.scene.hands[self.pid].grip = width
         self._log("grip", f"{width:.3f}")
 
+    def close_on(self, name, width):
+        self.set_grip(width)
+        return width, width
+
     def goal_samples(self, tsrs, T_eff_ee, n, accept=None, rank=None, spin=False):
         drawn = [sample(tsrs[int(self.rng.integers(len(tsrs)))], self.rng) @ T_eff_ee for _ in range(n * 12)]
         out = [T for T in drawn if accept is None or accept(T)][:n]

@@ -18,11 +18,21 @@ from scipy.spatial.transform import Rotation, Slerp
 
 from wecook_core.execution.bullet.bodies import SIM_HZ
 from wecook_core.execution.bullet.planning_scene import ARM_MARGIN, boxes_overlap
-from wecook_core.execution.bullet.robot import HOME, LOWER, MAX_SPEED, REST, UPPER
+from wecook_core.execution.bullet.robot import (
+    FINGER_JOINTS,
+    FINGER_OPEN,
+    HOME,
+    LOWER,
+    MAX_ACCEL,
+    MAX_SPEED,
+    REST,
+    UPPER,
+)
 from wecook_core.execution.bullet.scene import BulletScene
 from wecook_core.execution.bullet.traffic import Traffic
 from wecook_core.execution.planning.motion import MotionProblem, path_free, plan_motion
-from wecook_core.execution.schedule.program import WAIT, WORK, ActionFailed, PathBlocked, Program
+from wecook_core.execution.planning.timing import timed_path
+from wecook_core.execution.schedule.program import WORK, ActionFailed, PathBlocked, Program, waiting
 from wecook_core.execution.skills.tsr import TSR, sample, xyzrpy_to_matrix
 from wecook_core.execution.world.protocols import YIELD_SECONDS, Accept, Rank
 
@@ -32,6 +42,8 @@ LINEAR_SPEED = 0.12
 """Metres per second of straight moves and actuations."""
 TURN_SPEED = 1.2
 """Radians per second of the effector's rotation in straight moves and actuations."""
+TOUCH = 2e-4
+"""Metres: a finger this close to what it grips touches it."""
 CROWDED = 0.35
 """Metres: when the other arm's hand is this close to where a pose is sought, the poses farthest from it come
 first."""
@@ -57,6 +69,34 @@ class BulletArm:
 
     def set_grip(self, width: float) -> None:
         self.scene.set_grip(self.pid, width)
+
+    def close_on(self, name: str, width: float) -> tuple[float, float]:
+        """Each finger closed until it touches ``name`` (found in the planning client: the finger moved by its
+        gap to the object until the gap is under :data:`TOUCH`), never into it; a finger with nothing within
+        5 cm closes to ``width``. The fingers are driven there; returns each one's opening (metres)."""
+        self.scene.sync()
+        c = self.planning.client
+        arm = self.planning.arms[self.pid]
+        body = self.planning.bodies.objects[name].body
+        openings = list(arm.finger_pair())
+        for k, joint in enumerate(FINGER_JOINTS):  # a finger's link has its joint's index
+            opening = openings[k]
+            for _ in range(10):
+                p.resetJointState(arm.body, joint, opening, physicsClientId=c)
+                points = p.getClosestPoints(arm.body, body, 0.05, linkIndexA=joint, physicsClientId=c)
+                if not points:
+                    opening = width
+                    break
+                gap = min(x[8] for x in points)
+                if abs(gap) < TOUCH:
+                    break
+                opening = min(max(opening - gap, 0.0), FINGER_OPEN)  # the gap is at most along the finger's axis
+            openings[k] = opening
+        pair = (openings[0], openings[1])
+        self.scene.set_fingers(self.pid, pair, grips=True)
+        self.scene.log("info", f"{self.pid} grips {name}: {1000 * (pair[0] + pair[1]):.1f} mm between the fingers "
+                               f"(finger 1 {1000 * pair[0]:.1f} mm, finger 2 {1000 * pair[1]:.1f} mm open)")
+        return pair
 
     def clear_blockers(self) -> None:
         self.traffic.goal_blockers = set()
@@ -190,14 +230,15 @@ class BulletArm:
         return list(result.path)
 
     def _follow(self, path: Sequence[np.ndarray], durations: Sequence[float] | None = None) -> Program:
-        """Move along joint waypoints (linear interpolation), ``durations[k]`` seconds for segment k."""
-        for k, (a, b) in enumerate(itertools.pairwise(path)):
-            d = durations[k] if durations is not None else float(np.max(np.abs(b - a) / (MAX_SPEED * JOINT_SPEED)))
-            n = max(math.ceil(d * SIM_HZ), 1)
-            for i in range(1, n + 1):
-                self.scene.commands[self.pid] = a + (b - a) * (i / n)
-                self.traffic.moved_at[self.pid] = self.scene.time
-                yield WORK
+        """Move along joint waypoints, from rest to rest, within the joints' velocity and acceleration limits
+        (:func:`~wecook_core.execution.planning.timing.timed_path`) and never faster than ``durations[k]``
+        seconds for segment k (default: :data:`JOINT_SPEED` of the speed limits)."""
+        if durations is None:
+            durations = [float(np.max(np.abs(b - a) / (MAX_SPEED * JOINT_SPEED))) for a, b in itertools.pairwise(path)]
+        for q in timed_path(path, durations, MAX_SPEED, MAX_ACCEL, SIM_HZ):
+            self.scene.commands[self.pid] = q
+            self.traffic.moved_at[self.pid] = self.scene.time
+            yield WORK
 
     def _reserve(self, path: Sequence[np.ndarray]) -> Program:
         """Wait until the swept region of ``path`` is clear of the other arm's moving region, then hold it."""
@@ -209,9 +250,10 @@ class BulletArm:
             theirs = self.traffic.reserved[other]
             if not boxes_overlap(boxes, theirs):  # type: ignore[arg-type]
                 break
+            tick = waiting(f"the other arm's region ({other}'s motion crosses this one's path)")
             while self.traffic.reserved[other] is theirs:  # the same motion still runs
                 waited += 1
-                yield WAIT
+                yield tick
         self.traffic.reserved[self.pid] = boxes
         if waited:
             raise _Replan()
@@ -329,20 +371,22 @@ class BulletArm:
         if other is not None and self.traffic.other_in_the_way:
             self.traffic.other_in_the_way = False
             self.traffic.right_of_way = self.pid  # the other arm, once home, waits for this primitive to end
+            tick = waiting(f"{other} to go home (it was in the way of the last attempt)")
             for i in range(int(YIELD_SECONDS * SIM_HZ)):
                 if np.max(np.abs(self.scene.robots[other].q() - REST)) < 1e-2:
                     return
                 if i > 2 * SIM_HZ and self.scene.time - self.traffic.moved_at[other] > 3.0:  # itself waiting: go on
                     return
-                yield WAIT
+                yield tick
             return
         if other is None or self.traffic.reserved[other] is None:
             return
         current = self.traffic.reserved[other]
+        tick = waiting(f"{other}'s motion to end before a retry")
         for _ in range(int(limit * SIM_HZ)):
             if self.traffic.reserved[other] is not current:
                 return
-            yield WAIT
+            yield tick
 
     def park(self, what: str = "move to rest") -> Program:
         """A planned move to :data:`REST` (no retries)."""
@@ -371,10 +415,11 @@ class BulletArm:
         finally:
             if self.traffic.right_of_way == self.pid:
                 self.traffic.right_of_way = None
+        tick = waiting(f"{self.traffic.right_of_way}'s primitive to end (it has the right of way)")
         for _ in range(int(YIELD_SECONDS * SIM_HZ)):
             if self.traffic.right_of_way in (None, self.pid):
                 break
-            yield WAIT
+            yield tick
 
 
 class _Replan(Exception):

@@ -258,8 +258,11 @@ def link_frames(bodies: SceneBodies) -> list[FrameInfo]:
     for pid, arm in bodies.arms.items():
         for link in range(-1, p.getNumJoints(arm.body, physicsClientId=c)):
             shapes = []
+            inertial = inertial_frame(c, arm.body, link)
             for data in p.getCollisionShapeData(arm.body, link, physicsClientId=c):
-                geom, dims, mesh, pos, orn = data[2], data[3], data[4], data[5], data[6]
+                # PyBullet gives a collision shape's frame in the link's inertial (centre of mass) frame
+                geom, dims, mesh = data[2], data[3], data[4]
+                pos, orn = p.multiplyTransforms(*inertial, data[5], data[6])
                 if geom == p.GEOM_MESH:
                     bounds = _obj_bounds(mesh.decode() if isinstance(mesh, bytes) else str(mesh))
                     if bounds is None:
@@ -274,15 +277,24 @@ def link_frames(bodies: SceneBodies) -> list[FrameInfo]:
     return frames
 
 
+def inertial_frame(client: int, body: int, link: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """The link's inertial (centre of mass) frame in its URDF link frame: the ``<inertial><origin>``."""
+    info = p.getDynamicsInfo(body, link, physicsClientId=client)
+    return tuple(info[3]), tuple(info[4])
+
+
 def world_poses(bodies: SceneBodies) -> dict[str, tuple[tuple[float, float, float], tuple[float, float, float, float]]]:
-    """Every frame of :func:`link_frames` -> its world pose now."""
+    """Every frame of :func:`link_frames` -> its world pose now: arm links at their URDF link frames (the
+    frames their URDF visuals are placed in), not at their centres of mass."""
     c = bodies.client
     out: dict[str, tuple] = {"table": ((0.0, 0.0, bodies.table_height), (0.0, 0.0, 0.0, 1.0))}
     for name, body in bodies.objects.items():
         pos, orn = p.getBasePositionAndOrientation(body.body, physicsClientId=c)
         out[f"object/{name}"] = (tuple(pos), tuple(orn))
     for pid, arm in bodies.arms.items():
-        pos, orn = p.getBasePositionAndOrientation(arm.body, physicsClientId=c)
+        # PyBullet's base pose is its centre of mass; the URDF's base link frame is that less the inertial offset
+        com = p.getBasePositionAndOrientation(arm.body, physicsClientId=c)
+        pos, orn = p.multiplyTransforms(*com, *p.invertTransform(*inertial_frame(c, arm.body, -1)))
         out[f"{pid}/{arm.links[0]}"] = (tuple(pos), tuple(orn))
         n = len(arm.links) - 1
         for link, state in enumerate(p.getLinkStates(arm.body, list(range(n)), computeForwardKinematics=True,

@@ -52,6 +52,7 @@ class PlanningScene:
         for pid, arm in sim.arms.items():
             states = p.getJointStates(arm.body, [*ARM_JOINTS, *FINGER_JOINTS], physicsClientId=sim.client)
             self.arms[pid].set_q(np.array([s[0] for s in states[:7]]), states[7][0])
+            self.arms[pid].set_fingers((states[7][0], states[8][0]))
         for name, body in sim.objects.items():
             pos, orn = p.getBasePositionAndOrientation(body.body, physicsClientId=sim.client)
             p.resetBasePositionAndOrientation(self.bodies.objects[name].body, pos, orn, physicsClientId=self.client)

@@ -12,6 +12,13 @@ from dataclasses import dataclass
 import numpy as np
 import pybullet as p
 
+from wecook_core.execution.planning.limits import (
+    ARM_JOINT_NAMES,
+    FINGER_JOINT_NAMES,
+    arm_acceleration,
+    arm_velocity,
+    urdf_limits,
+)
 from wecook_core.execution.skills.tsr import matrix_to_pose, pose_to_matrix
 
 ARM_JOINTS = (0, 1, 2, 3, 4, 5, 6)
@@ -29,8 +36,10 @@ FINGER_OPEN = 0.04
 LOWER = np.array([-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973])
 UPPER = np.array([2.8973, 1.7628, 2.8973, -0.0698, 2.8973, 3.7525, 2.8973])
 """Franka's documented limits (the URDF's are close); the planner and IK keep inside them."""
-MAX_SPEED = np.array([2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61])
-"""Radians per second (Franka's limits); motions use a fraction of them."""
+MAX_SPEED = arm_velocity()
+"""Radians per second (the URDF's, Franka's published ones); motions use a fraction of them."""
+MAX_ACCEL = arm_acceleration()
+"""Radians per second squared (Franka's published limits; the URDF has none)."""
 
 
 @dataclass
@@ -106,13 +115,42 @@ class Panda:
                     return q
         return None
 
-    def set_fingers(self, width: float) -> None:
-        """Finger opening per finger (metres), held by the motors."""
-        for j in FINGER_JOINTS:
-            p.resetJointState(self.body, j, float(width), physicsClientId=self.client)
+    def finger_pair(self) -> tuple[float, float]:
+        """Each finger's opening (metres), from its own joint."""
+        states = p.getJointStates(self.body, FINGER_JOINTS, physicsClientId=self.client)
+        return float(states[0][0]), float(states[1][0])
+
+    def set_fingers(self, width: float | tuple[float, float], velocity: tuple[float, float] = (0.0, 0.0)) -> None:
+        """Finger opening per finger (metres; one for both, or each its own), held by the motors."""
+        widths = (width, width) if isinstance(width, float | int) else width
+        for j, w, v in zip(FINGER_JOINTS, widths, velocity, strict=True):
+            p.resetJointState(self.body, j, float(w), float(v), physicsClientId=self.client)
         p.setJointMotorControlArray(self.body, list(FINGER_JOINTS), p.POSITION_CONTROL,
-                                    targetPositions=[float(width)] * 2, forces=[50.0, 50.0],
+                                    targetPositions=[float(w) for w in widths], forces=[50.0, 50.0],
                                     physicsClientId=self.client)
+
+
+def drive(arm: Panda, q: np.ndarray, fingers: tuple[float, float]) -> None:
+    """Physics mode: position control of the arm's joints toward ``q`` and of the fingers toward ``fingers``,
+    each motor within its URDF effort and velocity limits."""
+    c = arm.client
+    limits = urdf_limits()
+    for j, (name, target) in enumerate(zip(ARM_JOINT_NAMES, q, strict=True)):
+        lim = limits[name]
+        p.setJointMotorControl2(arm.body, ARM_JOINTS[j], p.POSITION_CONTROL, targetPosition=float(target),
+                                force=lim.effort, maxVelocity=lim.velocity, positionGain=0.3, velocityGain=1.0,
+                                physicsClientId=c)
+    for joint, name, target in zip(FINGER_JOINTS, FINGER_JOINT_NAMES, fingers, strict=True):
+        lim = limits[name]
+        p.setJointMotorControl2(arm.body, joint, p.POSITION_CONTROL, targetPosition=max(float(target), 0.0),
+                                force=lim.effort, maxVelocity=lim.velocity, physicsClientId=c)
+
+
+def grip_friction(arm: Panda, friction: float = 1.5) -> None:
+    """The fingers' pads grip (physics mode): high lateral and some spinning friction."""
+    for link in FINGER_JOINTS:
+        p.changeDynamics(arm.body, link, lateralFriction=friction, spinningFriction=0.05,
+                         physicsClientId=arm.client)
 
 
 def attach(client: int, arm_body: int, obj: int) -> tuple[int, np.ndarray]:

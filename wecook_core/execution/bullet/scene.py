@@ -15,7 +15,18 @@ import pybullet as p
 
 from wecook_core.execution.bullet.bodies import SIM_HZ, SceneBodies, build_scene, link_frames, world_poses
 from wecook_core.execution.bullet.planning_scene import PlanningScene
-from wecook_core.execution.bullet.robot import EE_LINK, REST, Panda, attach, detach, set_arm_collisions
+from wecook_core.execution.bullet.robot import (
+    EE_LINK,
+    REST,
+    Panda,
+    attach,
+    detach,
+    drive,
+    grip_friction,
+    set_arm_collisions,
+)
+from wecook_core.execution.planning.limits import FINGER_ACCEL, finger_velocity
+from wecook_core.execution.planning.timing import toward
 from wecook_core.execution.schedule.observer import FrameInfo, RunEvent, RunObserver
 from wecook_core.execution.schedule.program import WORK, Program
 from wecook_core.execution.skills.library import Half, SkillLibrary, object_kind
@@ -25,6 +36,11 @@ from wecook_core.model import Category
 from wecook_core.plan import Plan, PlanAction
 
 JOINT_NAMES = [f"panda_joint{k + 1}" for k in range(7)] + ["panda_finger_joint1", "panda_finger_joint2"]
+FINGER_SPEED = finger_velocity()
+"""Metres per second per finger (the URDF's)."""
+SQUEEZE = 0.004
+"""Metres per finger the physics mode's finger motors aim inside what they grip (they press with the URDF's
+effort, 20 N, and stop on it)."""
 STATE_EVERY = SIM_HZ // 30
 """Steps between two ``on_state`` calls (30 Hz)."""
 CONTACT_EVERY = 2
@@ -40,8 +56,12 @@ class BulletScene:
     planning copy the arms plan in."""
 
     def __init__(self, plan: Plan, observer: RunObserver | None, skills: SkillLibrary, *, realtime: bool = False,
-                 images: bool = True):
+                 images: bool = True, dynamics: bool = False):
         self.plan = plan
+        self.dynamics = dynamics
+        """Physics mode: the joints follow their commands by position control within the URDF's effort and
+        velocity limits (:func:`~.robot.drive`), held objects by the fingers' friction (no constraint, the
+        arm's collisions with them on); else the joints are set to their commands every step."""
         self.observer = observer
         self.skills = skills
         self.client = p.connect(p.DIRECT)
@@ -63,9 +83,18 @@ class BulletScene:
         self._touching = False
         self._riding: set[str] = set()
         """Objects riding on a hand at the last step."""
+        self.fingers: dict[str, list[list[float]]] = {}
+        """Arm -> each finger's [opening (m), speed (m/s), target (m)]: the fingers are driven to their targets
+        within the gripper's limits, a step at a time."""
         for pid, arm in self.robots.items():
             arm.set_q(REST, 0.04)
             self.commands[pid] = REST.copy()
+            self.fingers[pid] = [[0.04, 0.0, 0.04], [0.04, 0.0, 0.04]]
+        self.squeeze = {pid: (0.0, 0.0) for pid in self.robots}
+        """Arm -> metres each finger's motor target lies inside what it grips (physics mode: it presses)."""
+        if dynamics:
+            for arm in self.robots.values():
+                grip_friction(arm)
         for _ in range(60):  # let the objects settle before the clock starts
             p.stepSimulation(physicsClientId=self.client)
         self._frames = link_frames(self.bodies)
@@ -97,11 +126,22 @@ class BulletScene:
         return self._frames
 
     def hold(self, seconds: float) -> Program:
+        """``seconds``, and on until every finger has reached its target."""
         for _ in range(max(int(seconds * SIM_HZ), 1)):
             yield WORK
+        while self.fingers_moving():
+            yield WORK
+
+    def fingers_moving(self) -> bool:
+        return any(f[0] != f[2] or f[1] != 0.0 for fingers in self.fingers.values() for f in fingers)
 
     def sync(self) -> None:
+        """The planning copy brought up to date, each finger where it is driven to (plans are for when it is
+        there: a grasp's goals are checked with the fingers at the approach opening just set, not still wide)."""
         self.planning.sync(self.bodies, {pid: h.riding for pid, h in self.hands.items()})
+        for pid, arm in self.planning.arms.items():
+            fingers = self.fingers[pid]
+            arm.set_fingers((fingers[0][2], fingers[1][2]))
 
     def log(self, level: Literal["debug", "info", "warning", "error"], text: str) -> None:
         if self.observer is not None:
@@ -109,10 +149,21 @@ class BulletScene:
 
     def step(self) -> None:
         c = self.client
-        for pid, arm in self.robots.items():  # kinematic arms: exactly where commanded, every step
-            arm.set_q(self.commands[pid])
+        for pid, arm in self.robots.items():
+            fingers = self.fingers[pid]
+            for f in fingers:
+                if f[0] != f[2] or f[1] != 0.0:
+                    f[0], f[1] = toward(f[0], f[1], f[2], FINGER_SPEED, FINGER_ACCEL, 1 / SIM_HZ)
+            if self.dynamics:  # driven: the motors pull toward the commands, within their limits
+                drive(arm, self.commands[pid], (fingers[0][0] - self.squeeze[pid][0],
+                                                fingers[1][0] - self.squeeze[pid][1]))
+                continue
+            arm.set_q(self.commands[pid])  # kinematic arms: exactly where commanded, every step
+            # kinematic fingers too: where driven, never pushed by contacts, and at rest to the physics as the arm
+            # joints are (a finger set moving would shove what it touches)
+            arm.set_fingers((fingers[0][0], fingers[1][0]))
         for pid, hand in self.hands.items():
-            if hand.riding:
+            if hand.riding and not self.dynamics:
                 state = p.getLinkState(self.bodies.arms[pid].body, EE_LINK, computeForwardKinematics=True,
                                        physicsClientId=c)
                 for r in hand.riding:
@@ -131,16 +182,24 @@ class BulletScene:
         if self.steps % CONTACT_EVERY == 0:
             self._check_arm_contact()
         if self.steps % STATE_EVERY == 0:
+            if not self.dynamics:  # a contact may have nudged a joint during the step: kinematic joints are where
+                self._reassert()  # commanded, and the recording says so (a finger pushed 2 mm showed as 2.5 m/s²)
             self.publish_state()
         if self.realtime:
             ahead = self.time - (time.perf_counter() - self.wall_start)
             if ahead > 0:
                 time.sleep(ahead)
 
+    def _reassert(self) -> None:
+        for pid, arm in self.robots.items():
+            fingers = self.fingers[pid]
+            arm.set_q(self.commands[pid])
+            arm.set_fingers((fingers[0][0], fingers[1][0]))
+
     def publish_state(self) -> None:
         if self.observer is None:
             return
-        joints = {pid: (JOINT_NAMES, [*arm.q(), arm.fingers(), arm.fingers()]) for pid, arm in self.robots.items()}
+        joints = {pid: (JOINT_NAMES, [*arm.q(), *arm.finger_pair()]) for pid, arm in self.robots.items()}
         self.observer.on_state(self.time, world_poses(self.bodies), joints)
 
     def _check_arm_contact(self) -> None:
@@ -158,9 +217,7 @@ class BulletScene:
             x = min(points, key=lambda q: q[8])
             detail = (f"the two arms touched: {pids[0]} {names_a[x[3] + 1]} and {pids[1]} {names_b[x[4] + 1]} "
                       f"({-x[8] * 1000:.1f} mm deep)")
-            self.event("primitive_failed", None, None, detail)
-            if self.observer is not None:
-                self.observer.on_log(self.time, "error", detail)
+            self.event("primitive_failed", None, None, detail)  # logged as an error by event()
         self._touching = touching
 
     def event(self, kind: str, action: PlanAction | None, pid: str | None, detail: str = "",
@@ -168,6 +225,10 @@ class BulletScene:
         if kind in ("primitive_end", "primitive_failed") and pid is not None:
             for call in self.ended:
                 call(pid)
+        if kind in ("retry", "primitive_failed"):  # in /log too, with their level
+            who = " ".join(x for x in (action.id if action else None, pid, primitive) if x)
+            self.log("warning" if kind == "retry" else "error",
+                     (f"{who}: " if who else "") + f"{kind.replace('_', ' ')}: {detail}")
         if self.observer is not None:
             self.observer.on_event(self.time, RunEvent(kind, action.id if action else None, primitive, pid, detail))  # type: ignore[arg-type]
 
@@ -284,13 +345,17 @@ class BulletScene:
 
     def attach(self, pid: str, name: str) -> None:
         self._picked_from[name] = self.pose(name)
-        constraint, T_ee_obj = attach(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body)
+        if self.dynamics:  # held by the fingers' friction: no constraint, the arm still collides with it
+            constraint, T_ee_obj = None, np.linalg.inv(self.robots[pid].ee()) @ self.pose(name)
+        else:
+            constraint, T_ee_obj = attach(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body)
         hand = self.hands[pid]
         hand.carried, hand.constraint = name, constraint
         hand.riding = [Riding(name, T_ee_obj)]
 
     def detach(self, pid: str) -> None:
         hand = self.hands[pid]
+        self.squeeze[pid] = (0.0, 0.0)
         if hand.constraint is not None:
             detach(self.client, hand.constraint)
         hand.carried, hand.constraint, hand.riding = None, None, []
@@ -312,6 +377,8 @@ class BulletScene:
         return next((k for k, h in self.hands.items() if k != pid and any(r.name == name for r in h.riding)), None)
 
     def collide_with_arm(self, pid: str, name: str, *, enabled: bool) -> None:
+        if self.dynamics:  # the fingers hold by touching: the arm always collides with the objects
+            return
         set_arm_collisions(self.client, self.bodies.arms[pid].body, self.bodies.objects[name].body, enabled=enabled)
 
     def set_collisions(self, pairs: Sequence[tuple[str, str]], *, enabled: bool) -> None:
@@ -319,6 +386,16 @@ class BulletScene:
             p.setCollisionFilterPair(self.bodies.objects[a].body, self.bodies.objects[b].body, -1, -1, int(enabled),
                                      physicsClientId=self.client)
 
+    def set_fingers(self, pid: str, openings: tuple[float, float], grips: bool = False) -> None:
+        """Drive each finger to its own opening (metres); ``grips``: the openings are where the fingers touch
+        what they take (physics mode: the motors then aim :data:`SQUEEZE` inside it and press)."""
+        self.squeeze[pid] = (SQUEEZE, SQUEEZE) if grips and self.dynamics else (0.0, 0.0)
+        self.hands[pid].grip = (openings[0] + openings[1]) / 2
+        for f, w in zip(self.fingers[pid], openings, strict=True):
+            f[2] = float(w)
+
     def set_grip(self, pid: str, width: float) -> None:
+        """Drive both fingers to ``width`` each (metres); they get there over the next steps."""
         self.hands[pid].grip = width
-        self.robots[pid].set_fingers(width)
+        for f in self.fingers[pid]:
+            f[2] = float(width)

@@ -26,9 +26,9 @@ class BulletWorld:
     def __init__(self, plan: Plan, observer: RunObserver | None, *, seed: int = 0, realtime: bool = False,
                  planner: str = "rrtconnect", planning_time: float = 1.0, images: bool = True,
                  skills: SkillLibrary | None = None, attempts: int = 3, samples: int = 12,
-                 primitives: type[Primitives] = Primitives):
+                 primitives: type[Primitives] = Primitives, dynamics: bool = False):
         self.skills = skills or load_skills()
-        self.scene = BulletScene(plan, observer, self.skills, realtime=realtime, images=images)
+        self.scene = BulletScene(plan, observer, self.skills, realtime=realtime, images=images, dynamics=dynamics)
         self.traffic = Traffic(list(self.scene.robots), np.random.default_rng(seed), seed=seed, planner=planner,
                                planning_time=planning_time, attempts=attempts)
         self.scene.ended.append(self.traffic.primitive_over)

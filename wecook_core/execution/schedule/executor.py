@@ -40,11 +40,12 @@ as a failure event (``RunResult.arm_contacts``; a good run has none).
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from typing import Literal
 
 from wecook_core.execution.schedule.observer import RunEvent, RunObserver
-from wecook_core.execution.schedule.program import WAIT, WORK, ActionFailed, Meeting, Program, World
+from wecook_core.execution.schedule.program import WORK, ActionFailed, Meeting, Program, World, waiting, waits_for
 from wecook_core.plan import Plan, PlanAction
 
 DEADLOCK_SECONDS = 20.0
@@ -53,6 +54,9 @@ TIMEOUT_BASE = 60.0
 """Wall seconds of a run's default time limit for starting up, before any action."""
 TIMEOUT_PER_ACTION = 30.0
 """Wall seconds per action of a run's default time limit (a run goes at about 2 to 5 s per action)."""
+WAIT_REPORTED = 0.5
+"""Simulated seconds a wait lasts before it is told as an event (shorter ones, such as a motion letting the other
+arm's end, are only counted in the arms' totals)."""
 FAILURES_IN_A_ROW = 4
 """Actions failing one after another, none done in between, after which a run stops (the rest skipped): a plan
 whose actions all fail ends after this many, not after trying every one (each costs seconds of goal search)."""
@@ -87,6 +91,8 @@ class RunResult:
     seed: int = 0
     arm_contacts: int = 0
     """Times the two arms (or what they carry) were found touching during the run (0 in a good run)."""
+    waited: Mapping[str, float] = field(default_factory=dict)
+    """Agent -> simulated seconds it waited (for actions, the other arm, a partner)."""
 
     @property
     def ok(self) -> bool:
@@ -99,11 +105,13 @@ class RunResult:
 def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, *,
                  max_sim_time: float = 1800.0, timeout: float | None = None,
                  stop_at_first_failure: bool = False,
-                 failures_in_a_row: int | None = FAILURES_IN_A_ROW) -> tuple[ActionResult, ...]:
+                 failures_in_a_row: int | None = FAILURES_IN_A_ROW,
+                 waited: dict[str, float] | None = None) -> tuple[ActionResult, ...]:
     """Run every agent's program to the end; one result per plan action, in plan order. ``timeout``: wall
     seconds after which what is running fails and the rest is skipped (None: no limit); ``failures_in_a_row``:
     that many actions failing one after another (none done in between) skip every action not yet started
-    (None: no limit)."""
+    (None: no limit); ``waited``, when given, gets the seconds each agent waited."""
+    waited = {} if waited is None else waited
     began = time.perf_counter()
     results: dict[str, ActionResult] = {}
     cause: dict[str, str] = {}
@@ -116,9 +124,11 @@ def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, 
     pids = sorted({a.pid for a in plan.agents} | {pid for a in plan.actions for pid in a.pids})
     by_id = {a.id: a for a in plan.actions}
 
-    def emit(kind: str, action: PlanAction | None, pid: str | None = None, detail: str = "") -> None:
+    def emit(kind: str, action: PlanAction | None, pid: str | None = None, detail: str = "",
+             data: Mapping[str, object] | None = None) -> None:
         if observer is not None:
-            observer.on_event(world.time, RunEvent(kind, action.id if action else None, None, pid, detail))  # type: ignore[arg-type]
+            observer.on_event(world.time, RunEvent(kind, action.id if action else None, None, pid, detail,  # type: ignore[arg-type]
+                                                   data or {}))
 
     def finish(action: PlanAction, status: Literal["done", "failed", "skipped"], reason: str = "") -> None:
         if action.id in results:
@@ -142,8 +152,13 @@ def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, 
                 observer.on_log(world.time, "warning" if status == "skipped" else "error",
                                 f"{action.id} ({action.verb}) {status}: {reason}")
 
+    current: dict[str, PlanAction] = {}
+    """Agent -> the action it works at or waits for."""
+    waits = _Waits(emit, world)
+
     def agent_program(pid: str) -> Program:
         for action in (a for a in plan.actions if pid in a.pids):
+            current[pid] = action
             while action.id not in results:
                 blocked = [d for d in action.after if d in results and results[d].status != "done"]
                 if blocked:
@@ -167,13 +182,16 @@ def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, 
                     break
                 if all(d in results for d in action.after):
                     break
-                yield WAIT
+                d = next(d for d in action.after if d not in results)
+                yield waiting(f"{d} ({by_id[d].verb}) to end")
             if action.id in results:
                 continue
             meeting = meetings.setdefault(action.id, Meeting(frozenset(action.pids)))
             meeting.arrived.add(pid)
+            current[pid] = action
             while not meeting.needed <= meeting.arrived and meeting.failure is None:
-                yield WAIT
+                yield waiting(f"the collaboration partner {'+'.join(sorted(meeting.needed - meeting.arrived))} to "
+                              f"come to {action.id} ({action.verb})")
             if action.id not in started:
                 started[action.id] = world.time
                 emit("action_start", action, detail=f"{action.verb} by {'+'.join(action.pids)}")
@@ -189,7 +207,8 @@ def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, 
                 yield from world.recover(pid)
             meeting.finished.add(pid)
             while not meeting.needed <= meeting.finished:
-                yield WAIT
+                yield waiting(f"the collaboration partner {'+'.join(sorted(meeting.needed - meeting.finished))} to "
+                              f"finish {action.id} ({action.verb})")
             if meeting.failure is None:
                 finish(action, "done")
             else:
@@ -201,9 +220,14 @@ def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, 
         worked = False
         for pid in list(programs):
             try:
-                worked |= next(programs[pid]) == WORK
+                tick = next(programs[pid])
             except StopIteration:
                 del programs[pid]
+                waits.tick(pid, None, None)
+                continue
+            worked |= tick == WORK
+            waits.tick(pid, None if tick == WORK else waits_for(tick) or "something it does not name",
+                       current.get(pid))
         if not programs:
             break
         idle = 0.0 if worked else idle + world.dt
@@ -223,7 +247,46 @@ def run_schedule(plan: Plan, world: World, observer: RunObserver | None = None, 
                     finish(action, "failed", why)
             break
         world.step()
+    for pid in pids:
+        waits.tick(pid, None, None)
     for action in plan.actions:
         if action.id not in results:
             finish(action, "skipped", "never reached")
+    waited.update(waits.total)
     return tuple(results[a.id] for a in plan.actions)
+
+
+class _Waits:
+    """Each arm's waits, told as ``wait`` events: one when a wait has lasted :data:`WAIT_REPORTED` seconds
+    ("P2 waits for a3 (cut) to end"), one when it ends (``data``: ``seconds``, ``for``, ``since``); ``total``:
+    seconds each arm waited, every wait counted."""
+
+    def __init__(self, emit: Callable[..., None], world: World):
+        self.emit = emit
+        self.world = world
+        self.open: dict[str, tuple[str, float, PlanAction | None, bool]] = {}
+        """Agent -> (what it waits for, since, the action, told)."""
+        self.total: dict[str, float] = {}
+
+    def tick(self, pid: str, what: str | None, action: PlanAction | None) -> None:
+        now = self.world.time
+        wait = self.open.get(pid)
+        if wait is not None and wait[0] != what:
+            self._close(pid, wait, now)
+            wait = None
+        if what is None:
+            return
+        if wait is None:
+            wait = (what, now, action, False)
+            self.open[pid] = wait
+        if not wait[3] and now - wait[1] >= WAIT_REPORTED:
+            self.emit("wait", wait[2], pid, f"waits for {what}", {"for": what, "since": round(wait[1], 3)})
+            self.open[pid] = (*wait[:3], True)
+
+    def _close(self, pid: str, wait: tuple[str, float, PlanAction | None, bool], now: float) -> None:
+        del self.open[pid]
+        seconds = now - wait[1]
+        self.total[pid] = self.total.get(pid, 0.0) + seconds
+        if wait[3]:
+            self.emit("wait", wait[2], pid, f"waited {seconds:.1f} s for {wait[0]}",
+                      {"for": wait[0], "since": round(wait[1], 3), "seconds": round(seconds, 3)})

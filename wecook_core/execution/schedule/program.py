@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Generator, Iterator
 from dataclasses import dataclass, field
-from typing import Literal, Protocol
+from typing import Literal, Protocol, cast
 
 from wecook_core.plan import PlanAction
 
@@ -14,6 +14,28 @@ Tick = Literal["work", "wait"]
 WORK: Tick = "work"
 WAIT: Tick = "wait"
 Program = Generator[Tick, None, None]
+
+
+class _Wait(str):
+    """A WAIT tick that says what it waits for (it equals :data:`WAIT`)."""
+
+    what: str
+
+    def __new__(cls, what: str) -> _Wait:
+        tick = super().__new__(cls, WAIT)
+        tick.what = what
+        return tick
+
+
+def waiting(what: str) -> Tick:
+    """A :data:`WAIT` tick naming what the arm waits for ("a3 (cut) to end", "P1 to let go of the knife"): the
+    scheduler turns waits into ``wait`` events."""
+    return cast(Tick, _Wait(what))
+
+
+def waits_for(tick: Tick) -> str | None:
+    """What a WAIT tick waits for (None: it does not say)."""
+    return getattr(tick, "what", None)
 
 
 class ActionFailed(Exception):
@@ -41,12 +63,15 @@ class Meeting:
         if self.failure is None:
             self.failure = reason
 
-    def wait_for(self, name: str, ticks: Callable[[], Iterator[Tick]] | None = None) -> Program:
+    def wait_for(self, name: str, ticks: Callable[[], Iterator[Tick]] | None = None, pid: str | None = None
+                 ) -> Program:
         """Yield WAIT until ``name`` is signalled; raise :class:`ActionFailed` if the partner failed."""
+        partner = "+".join(sorted(self.needed - {pid})) if pid is not None else "the partner"
+        tick = waiting(f"the collaboration partner {partner} ({name.replace('_', ' ')})")
         while name not in self.signals:
             if self.failure is not None:
                 raise ActionFailed(f"partner failed: {self.failure}")
-            yield WAIT
+            yield tick
         if self.failure is not None:
             raise ActionFailed(f"partner failed: {self.failure}")
 

@@ -9,7 +9,7 @@ from collections.abc import Generator, Sequence
 
 import numpy as np
 
-from wecook_core.execution.schedule.program import WAIT, ActionFailed, Program, Tick
+from wecook_core.execution.schedule.program import ActionFailed, Program, Tick, waiting
 from wecook_core.execution.skills.library import evaluate
 from wecook_core.execution.skills.tsr import TSR
 from wecook_core.execution.world.frames import skill_frame
@@ -49,7 +49,7 @@ def grasp(cell: Cell, action: PlanAction, pid: str, name: str, *, lift: bool = T
         for _ in range(int(YIELD_SECONDS * scene.hz)):
             if scene.holder_of(name, pid) is None:
                 break
-            yield WAIT
+            yield waiting(f"{holder} to let go of the {name}")
         else:
             raise ActionFailed(f"{primitive} {name}: {holder} kept holding it")
     kind = scene.kind(name)
@@ -94,7 +94,7 @@ def grasp(cell: Cell, action: PlanAction, pid: str, name: str, *, lift: bool = T
         except ActionFailed as error:
             scene.collide_with_arm(pid, name, enabled=True)
             return str(error)
-        arm.set_grip(grip)
+        arm.close_on(name, grip)  # each finger stops where it touches the part it takes
         yield from scene.hold(0.2)
         scene.attach(pid, name)
         for content in scene.contents(name):  # what lies in a container moves with it

@@ -173,6 +173,11 @@ class Arm(Protocol):
 
     def set_grip(self, width: float) -> None: ...
 
+    def close_on(self, name: str, width: float) -> tuple[float, float]:
+        """Close each finger until it touches ``name`` (never into it; to ``width``, metres per finger, when
+        nothing is there); returns each finger's opening."""
+        ...
+
     def goal_samples(self, tsrs: Sequence[TSR], T_eff_ee: np.ndarray, n: int, accept: Accept | None = None,
                      rank: Rank | None = None, spin: bool = False) -> list[np.ndarray]:
         """Up to ``n`` ee poses drawn from ``tsrs`` (the effector at ``T_eff_ee`` from the ee) that ``accept``

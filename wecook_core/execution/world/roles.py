@@ -13,7 +13,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from wecook_core.execution.schedule.program import WAIT, ActionFailed, Meeting, Program
+from wecook_core.execution.schedule.program import ActionFailed, Meeting, Program, waiting
 from wecook_core.execution.skills.library import skill_name
 from wecook_core.execution.skills.tsr import TSR
 from wecook_core.execution.world.frames import skill_frame
@@ -75,11 +75,11 @@ class RolePlayer:
             return
         zone = self._zone(action)
         for _ in range(int(ZONE_WAIT_SECONDS * self.scene.hz)):
-            busy = [z for owner, z in self.zones.items() if owner != action.id
+            busy = [owner for owner, z in self.zones.items() if owner != action.id
                     and np.all(zone[0] < z[1]) and np.all(z[0] < zone[1])]
             if not busy:
                 break
-            yield WAIT
+            yield waiting(f"the other arm's region: {', '.join(busy)} works where {action.id} would")
         self.zones[action.id] = zone
 
     def program(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
@@ -216,7 +216,7 @@ class RolePlayer:
         yield from self.primitives.engage(action, pid, self.skills.meet, {"tool": name}, meet=(giver, receiver),
                                accept=on_giver_side)
         meeting.signal("at_meet")
-        yield from meeting.wait_for("taken")
+        yield from meeting.wait_for("taken", pid=pid)
         yield from self.scene.hold(0.2)
         yield from self.primitives.release(pid)
         yield from self.arms[pid].home()
@@ -226,9 +226,9 @@ class RolePlayer:
         name = action.tool
         assert name is not None
         giver = action.pids[0]
-        yield from meeting.wait_for("at_meet")
+        yield from meeting.wait_for("at_meet", pid=pid)
         if not self._mid_air(name):  # on the table: an ordinary grasp once the giver has let go
-            yield from meeting.wait_for("released")
+            yield from meeting.wait_for("released", pid=pid)
             yield from self.primitives.grasp(action, pid, name, primitive="take")
         else:
             giver_ee = self.arms[giver].ee()
@@ -244,7 +244,7 @@ class RolePlayer:
                                                  primitive="take")
             self.scene.drop_riding(giver, [r.name for r in self.scene.hand(giver).riding])
             meeting.signal("taken")
-            yield from meeting.wait_for("released")
+            yield from meeting.wait_for("released", pid=pid)
         drop = self.skills.drop
         T0_w, sizes = skill_frame(self.scene, drop, {"tool": name}, pid)
         yield from self.primitives.place(action, pid, [drop.tsr(T0_w, sizes)], free=True)
@@ -265,7 +265,7 @@ class RolePlayer:
         return container
 
     def _holder(self, action: PlanAction, pid: str, meeting: Meeting) -> Program:
-        yield from meeting.wait_for("tool_ready")  # the actor first takes its tool, then the container is held
+        yield from meeting.wait_for("tool_ready", pid=pid)  # the actor takes its tool first, then the container is held
         name = self._held(action, pid)
         kind = self.scene.kind(name)
         hold = {"open_container": "hold_rim", "flat_container": "hold_flat"}.get(kind)
@@ -293,7 +293,7 @@ class RolePlayer:
                     raise
         yield from self.scene.hold(self.skills.hold_time)
         meeting.signal("held")
-        yield from meeting.wait_for("acted")
+        yield from meeting.wait_for("acted", pid=pid)
         yield from self.scene.hold(self.skills.hold_time)
         yield from self.primitives.release(pid)
         yield from self.arms[pid].home()
@@ -306,7 +306,7 @@ class RolePlayer:
             with contextlib.suppress(ActionFailed):
                 yield from self.arms[pid].park(what="wait at rest")
             meeting.signal("tool_ready")
-            yield from meeting.wait_for("held")
+            yield from meeting.wait_for("held", pid=pid)
 
         location = act.location or action.tool
         yield from self._individual(action, pid, act.verb, act.tool, act.ingredients, location, act.source,
