@@ -165,8 +165,8 @@ def test_normalised_coordinates_are_refused(tmp_path: Path) -> None:
 def test_a_label_studio_annotation_at_another_rate_and_the_fps_flag(tmp_path: Path,
                                                                      capsys: pytest.CaptureFixture[str]) -> None:
     # The video plays at 10 fps; the annotation counted 20 fps by its keyframes' time but 10 by framesCount:
-    # ambiguous, refused in one line naming --annotation-fps; with --annotation-fps 20 its frame 21 (1 s) is video frame 10, also
-    # when the session is opened again.
+    # ambiguous, refused in one line naming --annotation-fps; with --annotation-fps 20 its frame 21 (1 s) is
+    # video frame 10, also when the session is opened again.
     import json
 
     from wecook_core.session.store import open_session

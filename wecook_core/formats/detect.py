@@ -154,7 +154,8 @@ def read_objects(
     if select is not None and chosen not in ("cocovid", "labelstudio"):
         warn(f"choosing a video ({select!r}) only applies to COCO-VID boxes; ignored for {chosen}")
     if fps is not None and chosen != "labelstudio":
-        warn(f"an annotation frame rate (--annotation-fps {fps:g}) only applies to Label Studio boxes; ignored for {chosen}")
+        warn(f"an annotation frame rate (--annotation-fps {fps:g}) only applies to Label Studio boxes; "
+             f"ignored for {chosen}")
     if fps is not None and not (math.isfinite(fps) and fps > 0):
         raise InputError(None, f"--annotation-fps {fps:g}: expected a frame rate above 0")
     count = usable_frames(video) if video is not None else None

@@ -28,7 +28,8 @@ class InputFile:
     """Which video of a COCO-VID file holding several (name or id); None: the only one, or the one named
     like the video file."""
     fps: float | None = None
-    """The frame rate a Label Studio annotation was made at (``wecook new --annotation-fps``); None: read from the file."""
+    """The frame rate a Label Studio annotation was made at (``wecook new --annotation-fps``); None: read from
+    the file."""
 
 
 def content_hash(path: str | Path) -> str:
