@@ -232,8 +232,7 @@ def ros_task(plan: Plan, table: UrdfTable | None = None, *, if_sim: bool = True)
             mapped[action.id] = how
     waiting = {gone: tuple(a.id for a in plan.actions if gone in a.after and a.id in dispatched)
                for gone in left_out}
-    tags = tuple(TagMsg(t.tag_id, t.object_name, t.pose) for t in table.tags)
-    task = TaskMsg(tuple(objects), containing, tuple(actions), agents, tags, if_sim=if_sim)
+    task = TaskMsg(tuple(objects), containing, tuple(actions), agents, table.tags, if_sim=if_sim)
     return RosExport(task, tuple(dispatched), names, stand_ins, missing, left_out, mapped,
                      {k: v for k, v in waiting.items() if v})
 

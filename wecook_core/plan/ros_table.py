@@ -17,6 +17,7 @@ import yaml
 
 from wecook_core.errors import InputError, read_input_text, yaml_error
 from wecook_core.model import Category
+from wecook_core.plan.ros_messages import TagMsg
 from wecook_core.resources import ASSETS_DIR
 
 URDF_TABLE = ASSETS_DIR / "ros_objects.yaml"
@@ -35,16 +36,6 @@ class Urdf:
     """The URDF is food: the platform's motion planner must not collide with it (what a knife cuts, a spoon
     stirs), so the object's name contains "food" (``ObjectMgr::createCollisionGroupExceptFoodAndToMoveObj``
     leaves every name containing "food" or "mouth" out of the collision group). Default: a url under ``food/``."""
-
-
-@dataclass(frozen=True)
-class Tag:
-    """A ``TagMsg``: an AprilTag and the object it is on (``None``: no object)."""
-
-    tag_id: int
-    object_name: str
-    pose: tuple[float, ...]
-    """The object's pose in the tag's frame, ``x y z qx qy qz qw`` (the platform's ``vectorToIsometry`` reads 7)."""
 
 
 @dataclass(frozen=True)
@@ -67,7 +58,9 @@ class UrdfTable:
     """Category -> URDF of a kind not in :attr:`objects`."""
     mounts: Mapping[str, Pose] = field(default_factory=dict)
     """Plan pid (``P1``) -> the arm's base pose on the platform; a pid not listed stands where the plan puts it."""
-    tags: tuple[Tag, ...] = ()
+    tags: tuple[TagMsg, ...] = ()
+    """The AprilTags sent with the scene, as the platform's ``TagMsg`` (pose: the object's in the tag's frame, ``x y z
+    qx qy qz qw``, 7 numbers as its ``vectorToIsometry`` reads)."""
 
     def urdf(self, name: str, category: Category) -> tuple[Urdf | None, bool]:
         """The URDF of the object ``name`` and whether it is a stand-in (``(None, False)``: none)."""
@@ -138,7 +131,7 @@ def _mounts(value: Any, path: Path) -> dict[str, Pose]:
     return {str(pid): _pose(pose, path, f"agents.mounts.{pid}") for pid, pose in value.items()}
 
 
-def _tags(value: Any, path: Path) -> tuple[Tag, ...]:
+def _tags(value: Any, path: Path) -> tuple[TagMsg, ...]:
     if value is None:
         return ()
     if not isinstance(value, list):
@@ -154,7 +147,7 @@ def _tags(value: Any, path: Path) -> tuple[Tag, ...]:
         if not isinstance(name, str) or not name:
             raise InputError(path, f"expected an object name (None: no object), got {name!r}",
                              place=f"{here}.object")
-        out.append(Tag(tag_id, name, _pose(entry.get("pose"), path, f"{here}.pose")))
+        out.append(TagMsg(tag_id, name, _pose(entry.get("pose"), path, f"{here}.pose")))
     return tuple(out)
 
 
