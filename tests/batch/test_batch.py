@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.batch.one_by_one import one_session_at_a_time
 from wecook_core.batch.engine import run_batch
 from wecook_core.batch.manifest import BatchItem, read_manifest
 from wecook_core.batch.report import build_report, write_report
@@ -21,6 +22,7 @@ from wecook_core.resources import shared_dir
 from wecook_tui.cli import main
 
 SCENARIOS = shared_dir() / "data" / "scenarios"
+
 needs_shared = pytest.mark.skipif(not (SCENARIOS / "s301").is_dir(), reason="../shared/data/scenarios is missing")
 
 
@@ -180,13 +182,7 @@ def test_a_killed_batch_resumes_and_loses_no_finished_result(tmp_path: Path, dem
 def test_ray_with_two_workers_gives_what_one_video_at_a_time_gives(tmp_path: Path) -> None:
     pytest.importorskip("ray")
     names = ["s301", "s303", "s304"]
-    one_by_one = tmp_path / "one"
-    for name in names:
-        folder = SCENARIOS / name
-        assert main(["new", name, "--root", str(one_by_one), "--video", str(folder / "video.mp4"),
-                     "--objects", str(folder / "objects.xml"), "--hands", str(folder / "openpose")]) == 0
-        assert main(["analyze", name, "--root", str(one_by_one)]) == 0
-        assert main(["export", name, "--root", str(one_by_one)]) == 0
+    one_by_one = one_session_at_a_time(tmp_path / "one", names)
     items = [i for i in read_manifest(SCENARIOS) if i.name in names]
     batch_root = tmp_path / "batch"
     finished: list[list[str]] = []

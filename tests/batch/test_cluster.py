@@ -22,8 +22,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.batch.one_by_one import one_session_at_a_time
 from wecook_core.resources import shared_dir
-from wecook_tui.cli import main
 
 SCENARIOS = shared_dir() / "data" / "scenarios"
 NAMES = ("s301", "s303", "s304")
@@ -138,13 +138,7 @@ def local_cluster(cpus_per_node: int = 1) -> Iterator[tuple[str, str]]:
 @pytest.mark.skipif(not (SCENARIOS / "s301").is_dir(), reason="../shared/data/scenarios is missing")
 def test_a_two_node_cluster_gives_the_trees_of_one_session_at_a_time(tmp_path: Path) -> None:
     pytest.importorskip("ray")
-    one_by_one = tmp_path / "one"
-    for name in NAMES:
-        folder = SCENARIOS / name
-        assert main(["new", name, "--root", str(one_by_one), "--video", str(folder / "video.mp4"),
-                     "--objects", str(folder / "objects.xml"), "--hands", str(folder / "openpose")]) == 0
-        assert main(["analyze", name, "--root", str(one_by_one)]) == 0
-        assert main(["export", name, "--root", str(one_by_one)]) == 0
+    one_by_one = one_session_at_a_time(tmp_path / "one", list(NAMES))
     manifest = tmp_path / "videos.yaml"  # the shared scenarios, in place (the "shared storage")
     manifest.write_text("videos:\n" + "".join(
         f"  - {{name: {n}, video: {SCENARIOS / n / 'video.mp4'}, objects: {SCENARIOS / n / 'objects.xml'}, "

@@ -170,13 +170,9 @@ def test_the_cli_writes_the_bag_and_says_what_is_in_it(recording: Path, tmp_path
 
 
 @pytest.mark.sim
-def test_a_real_run_exports_with_the_urdf_joint_names_and_the_camera_placed(tmp_path: Path) -> None:
-    from wecook_core.execution.plan_samples import ONE_ARM_CUTS
-
-    plan = tmp_path / "plan.yaml"
-    plan.write_text(ONE_ARM_CUTS)
-    record = tmp_path / "run.mcap"
-    assert main(["execute", str(plan), "--record", str(record), "--camera-hz", "2"]) in (0, 1)
+def test_a_real_run_exports_with_the_urdf_joint_names_and_the_camera_placed(tmp_path: Path,
+                                                                           one_arm_recording: Path) -> None:
+    record = one_arm_recording
     export_ros2(record, tmp_path / "bag")
     types, messages = read_bag(tmp_path / "bag")
     src = source(record)
