@@ -3,16 +3,22 @@
 its shot's end by :func:`track_from_last_keyframe` (OpenCV's MIL, as the box mode's ``t``), never across a cut.
 
     cd REPO && .venv/bin/python data/real/kfc-b/annotate.py   # reads the video from the shared directory
+    cd REPO && .venv/bin/python data/real/kfc-b/annotate.py --only 25 31   # re-make those tracks, keep the rest
+
+``--only``: the tracker's randomness cannot be seeded (OpenCV's MIL draws its own samples), so re-making every
+track after changing a few keyframes would move the tails of the others too; with ``--only`` the rows of every
+other track are copied from the existing objects.csv unchanged.
 """
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 import cv2
 import yaml
 
-from wecook_core.formats.native import write_objects_csv
+from wecook_core.formats.native import read_objects_csv, write_objects_csv
 from wecook_core.observations.tracking import BoxTrack, TrackParams, track_from_last_keyframe
 from wecook_core.resources import shared_dir
 
@@ -20,10 +26,12 @@ HERE = Path(__file__).resolve().parent
 FPS = 30.0
 
 
-def tracks(video: Path) -> list[BoxTrack]:
+def tracks(video: Path, only: set[int] | None = None) -> list[BoxTrack]:
     spec = yaml.safe_load((HERE / "keyframes.yaml").read_text())["tracks"]
     made = []
     for track_id, item in enumerate(spec, start=1):
+        if only is not None and track_id not in only:
+            continue
         first, end = item["shot"]
         keys = {int(f): tuple(float(v) for v in box) for f, box in item["keys"].items()}
         assert all(first <= f < end for f in keys), (item["label"], first, end)
@@ -40,12 +48,19 @@ def tracks(video: Path) -> list[BoxTrack]:
 
 
 def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--only", type=int, nargs="+", help="re-make only these track ids (1-based, keyframes.yaml order)")
+    only = set(parser.parse_args().only) if parser.parse_args().only else None
     video = shared_dir() / "data" / "real" / "kfc-b" / "video.mp4"
-    made = tracks(video)
+    made = tracks(video, only)
     for t in made:
         lost = f", lost at {t.lost_at}" if t.lost_at is not None else ""
         print(f"{t.track_id:3} {t.label:<14} keys {sorted(t.keyframes)} tracked {len(t.tracked)}{lost}")
-    write_objects_csv(HERE / "objects.csv", [t.object_track() for t in made])
+    objects = [t.object_track() for t in made]
+    if only is not None:  # every other track as it is in objects.csv
+        kept = [track for track in read_objects_csv(HERE / "objects.csv") if track.track_id not in only]
+        objects = sorted(kept + objects, key=lambda track: track.track_id)
+    write_objects_csv(HERE / "objects.csv", objects)
 
 
 if __name__ == "__main__":
