@@ -49,8 +49,9 @@ def tracks(video: Path, only: set[int] | None = None) -> list[BoxTrack]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--only", type=int, nargs="+", help="re-make only these track ids (1-based, keyframes.yaml order)")
-    only = set(parser.parse_args().only) if parser.parse_args().only else None
+    parser.add_argument("--only", type=int, nargs="+", help="re-make only these tracks (ids from 1)")
+    args = parser.parse_args()
+    only = set(args.only) if args.only else None
     video = shared_dir() / "data" / "real" / "kfc-b" / "video.mp4"
     made = tracks(video, only)
     for t in made:

@@ -54,6 +54,13 @@ from wecook_core.perception.label_runs import NONE
 
 TIE = 0.01
 """Most cost per frame the tie-breaks add: over ``hold_switch_s`` seconds, a hundred times less than motion."""
+TIE_CLOSER, TIE_SMALLER, TIE_CONTAINER = 0.4, 0.3, 0.3
+"""Shares of :data:`TIE` given to each tie-break (they sum to 1): closer box centres first (the paper's
+closest object), then the smaller box, then a container before the ingredient in it. Their order matters only
+where two of them disagree on one frame; the sizes are such that no two of them outweigh the third alone."""
+SIZE_DECADES = 1.0
+"""The smaller-box tie-break saturates at this many powers of ten between the object's and the hand's
+diagonals: a box ten times the hand's (a pan filling the close-up) gets the whole of its share."""
 MOVING_WITH, STAYING, NOTHING_MOVING, NOTHING_STILL = 0.0, 1.0, 0.9, 1.0
 """Emission costs (see the module docstring)."""
 OUTSIDE = 10.0
@@ -210,8 +217,10 @@ def emission_costs(
         dy = (own[:, 1] + own[:, 3]) / 2 - (other[:, 1] + other[:, 3]) / 2
         distance = np.sqrt(dx * dx + dy * dy)  # np.linalg.norm of the centres' difference, bit for bit
         closeness = np.clip(np.nan_to_num(distance / (hand_size + object_size), nan=1.0), 0.0, 1.0)
-        bigness = np.clip(np.nan_to_num(np.log(object_size / hand_size) / np.log(10.0), nan=1.0), 0.0, 1.0)
-    object_cost = object_cost + TIE * (0.4 * closeness + 0.3 * bigness + 0.3 * contained[rows, hand, column])
+        bigness = np.clip(np.nan_to_num(np.log(object_size / hand_size) / np.log(10.0 ** SIZE_DECADES), nan=1.0),
+                          0.0, 1.0)
+    object_cost = object_cost + TIE * (TIE_CLOSER * closeness + TIE_SMALLER * bigness
+                                       + TIE_CONTAINER * contained[rows, hand, column])
     costs = np.full((length, n_hands, 1 + n_objects), np.inf)
     costs[rows, hand, 1 + column] = object_cost
     anything = overlap.any(axis=2)

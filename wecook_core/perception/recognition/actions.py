@@ -47,6 +47,7 @@ from wecook_core.model import (
 from wecook_core.perception.association.associate import Timeline, associate_segments, dwelling_points
 from wecook_core.perception.geometry import video_diagonal
 from wecook_core.perception.label_runs import longest_runs, runs
+from wecook_core.perception.params import Params
 from wecook_core.perception.recognition.motion import Role
 from wecook_core.perception.recognition.resting import SpanCache, acting_links
 from wecook_core.perception.recognition.transfers import (
@@ -59,7 +60,7 @@ from wecook_core.perception.recognition.transfers import (
 
 if TYPE_CHECKING:
     from wecook_core.knowledge.recognize import Knowledge
-    from wecook_core.perception.params import FrameParams, Params
+    from wecook_core.perception.params import FrameParams
 
 HAND_VERBS: tuple[str, ...] = ("squeeze", "peel", "roll", "wrap")
 """Verbs a bare hand performs on the ingredient it holds."""
@@ -138,7 +139,7 @@ def individual_action(
     *,
     still: bool | Callable[[bool], bool] = True,
     verb: str | None = None,
-    hand_share: float = 0.3,
+    hand_share: float = Params.hand_share,
     moves: Callable[[str, Role], frozenset[str] | None] | None = None,
 ) -> tuple[Action | None, Ranking]:
     """The action of one hand in one segment from its associations (no transfer, no collaboration).

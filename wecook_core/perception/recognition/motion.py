@@ -61,6 +61,15 @@ diagonal or more on a typical frame is stroked (peeled); below, it is gripped in
 typical peeling stroke, twice what a box's jitter leaves after smoothing."""
 STROKE_SMOOTH_S = 0.2
 """Seconds of running mean over the centre before the stroke is read (box jitter out, strokes kept)."""
+DRIFT_S = 0.5
+"""Half-width, in seconds, of the running mean taken as a stroke's drifting centre (about a second in all: a
+stir goes round at least once a second, the pot it is in does not wander that fast)."""
+MIN_JITTER_PX = 0.5
+"""Pixels: the jitter is never taken below half a pixel, the rounding of boxes drawn or stored in whole pixels
+(a box tracked without noise would otherwise count every sub-pixel wobble as winding)."""
+MIN_SEEN = 4
+"""Frames a box must be seen on for its motion to be read: the second differences behind the jitter need
+three, and one more makes their median mean something."""
 CIRCLE_VERBS = frozenset({"stir"})
 TIPPED_VERBS = frozenset({"pour"})
 UNTIPPED_VERBS = frozenset({"sprinkle", "dip"})
@@ -108,7 +117,7 @@ def _running_mean(values: np.ndarray, half: int) -> np.ndarray:
 def motion_of(boxes: np.ndarray, fps: float) -> Motion | None:
     """The cues of boxes ``(frames, 4)`` (NaN rows where unseen); None when too few frames are seen."""
     seen = np.isfinite(boxes).all(axis=1)
-    if seen.sum() < 4:
+    if seen.sum() < MIN_SEEN:
         return None
     box = boxes[seen]
     centre = np.stack([(box[:, 0] + box[:, 2]) / 2, (box[:, 1] + box[:, 3]) / 2], axis=1)
@@ -127,12 +136,13 @@ def motion_of(boxes: np.ndarray, fps: float) -> Motion | None:
     jitter = median_of(second) / np.sqrt(6.0) if len(second) else 0.0
     # running mean over about a second removes the drift of the stroke's centre
     rate = fps if fps > 0 else DEFAULT_FPS
-    mean = _running_mean(centre, max(1, round(0.5 * rate)))
+    mean = _running_mean(centre, max(1, round(DRIFT_S * rate)))
     offset = centre - mean
     radius = np.linalg.norm(offset, axis=1)
     angle = np.arctan2(offset[:, 1], offset[:, 0])
     step = np.angle(np.exp(1j * np.diff(angle)))
-    counted = (radius[1:] > JITTER_TIMES * max(jitter, 0.5)) & (radius[:-1] > JITTER_TIMES * max(jitter, 0.5))
+    floor = JITTER_TIMES * max(jitter, MIN_JITTER_PX)
+    counted = (radius[1:] > floor) & (radius[:-1] > floor)
     diagonal = median_of(np.hypot(width, height))
     active = bool(median_of(radius) > ACTIVE_FRACTION * diagonal)
     swept = step[counted]

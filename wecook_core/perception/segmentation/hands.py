@@ -19,6 +19,17 @@ the chosen breakpoints are placed at full frame rate. Hand phases last half a se
 little, and it makes GGS 3 to 5 times faster at 30 fps and its choices nearly independent of the frame rate."""
 
 
+GLITCH_FRAMES = 5
+"""Frames of the running median over a hand's centre before GGS (or the sampling step if longer): a detector's
+wrong detections last one or two frames (a hand found on the other hand, or on a face), which a median over
+five removes, while a real phase change lasts far longer. Frames, not seconds: the glitches are the
+detector's, one per frame it runs on, whatever the frame rate."""
+REFINE_STEPS = 1.5
+"""Each breakpoint found on the sampled series is moved to its best frame within this many sampling steps
+of where it was found: the sample stands for ``step`` frames, so the true cut lies within about one step of
+it, and half a step more covers a cut that the median smoothed across two samples."""
+
+
 def hand_series(track: HandTrack, frame_count: int, width: float, height: float) -> tuple[np.ndarray, int]:
     """The hand's centre for every frame of ``[0, frame_count)``, scaled to the unit square.
 
@@ -118,7 +129,7 @@ def running_median(series: np.ndarray, window: int) -> np.ndarray:
 def _segment_series(series: np.ndarray, params: Params, step: int, forced_k: int | None) -> tuple[int, ...]:
     """Breakpoints (frames) of one hand's full-rate series: GGS on every ``step``-th frame of the
     median-filtered series (sample ``j`` stands for frames ``[j step, (j + 1) step)``), then refinement."""
-    smooth = running_median(series, max(5, step + 1 - step % 2))
+    smooth = running_median(series, max(GLITCH_FRAMES, step + 1 - step % 2))
     sampled = smooth[step // 2 :: step]
     if len(sampled) < 4:
         return ()
@@ -134,4 +145,4 @@ def _segment_series(series: np.ndarray, params: Params, step: int, forced_k: int
     coarse = tuple(b * step for b in result.breakpoints_by_k[k])
     if step == 1 or not coarse:
         return coarse
-    return refine_breakpoints(smooth, coarse, params.lamb, radius=math.ceil(1.5 * step))
+    return refine_breakpoints(smooth, coarse, params.lamb, radius=math.ceil(REFINE_STEPS * step))
