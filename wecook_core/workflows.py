@@ -129,18 +129,19 @@ SHOTS_FILE = "shots.json"
 
 def cached_shot_cuts(session: str | Path, video: str) -> tuple[int, ...]:
     """The video's shot cuts, from ``session/shots.json`` when it was made from this very file (path, size
-    and modification time), else found (:func:`wecook_core.perception.segmentation.shots.shot_cuts`) and written there.
+    and modification time) by this version of the detection (``shots.DETECTOR``), else found
+    (:func:`wecook_core.perception.segmentation.shots.shot_cuts`) and written there.
     A video that cannot be read has none."""
     import contextlib
     import json
 
-    from wecook_core.perception.segmentation.shots import shot_cuts
+    from wecook_core.perception.segmentation.shots import DETECTOR, shot_cuts
 
     source = Path(video)
     if not source.is_file():
         return ()
     stat = source.stat()
-    key = {"video": str(source.resolve()), "size": stat.st_size, "mtime_ns": stat.st_mtime_ns}
+    key = {"video": str(source.resolve()), "size": stat.st_size, "mtime_ns": stat.st_mtime_ns, "detector": DETECTOR}
     cache = Path(session) / SHOTS_FILE
     try:
         data = json.loads(cache.read_text(encoding="utf-8"))

@@ -40,6 +40,7 @@ def test_the_workbench_analyses_with_the_videos_shot_cuts_as_wecook_analyze_does
     a video with a cut it reviewed other segments than `wecook analyze` exported."""
     import json
 
+    from wecook_core.perception.segmentation.shots import DETECTOR
     from wecook_core.workflows import SHOTS_FILE
 
     video, objects, hands = scenario_inputs
@@ -47,7 +48,8 @@ def test_the_workbench_analyses_with_the_videos_shot_cuts_as_wecook_analyze_does
     stat = video.stat()
     cut = 40  # a cut the shots cache says the video has (the cache is keyed by the very file)
     (path / SHOTS_FILE).write_text(json.dumps({"video": str(video.resolve()), "size": stat.st_size,
-                                               "mtime_ns": stat.st_mtime_ns, "cuts": [cut]}) + "\n")
+                                               "mtime_ns": stat.st_mtime_ns, "detector": DETECTOR,
+                                               "cuts": [cut]}) + "\n")
     exported = analyse_session(path).analysis
     assert exported.shots == (cut,)
     reviewed = analyze_workspace(open_workspace(path), ())
