@@ -2,7 +2,7 @@
 
 The archive (``../shared/data/recipes/open-recipe-archive.jsonl.gz``, the Unlicense) is one JSON object a
 line: ``id`` (``collection/slug``), ``collection``, ``source`` (the book), ``ingredients`` (lines) and ``steps``
-(the numbered directions). Each step is read by :func:`wecook_core.knowledge.instructions.extract` with the
+(the numbered directions). Each step is read by :func:`wecook_core.knowledge.instructions.extract_relations` with the
 recipe's ingredient list, so "add them" takes the ingredients named last. A record's group is the recipe's id,
 whose ``collection/`` prefix is the unit of held-out splits (:func:`wecook_core.knowledge.evaluation.split`:
 a whole collection is held out, never a sentence or a recipe of a book learned from).
@@ -28,7 +28,7 @@ from typing import Any
 
 from wecook_core.errors import InputError
 from wecook_core.knowledge.corpus import Corpus, Record
-from wecook_core.knowledge.instructions import extract
+from wecook_core.knowledge.instructions import extract_relations
 
 ARCHIVE_SOURCE = "open-recipe-archive"
 ARCHIVE_FILE = "open-recipe-archive.jsonl.gz"
@@ -97,8 +97,8 @@ def read_archive(path: Path, nouns: Mapping[str, str]) -> Corpus:
         count += 1
         steps = [str(s) for s in recipe["steps"]]
         ingredients = [str(i) for i in recipe.get("ingredients") or ()]
-        for verb, objects in extract(steps, table, ingredients):
-            found.append(Record(verb, objects, recipe["id"], source=ARCHIVE_SOURCE))
+        for verb, objects, relations in extract_relations(steps, table, ingredients):
+            found.append(Record(verb, objects, recipe["id"], source=ARCHIVE_SOURCE, relations=relations))
     if not found:
         raise InputError(archive_file(path), "no recipe steps found")
     return Corpus(records=tuple(found), sources=(f"{archive_file(path).name} ({count} recipes, {len(found)} clauses)",),

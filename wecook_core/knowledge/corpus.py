@@ -46,6 +46,10 @@ class Record:
     source: str = ""
     """The corpus the record comes from (``epic-kitchens``, ``recipes``, a CSV's ``# corpus:`` line or file
     name), for reporting held-out figures per corpus."""
+    relations: tuple[str, ...] = ()
+    """How the sentence names each of ``objects`` (:data:`~wecook_core.knowledge.instructions.RELATIONS`:
+    ``object``, ``place``, ``means``, ``source``), one per object; empty when the corpus does not say (EPIC,
+    a CSV)."""
 
 
 @dataclass(frozen=True)
