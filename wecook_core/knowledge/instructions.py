@@ -224,21 +224,29 @@ MEANS: frozenset[str] = frozenset({"with", "using", "by"})
 the board with flour")."""
 SOURCES: frozenset[str] = frozenset({"from", "off", "out"})
 """Prepositions after which a noun is where something comes from ("out of the pan")."""
-_TRANSPARENT = frozenset({"of", "a", "an", "the", "some", "little", "few", "each", "every"})
+SUBORDINATE: frozenset[str] = frozenset({"until", "till", "when", "while", "if", "unless", "so", "as", "than",
+                                         "because", "whilst"})
+"""Words that open a subordinate clause: a noun after one is not what the verb acts on ("stir until the sugar
+is dissolved")."""
 
-RELATIONS: tuple[str, ...] = ("object", "place", "means", "source")
+RELATIONS: tuple[str, ...] = ("object", "place", "means", "source", "aside")
 """How a clause names each of its nouns (:func:`relation`): the verb's object (none of the prepositions
-below), after a preposition of :data:`PLACES`, of :data:`MEANS` or of :data:`SOURCES`."""
+below), after a preposition of :data:`PLACES`, of :data:`MEANS` or of :data:`SOURCES`, or in a subordinate
+clause (:data:`SUBORDINATE`). Measured on the held-out archive collections (:mod:`wecook_core.knowledge.
+relations`, seed 0): giving the subordinate clause's nouns a relation of their own rather than ``object`` raised
+macro P / R from 0.463 / 0.591 to 0.468 / 0.594; dropping them, 0.467 / 0.596."""
 
 
 def relation(words: Sequence[str], at: int) -> str:
-    """How the noun starting at ``words[at]`` is named (:data:`RELATIONS`): the nearest preposition before it
-    in its clause, up to a comma or the clause's start ("of" and articles are passed over: "a pinch of salt
-    over the fish" names the salt as the object)."""
+    """How the noun starting at ``words[at]`` is named (:data:`RELATIONS`): by the nearest preposition (or
+    subordinating word) before it in its clause, up to a comma or the clause's start; "a pinch of salt over the
+    fish" names the salt as the object, the fish as the place."""
     for k in range(at - 1, -1, -1):
         word = words[k]
         if word == ",":
             break
+        if word in SUBORDINATE:
+            return "aside"
         if word in PLACES:
             return "place"
         if word in MEANS:
