@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -242,6 +242,10 @@ class RelationalEvaluation:
     """The object-set model (:class:`~wecook_core.knowledge.recognize.Knowledge`, uniform prior, alpha 1) on the
     same held-out records."""
     validation_groups: int
+    oracle: Metrics
+    """:func:`~wecook_core.knowledge.evaluation.object_oracle` over the held-out records' sets of
+    ``relation:object`` features: the most frequent verb of each such set among the held-out records themselves
+    (an upper reference, learned from what it is scored on)."""
 
 
 def evaluate_relational(corpus: Corpus, *, seed: int = 0, fraction: float = 0.2,
@@ -249,7 +253,7 @@ def evaluate_relational(corpus: Corpus, *, seed: int = 0, fraction: float = 0.2,
     """Held-out figures of the role-aware model on the split of :func:`~wecook_core.knowledge.evaluation.split`
     (the records of the corpus that carry relations): tuned on a ``fraction`` of the training collections
     (split again with ``seed + 1``), then learned from all training collections."""
-    from wecook_core.knowledge.evaluation import predict, score, split
+    from wecook_core.knowledge.evaluation import object_oracle, predict, score, split
     from wecook_core.knowledge.learning import fold, from_examples
 
     examples, vocabulary = fold(corpus, verbs=verbs)
@@ -262,5 +266,7 @@ def evaluate_relational(corpus: Corpus, *, seed: int = 0, fraction: float = 0.2,
     model = learn_relational(train, verbs, alpha=tuning.alpha, tau=tuning.tau, pair_weight=tuning.pair_weight)
     truth = [e.action for e in test]
     flat = from_examples(train, vocabulary, corpus, verbs=verbs, prior="uniform")
+    related = [replace(e, objects=tuple(features(e.objects, e.relations)["single"])) for e in test]
     return RelationalEvaluation(tuning, score(truth, predict_relational(model, test), verbs),
-                                score(truth, predict(flat, test), verbs), groups)
+                                score(truth, predict(flat, test), verbs), groups,
+                                score(truth, object_oracle(related, verbs), verbs))
