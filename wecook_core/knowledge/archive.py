@@ -2,7 +2,7 @@
 
 The archive (``../shared/data/recipes/open-recipe-archive.jsonl.gz``, the Unlicense) is one JSON object a
 line: ``id`` (``collection/slug``), ``collection``, ``source`` (the book), ``ingredients`` (lines) and ``steps``
-(the numbered directions). Each step is read by :func:`wecook_core.knowledge.instructions.extract` with the
+(the numbered directions). Each step is read by :func:`wecook_core.knowledge.instructions.extract_relations` with the
 recipe's ingredient list, so "add them" takes the ingredients named last. A record's group is the recipe's id,
 whose ``collection/`` prefix is the unit of held-out splits (:func:`wecook_core.knowledge.evaluation.split`:
 a whole collection is held out, never a sentence or a recipe of a book learned from).
@@ -22,13 +22,15 @@ from __future__ import annotations
 
 import gzip
 import json
-from collections.abc import Iterator, Mapping
+import re
+from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
 from wecook_core.errors import InputError
 from wecook_core.knowledge.corpus import Corpus, Record
-from wecook_core.knowledge.instructions import extract
+from wecook_core.knowledge.instructions import extract_relations
+from wecook_core.knowledge.nouns import singular, variants
 
 ARCHIVE_SOURCE = "open-recipe-archive"
 ARCHIVE_FILE = "open-recipe-archive.jsonl.gz"
@@ -66,6 +68,37 @@ def with_old_spellings(nouns: Mapping[str, str]) -> dict[str, str]:
     return table
 
 
+_CUT = re.compile(r"[,(;:]| or | to | for | and | with | if ")
+_WORD = re.compile(r"[a-z]+")
+MEASURES: frozenset[str] = frozenset({
+    "bunch", "cup", "dash", "dessertspoon", "dessertspoonful", "doz", "dozen", "drop", "gallon", "gill", "glass",
+    "glassful", "gram", "handful", "half", "kilo", "liter", "litre", "lb", "little", "ounce", "oz", "piece", "pinch",
+    "pint", "pound", "quantity", "quart", "quarter", "saltspoon", "saltspoonful", "slice", "spoon", "spoonful",
+    "sprig", "stick", "tablespoon", "tablespoonful", "taste", "teacup", "teacupful", "teaspoon", "teaspoonful",
+    "tbsp", "tsp", "wineglass", "wineglassful", "whole", "some", "each", "more", "other", "same", "any",
+})
+"""Words that end an ingredient line without being its ingredient ("a pinch", "1 teacupful")."""
+
+
+def ingredient_nouns(lines: Iterable[str], nouns: Mapping[str, str]) -> dict[str, str]:
+    """The head nouns of a recipe's ingredient lines that ``nouns`` does not know, each to itself: the last word
+    before a comma, a parenthesis or "or", "to", "and"... ("1 oz. Butter or Dripping" -> butter, "a little grated
+    nutmeg" -> nutmeg, "whites of four eggs" -> egg), singular, measures (:data:`MEASURES`) left out. A
+    sentence of the recipe that names one ("Sprinkle with nutmeg") then has an object where the category tables
+    alone gave it none."""
+    found: dict[str, str] = {}
+    for line in lines:
+        words = _WORD.findall(_CUT.split(" " + line.lower() + " ", maxsplit=1)[0])
+        if not words:
+            continue
+        head = singular(words[-1])
+        if len(head) < 3 or head in MEASURES or words[-1] in MEASURES:
+            continue
+        if not any(v in nouns for v in variants(head)):
+            found.setdefault(head, head)
+    return found
+
+
 def recipes(path: Path) -> Iterator[dict[str, Any]]:
     """The archive's recipes, in file order; InputError naming the line of a malformed one."""
     file = archive_file(path)
@@ -88,8 +121,9 @@ def recipes(path: Path) -> Iterator[dict[str, Any]]:
         raise InputError(file, f"cannot read the recipe archive: {error}") from None
 
 
-def read_archive(path: Path, nouns: Mapping[str, str]) -> Corpus:
-    """The archive as a corpus: every clause of every recipe's steps, grouped by recipe id."""
+def read_archive(path: Path, nouns: Mapping[str, str], *, own_nouns: bool = True) -> Corpus:
+    """The archive as a corpus: every clause of every recipe's steps, grouped by recipe id. ``own_nouns``: a
+    recipe's steps are read with the nouns of its own ingredient list too (:func:`ingredient_nouns`)."""
     table = with_old_spellings(nouns)
     found: list[Record] = []
     count = 0
@@ -97,8 +131,10 @@ def read_archive(path: Path, nouns: Mapping[str, str]) -> Corpus:
         count += 1
         steps = [str(s) for s in recipe["steps"]]
         ingredients = [str(i) for i in recipe.get("ingredients") or ()]
-        for verb, objects in extract(steps, table, ingredients):
-            found.append(Record(verb, objects, recipe["id"], source=ARCHIVE_SOURCE))
+        extra = ingredient_nouns(ingredients, table) if own_nouns else {}
+        for verb, objects, relations in extract_relations(steps, {**table, **extra} if extra else table,
+                                                          ingredients):
+            found.append(Record(verb, objects, recipe["id"], source=ARCHIVE_SOURCE, relations=relations))
     if not found:
         raise InputError(archive_file(path), "no recipe steps found")
     return Corpus(records=tuple(found), sources=(f"{archive_file(path).name} ({count} recipes, {len(found)} clauses)",),

@@ -127,7 +127,8 @@ def extract_recipes(root: Path, out: Path, *, origin: str = "", licence: str = "
 
 def extract_archive(path: Path, out: Path, *, origin: str = ARCHIVE_ORIGIN, licence: str = ARCHIVE_LICENCE) -> int:
     """Write the records of the Open Recipe Archive whose verb folds into wecook's actions and that name an
-    object, as a CSV corpus (``action,objects,group``, group ``collection/recipe``); returns their number."""
+    object, as a CSV corpus (``action,objects,group,context,relations``, group ``collection/recipe``, no context,
+    the relation of each object to its verb); returns their number."""
     corpus = read_archive(path, recipe_nouns())
     folder = load_synonyms()
     kept = [r for r in corpus.records if r.objects and folder.fold(r.action) is not None]
@@ -135,8 +136,8 @@ def extract_archive(path: Path, out: Path, *, origin: str = ARCHIVE_ORIGIN, lice
              f"# source: {origin}; (verb, objects) of each clause of the recipes' steps whose verb folds into "
              f"wecook's actions, of {len(corpus.records)} clauses, extracted by `wecook knowledge extract` "
              "(wecook_core.knowledge.archive)",
-             f"# licence: {licence}", "action,objects,group"]
-    lines += [f"{r.action},{';'.join(r.objects)},{r.group}" for r in kept]
+             f"# licence: {licence}", "action,objects,group,context,relations"]
+    lines += [f"{r.action},{';'.join(r.objects)},{r.group},,{';'.join(r.relations)}" for r in kept]
     write_atomic(out, "\n".join(lines) + "\n", replace=True, what="corpus")
     return len(kept)
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from wecook_core.errors import InputError
 from wecook_core.knowledge.categories import EPIC_CATEGORIES
-from wecook_core.knowledge.instructions import is_recipe_folder, recipe_files, recipe_records
+from wecook_core.knowledge.instructions import RELATIONS, is_recipe_folder, recipe_files, recipe_records
 from wecook_core.knowledge.nouns import epic_name, match, normalise
 from wecook_core.model import Category
 
@@ -46,6 +46,10 @@ class Record:
     source: str = ""
     """The corpus the record comes from (``epic-kitchens``, ``recipes``, a CSV's ``# corpus:`` line or file
     name), for reporting held-out figures per corpus."""
+    relations: tuple[str, ...] = ()
+    """How the sentence names each of ``objects`` (:data:`~wecook_core.knowledge.instructions.RELATIONS`:
+    ``object``, ``place``, ``means``, ``source``), one per object; empty when the corpus does not say (EPIC,
+    a CSV)."""
 
 
 @dataclass(frozen=True)
@@ -112,10 +116,11 @@ _META = re.compile(r"^#\s*(corpus|source|licence|license)\s*:\s*(.+?)\s*$", re.I
 
 
 def read_csv(path: Path) -> Corpus:
-    """A corpus from a CSV file, one record per row: ``action,objects[,group[,context]]``.
+    """A corpus from a CSV file, one record per row: ``action,objects[,group[,context[,relations]]]``.
 
     ``objects`` is a ``;``-separated list (``knife;tomato;chopping board``), ``context`` too (objects
-    named before the record that it is likely about, see :attr:`Record.context`). A first row reading
+    named before the record that it is likely about, see :attr:`Record.context`), and ``relations`` (one per
+    object, :attr:`Record.relations`: ``means;object;place``). A first row reading
     ``action,objects`` is a header. Blank rows and rows starting with ``#`` are skipped; comment lines
     ``# corpus: NAME`` (the records' source name, default the file's stem), ``# source: TEXT`` and
     ``# licence: TEXT`` describe the data for SOURCE.md. Without a group column each row is its own group.
@@ -136,21 +141,37 @@ def read_csv(path: Path) -> Corpus:
             continue
         if not records and [c.strip().lower() for c in row[:2]] == ["action", "objects"]:
             continue  # the header, the first row that is not a comment
-        if len(row) not in (2, 3, 4):
-            raise InputError(path, f"expected 2 to 4 columns (action,objects[,group[,context]]), found {len(row)}",
-                             place=f"line {number}")
+        if len(row) not in (2, 3, 4, 5):
+            raise InputError(path, "expected 2 to 5 columns (action,objects[,group[,context[,relations]]]), "
+                                   f"found {len(row)}", place=f"line {number}")
         action = row[0].strip().lower()
         if not action:
             raise InputError(path, "empty action", place=f"line {number}")
-        objects = tuple(name for name in (normalise(o) for o in row[1].split(";")) if name)
+        named = [(n, i) for i, n in enumerate(normalise(o) for o in row[1].split(";")) if n]
+        objects = tuple(n for n, _ in named)
         group = row[2].strip() if len(row) >= 3 and row[2].strip() else f"{path.name}:{number}"
-        context = tuple(n for n in (normalise(o) for o in row[3].split(";")) if n) if len(row) == 4 else ()
-        records.append(Record(action, objects, group, context, name))
+        context = tuple(n for n in (normalise(o) for o in row[3].split(";")) if n) if len(row) >= 4 else ()
+        relations = _relations(row[4], row[1], named, path, number) if len(row) == 5 and row[4].strip() else ()
+        records.append(Record(action, objects, group, context, name, relations))
     if not records:
         raise InputError(path, "no records (expected rows action,objects)")
     described = "; ".join(meta.get("source", []))
     line = f"{path.name} ({len(records)} records, CSV" + (f": {described})" if described else ")")
     return Corpus(records=tuple(records), sources=(line,), licences=tuple(meta.get("licence", [])))
+
+
+def _relations(text: str, objects: str, named: Sequence[tuple[str, int]], path: Path, number: int) -> tuple[str, ...]:
+    """The relations column of a CSV row: one relation of :data:`~wecook_core.knowledge.instructions.RELATIONS`
+    per object of the objects column, ``;``-separated."""
+    said = [r.strip().lower() for r in text.split(";")]
+    if len(said) != len(objects.split(";")):
+        raise InputError(path, f"expected one relation per object ({len(objects.split(';'))}), found {len(said)}",
+                         place=f"line {number}")
+    wrong = [r for r in said if r not in RELATIONS]
+    if wrong:
+        raise InputError(path, f"unknown relation {wrong[0]!r} (expected one of {', '.join(RELATIONS)})",
+                         place=f"line {number}")
+    return tuple(said[i] for _, i in named)
 
 
 # ------------------------------------------------------------------------------------------- EPIC

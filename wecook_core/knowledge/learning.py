@@ -32,6 +32,9 @@ class Example:
     group: str
     source: str = ""
     """The corpus of the record (see :attr:`~wecook_core.knowledge.corpus.Record.source`)."""
+    relations: tuple[str, ...] = ()
+    """How the record's sentence names each object (:attr:`~wecook_core.knowledge.corpus.Record.relations`),
+    one per object; empty when the corpus does not say."""
 
 
 def fold(corpus: Corpus, folder: VerbFolder | None = None,
@@ -57,9 +60,16 @@ def fold(corpus: Corpus, folder: VerbFolder | None = None,
             named = (*named, tool)
         if action is None or action not in wanted or not named:
             continue  # a record naming no object says nothing of P(O | A), and is never asked
-        objects = tuple(dict.fromkeys(_object(o, corpus, cache, vocabulary) for o in named))
+        names = [_object(o, corpus, cache, vocabulary) for o in named]
+        objects = tuple(dict.fromkeys(names))
+        relations: tuple[str, ...] = ()
+        if record.relations and len(record.relations) == len(record.objects):
+            # the context has no relation; a folded tool (the whisk of "whisk") is what the verb is done with
+            said = (*record.relations, *(["object"] * len(record.context)), *(["means"] * (tool is not None)))
+            first = dict(reversed(list(zip(names, said, strict=True))))
+            relations = tuple(first[o] for o in objects)
         vocabulary.update(dict.fromkeys(objects))
-        examples.append(Example(action, objects, record.group, record.source))
+        examples.append(Example(action, objects, record.group, record.source, relations))
     return tuple(examples), tuple(vocabulary)
 
 
