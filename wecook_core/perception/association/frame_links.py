@@ -188,15 +188,37 @@ def links_of(boxes: FrameBoxes, params: Params, rate: FrameParams, since: np.nda
     held = np.full((length, len(boxes.hands)), NONE, dtype=np.int32)
     last = since
     if n_objects and length:
-        overlap = box_intersection(hands[:, :, None, :], objects[:, None, :, :]) > 0
+        shot = np.searchsorted(np.asarray(sorted(shots), dtype=np.int64), np.arange(boxes.start, boxes.end),
+                               side="right")
+        seen = np.isfinite(hands[:, :, None, 0]) & np.isfinite(objects[:, None, :, 0])
+        overlap = bridged(box_intersection(hands[:, :, None, :], objects[:, None, :, :]) > 0, seen, rate.fill_gap,
+                          shot)
         reach_only = _tools_within_reach(hands, objects, cats, overlap, params.tool_reach_fraction)
         held, last = held_objects(
             hands, objects, overlap, container, window=rate.dwell_frames, moving_fraction=params.moving_fraction,
             coherent_fraction=params.coherent_fraction, switch=rate.hold_switch_frames, start=since,
-            step=rate.decode_step, shot=np.searchsorted(np.asarray(sorted(shots), dtype=np.int64),
-                                                        np.arange(boxes.start, boxes.end), side="right"),
-            reach_only=reach_only)
+            step=rate.decode_step, shot=shot, reach_only=reach_only)
     return FrameLinks(boxes, container, held, last)
+
+
+def bridged(overlap: np.ndarray, seen: np.ndarray, gap: int, shot: np.ndarray) -> np.ndarray:
+    """``overlap`` (bool ``(frames, ...)``) with every run of at most ``gap`` frames where it is False but both
+    boxes are ``seen``, between two frames where it is True in the same shot, made True (R1a): boxes that
+    part for a frame or two and touch again are the detector's and the annotator's noise (a box a few pixels
+    short, a hand box that jitters), as a box missing for that long is (R1); a grasp does not end and start
+    again there."""
+    length = len(overlap)
+    if gap <= 0 or length < 3:
+        return overlap
+    index = np.arange(length).reshape(-1, *([1] * (overlap.ndim - 1)))
+    last = np.maximum.accumulate(np.where(overlap, index, -1), axis=0)  # the latest True at or before each frame
+    following = np.where(overlap, index, length)[::-1]
+    following = np.minimum.accumulate(following, axis=0)[::-1]  # the earliest True at or after each frame
+    inside = ~overlap & (last >= 0) & (following < length) & (following - last - 1 <= gap)
+    if not inside.any():
+        return overlap
+    same = shot[np.clip(last, 0, length - 1)] == shot[np.clip(following, 0, length - 1)]
+    return overlap | (inside & same & seen)
 
 
 def _tools_within_reach(hands: np.ndarray, objects: np.ndarray, cats: np.ndarray, overlap: np.ndarray,
