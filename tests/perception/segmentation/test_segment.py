@@ -14,6 +14,7 @@ import yaml
 
 from wecook_core.errors import InputError
 from wecook_core.model import HANDS, HandTrack, Observations, VideoInfo
+from wecook_core.perception.filters import running_median
 from wecook_core.perception.params import Params
 from wecook_core.perception.segmentation import (
     choose_k,
@@ -23,7 +24,7 @@ from wecook_core.perception.segmentation import (
     segment_hands,
     segment_objective,
 )
-from wecook_core.perception.segmentation.hands import running_median, union_breakpoints
+from wecook_core.perception.segmentation.hands import union_breakpoints
 from wecook_core.perception.segmentation.synthetic import hand_trajectory
 from wecook_tui.cli import main
 

@@ -9,6 +9,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from wecook_core.model import HandTrack, Observations, Segment, Segmentation
+from wecook_core.perception.filters import running_median
 from wecook_core.perception.params import Params, frames
 from wecook_core.perception.segmentation.choose import breakpoint_penalty, choose_k
 from wecook_core.perception.segmentation.ggs import ggs, refine_breakpoints
@@ -58,7 +59,8 @@ def segment_hands(obs: Observations, params: Params, *, sample_hz: float = SAMPL
     For each hand track:
 
     1. its centre over all frames, scaled to the unit square, gaps interpolated (:func:`hand_series`);
-    2. a running median over 5 frames (or ``step`` if longer) removes the tracker's one- and two-frame jumps;
+    2. a running median over 5 frames (or ``step`` if longer; :func:`~wecook_core.perception.filters.running_median`)
+       removes the tracker's one- and two-frame jumps;
     3. :func:`ggs` (``params.lamb``, ``params.k_max``) runs on every ``step``-th frame, ``step =
        round(fps / sample_hz)`` (3 at 30 fps), with λ divided by ``step`` so a span of frames keeps the same
        covariance floor; it stops once 3 breakpoints in a row gain less than the BIC price;
@@ -111,19 +113,6 @@ def union_breakpoints(breaks: Iterable[Sequence[int]], frame_count: int, min_fra
         if not merged or cut - merged[-1] >= min_frames:
             merged.append(cut)
     return merged
-
-
-def running_median(series: np.ndarray, window: int) -> np.ndarray:
-    """Median of each sample's ``window`` (odd) neighbours along time, edges padded with the end values.
-
-    With ``window`` 5, removes a tracker's one- or two-frame jumps (a detection on the wrong hand), which GGS
-    would otherwise cut out as segments of their own; keeps steps and smooth motion."""
-    half = window // 2
-    if half == 0 or len(series) == 0:
-        return series
-    padded = np.concatenate([np.repeat(series[:1], half, axis=0), series, np.repeat(series[-1:], half, axis=0)])
-    windows = np.lib.stride_tricks.sliding_window_view(padded, window, axis=0)
-    return np.median(windows, axis=-1)
 
 
 def _segment_series(series: np.ndarray, params: Params, step: int, forced_k: int | None) -> tuple[int, ...]:
