@@ -52,6 +52,9 @@ class Params:
     """Seconds: an association is kept only when it holds this long without a break."""
     seed: int = 0
     """Seed for anything random in the pipeline."""
+    smooth_s: float = 0.2
+    """Seconds of running median over every box track before motion is read
+    (:mod:`~wecook_core.perception.repairs.smoothing`): a detector's jitter is a frame's, motion lasts longer."""
     fill_gap_s: float = 0.34
     """Seconds: a box or hand missing for at most this long is interpolated (the detector missed it)."""
     contain_fraction: float = 0.5
