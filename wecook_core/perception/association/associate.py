@@ -139,7 +139,13 @@ def near_objects(
     own size (its box half way through), whichever is more: a big spoon's strokes in a close-up are long):
     passing by on the way somewhere is not acting. Tools and the held object itself are never linked."""
     boxes = links.boxes
-    gap = box_gap(boxes.objects[:, held : held + 1, :], boxes.objects)
+    # only containers and ingredients other than the held object can be linked: the gaps of the rest are
+    # never read
+    candidates = np.array([column for column, category in enumerate(boxes.categories)
+                           if category is not Category.TOOL and column != held], dtype=int)
+    if not len(candidates):
+        return ()
+    gap = box_gap(boxes.objects[:, held : held + 1, :], boxes.objects[:, candidates, :])
     own = boxes.objects[:, held, :]
     seen = np.flatnonzero(rows & np.isfinite(own[:, 0]))
     middle = own[seen[len(seen) // 2]] if len(seen) else None
@@ -147,18 +153,16 @@ def near_objects(
     stay = max(params.dwell_fraction * video_diagonal, params.dwell_own_fraction * size)
     near = (gap <= params.near_fraction * video_diagonal) & rows[:, None] & dwelling(
         own, rate.dwell_frames, stay)[:, None]
-    for column, category in enumerate(boxes.categories):
-        if category is Category.TOOL or column == held:
-            near[:, column] = False
     longest = longest_runs(near)
     frames = int(rows.sum())
     needed = max(min(rate.min_frames, frames), params.min_share * frames)
-    keep = np.flatnonzero((longest >= needed) & (longest > 0))
-    if not len(keep):
+    kept = np.flatnonzero((longest >= needed) & (longest > 0))  # positions in candidates
+    if not len(kept):
         return ()
+    keep = candidates[kept]  # columns of the objects
     with np.errstate(invalid="ignore"):
-        sums = np.where(near[:, keep], gap[:, keep], 0.0).sum(axis=0)
-    mean_gap = sums / np.maximum(near[:, keep].sum(axis=0), 1)
+        sums = np.where(near[:, kept], gap[:, kept], 0.0).sum(axis=0)
+    mean_gap = sums / np.maximum(near[:, kept].sum(axis=0), 1)
     # among boxes that touch it (gap 0), the one the held object covers most of, on average: a tool works
     # what it is in, not what it grazes at an edge (found on tasty-a, frames 238-254: a spoon stirring the
     # spinach just tipped over the squash covers more of the spinach's box)
@@ -167,8 +171,8 @@ def near_objects(
         held_boxes = boxes.objects[:, held : held + 1, :]
         with np.errstate(invalid="ignore", divide="ignore"):
             share = box_intersection(held_boxes, boxes.objects[:, keep, :]) / box_area(boxes.objects[:, keep, :])
-            covered = np.where(near[:, keep], np.nan_to_num(share), 0.0).sum(axis=0) / np.maximum(
-                near[:, keep].sum(axis=0), 1)
+            covered = np.where(near[:, kept], np.nan_to_num(share), 0.0).sum(axis=0) / np.maximum(
+                near[:, kept].sum(axis=0), 1)
     order = np.lexsort((keep, -covered, mean_gap))
     return tuple(int(keep[i]) for i in order)
 
