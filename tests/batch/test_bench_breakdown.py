@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from bench.batch import breakdown
 from wecook_core.batch.engine import BatchRun
-from wecook_core.batch.manifest import BatchItem
 from wecook_core.batch.stages import StageResult
 
 

@@ -135,6 +135,10 @@ class Params:
     unseen_hand_s: float = 1.0
     """Seconds before and after a hold by an unseen hand in which the hand seen nearest the object is the one
     that moved it (:mod:`wecook_core.perception.repairs.unseen`)."""
+    elsewhere_s: float = 0.2
+    """Seconds: a hand detected away from an object while the object moves with no hand seen at it, for at
+    least this long in all, is somewhere else and is not the unseen hand moving it
+    (:mod:`~wecook_core.perception.repairs.unseen`); shorter, it may be a detector's stray box."""
 
     tool_reach_fraction: float = 0.5
     """A tool whose box stops short of a hand by at most this fraction of the hand's diagonal may be held by it
@@ -156,6 +160,7 @@ class Params:
             rejoin=frames(self.rejoin_s, fps, least=0),
             unseen_bridge=frames(self.unseen_bridge_s, fps),
             unseen_hand=frames(self.unseen_hand_s, fps),
+            elsewhere=frames(self.elsewhere_s, fps),
             mover_window=frames(self.mover_window_s, fps),
         )
 
@@ -179,6 +184,7 @@ class FrameParams:
     rejoin: int = 0
     unseen_bridge: int = 1
     unseen_hand: int = 1
+    elsewhere: int = 1
     mover_window: int = 1
 
 

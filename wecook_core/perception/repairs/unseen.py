@@ -23,13 +23,15 @@ Runs of moving, unseen frames at least ``Params.min_link_s`` long (gaps shorter 
 ``Params.unseen_hand_s``, in the same shot: hands do not jump, so the hand that let go of it or takes it back
 moved it), else the hand that travels farthest while seen over the video (the cook's working hand; the other
 steadies what it works on, and keeping still is often seen more), else the right hand of the video's first
-person. The pipeline cuts its segments where such a hold starts and ends, and writes it
+person. Either way a hand detected away from the object while it moves unseen, for ``Params.elsewhere_s`` in
+all, is passed over: a hand is in one place at a time. The pipeline cuts its segments where such a hold starts and ends, and writes it
 into the timeline where that hand holds nothing.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -138,6 +140,7 @@ def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = (), *
     # hand holds; an onion sliding off a plate that a seen hand tips is moved by the plate, not by a hand of
     # its own)
     unseen = np.zeros_like(moving)
+    away = np.zeros((*moving.shape, len(HANDS)), dtype=bool)  # a detected hand away from the unseen mover
     rows, columns = np.nonzero(moving)
     if len(rows):
         box = objects[rows, columns]
@@ -146,13 +149,15 @@ def unseen_holds(obs: Observations, params: Params, shots: Sequence[int] = (), *
             gap = box_gap(boxes.hand_boxes[rows], box[:, None, :])
             seen = (gap <= SEEN_WITHIN * size[:, None]).any(axis=1)
         unseen[rows[~seen], columns[~seen]] = True
+        away[rows[~seen], columns[~seen]] = np.isfinite(gap[~seen])
     holds = []
     bridge, reach = rate.unseen_bridge, rate.unseen_hand
     for k, name in enumerate(boxes.names):
         spans = _spans(unseen[:, k], bridge, rate.min_frames)
         for start, end in spans:
-            hand = _nearest_hand(objects[:, k], boxes.hand_boxes, start, end, shot, reach)
-            holds.append(UnseenHold(hand or dominant, name, start, end))
+            elsewhere = away[start:end, k].sum(axis=0) >= rate.elsewhere
+            hand = _nearest_hand(objects[:, k], boxes.hand_boxes, start, end, shot, reach, elsewhere)
+            holds.append(UnseenHold(hand or dominant.pick(elsewhere), name, start, end))
     return tuple(sorted(holds, key=lambda h: (h.start, h.obj)))
 
 
@@ -170,12 +175,12 @@ def _spans(mask: np.ndarray, bridge: int, least: int) -> list[tuple[int, int]]:
 
 
 def _nearest_hand(track: np.ndarray, hands: np.ndarray, start: int, end: int, shot: np.ndarray,
-                  reach: int) -> str | None:
+                  reach: int, elsewhere: np.ndarray) -> str | None:
     """The hand seen nearest the object just before or after its unseen hold ``[start, end)``: within
     ``reach`` frames of either end, in the same shot as that end, the detected hand whose box comes closest
-    to the object's, no farther than the object's own size. Hands do not jump: the hand that let go of the
-    object, or that takes it back, moved it (the detector lost it, not the cook). None when no hand is seen
-    there."""
+    to the object's, no farther than the object's own size, and not seen somewhere else during the hold
+    (``elsewhere``, per hand of :data:`HANDS`). Hands do not jump: the hand that let go of the object, or that
+    takes it back, moved it (the detector lost it, not the cook). None when no hand is seen there."""
     length = len(track)
     best: tuple[float, int] | None = None
     for lo, hi, edge in ((max(start - reach, 0), start, start), (end, min(end + reach, length), end - 1)):
@@ -189,7 +194,7 @@ def _nearest_hand(track: np.ndarray, hands: np.ndarray, start: int, end: int, sh
         with np.errstate(invalid="ignore"):
             size = box_diagonal(box)
             gap = box_gap(hands[frames], box[:, None, :]) / size[:, None]
-        gap = np.where(np.isfinite(gap) & (gap <= 1.0), gap, np.inf)
+        gap = np.where(np.isfinite(gap) & (gap <= 1.0) & ~elsewhere, gap, np.inf)
         if not np.isfinite(gap).any():
             continue
         column = int(np.argmin(np.min(gap, axis=0)))
@@ -209,12 +214,28 @@ def _travel(frames: np.ndarray, xy: np.ndarray) -> float:
     return float(np.hypot(step[consecutive, 0], step[consecutive, 1]).sum())
 
 
-def _dominant_hand(obs: Observations) -> str:
+@dataclass(frozen=True)
+class _Working:
+    """The hands in the order the fallback of R7 tries them: farthest travelled while seen first."""
+
+    order: tuple[str, ...]
+
+    def pick(self, elsewhere: np.ndarray) -> str:
+        """The first hand not seen somewhere else during the hold (``elsewhere`` per hand of :data:`HANDS`),
+        else the first."""
+        for hand in self.order:
+            if hand not in HANDS or not elsewhere[HANDS.index(hand)]:
+                return hand
+        return self.order[0]
+
+
+def _dominant_hand(obs: Observations) -> _Working:
     """The hand that travels farthest while the detector sees it over the whole video (the cook's working
     hand: it fetches, carries and stirs; the other steadies a bowl or a board, and, keeping still, is often
-    the one the detector sees more), else the right hand of the video's first person."""
+    the one the detector sees more), then the others by their travel, else the right hand of the video's first
+    person."""
     travel = {t.hand: _travel(t.frames, t.xy) for t in obs.hands if t.hand in HANDS and len(t.frames)}
     if travel:
-        return max(travel, key=lambda hand: (travel[hand], hand.startswith("RH")))
+        return _Working(tuple(sorted(travel, key=lambda hand: (travel[hand], hand.startswith("RH")), reverse=True)))
     persons = sorted({person_of(t.hand) for t in obs.hands}) or ["P1"]
-    return f"RH_{persons[0]}"
+    return _Working((f"RH_{persons[0]}",))
