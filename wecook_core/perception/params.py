@@ -135,6 +135,10 @@ class Params:
     unseen_hand_s: float = 1.0
     """Seconds before and after a hold by an unseen hand in which the hand seen nearest the object is the one
     that moved it (:mod:`wecook_core.perception.repairs.unseen`)."""
+    still_gap_s: float = 2.0
+    """Seconds: a gap in a hand's detections at most this long, where the hand reappears where it was, is
+    filled in: it stayed there (:mod:`~wecook_core.perception.repairs.still_hands`); longer, it may have gone
+    and come back."""
     elsewhere_s: float = 0.2
     """Seconds: a hand detected away from an object while the object moves with no hand seen at it, for at
     least this long in all, is somewhere else and is not the unseen hand moving it
@@ -161,6 +165,7 @@ class Params:
             unseen_bridge=frames(self.unseen_bridge_s, fps),
             unseen_hand=frames(self.unseen_hand_s, fps),
             elsewhere=frames(self.elsewhere_s, fps),
+            still_gap=frames(self.still_gap_s, fps, least=0),
             mover_window=frames(self.mover_window_s, fps),
         )
 
@@ -185,6 +190,7 @@ class FrameParams:
     unseen_bridge: int = 1
     unseen_hand: int = 1
     elsewhere: int = 1
+    still_gap: int = 0
     mover_window: int = 1
 
 

@@ -146,6 +146,7 @@ def repaired(obs: Observations, params: Params, shots: Sequence[int] = (), *, ra
     and the holds of hands the detector did not see."""
     from wecook_core.perception.repairs.occlusion import hidden_by_hands
     from wecook_core.perception.repairs.smoothing import smoothed
+    from wecook_core.perception.repairs.still_hands import with_still_hands
     from wecook_core.perception.repairs.unseen import unseen_holds
     from wecook_core.perception.segmentation.hands import GLITCH_FRAMES
 
@@ -154,7 +155,8 @@ def repaired(obs: Observations, params: Params, shots: Sequence[int] = (), *, ra
     # the running median spans the detector's glitches (GLITCH_FRAMES, as for the segmentation's hand series),
     # never more than smooth_s of time: at 5 fps five frames are a second of real motion
     half = min(GLITCH_FRAMES // 2, frames(params.smooth_s / 2, obs.video.fps, least=0))
-    fixed = hidden_by_hands(smoothed(obs, half), params, cuts, rate=rate)
+    still = with_still_hands(smoothed(obs, half), params, cuts, rate=rate)
+    fixed = hidden_by_hands(still, params, cuts, rate=rate)
     return Repaired(fixed, cuts, tuple(unseen_holds(fixed, params, cuts, rate=rate)))
 
 

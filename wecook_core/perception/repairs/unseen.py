@@ -24,8 +24,8 @@ Runs of moving, unseen frames at least ``Params.min_link_s`` long (gaps shorter 
 moved it), else the hand that travels farthest while seen over the video (the cook's working hand; the other
 steadies what it works on, and keeping still is often seen more), else the right hand of the video's first
 person. Either way a hand detected away from the object while it moves unseen, for ``Params.elsewhere_s`` in
-all, is passed over: a hand is in one place at a time. The pipeline cuts its segments where such a hold starts and ends, and writes it
-into the timeline where that hand holds nothing.
+all, is passed over: a hand is in one place at a time. The pipeline cuts its segments where such a hold
+starts and ends, and writes it into the timeline where that hand holds nothing.
 """
 
 from __future__ import annotations
