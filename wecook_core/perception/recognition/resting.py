@@ -11,7 +11,9 @@ hold began or where it is when the hold ends. Links to what it lies in or over (
 taken up there to stir) are kept, and so is everything once it has been lifted away.
 
 The hold is the run of the timeline's per-frame held labels (:attr:`~.associate.Timeline.held`) that the
-segment lies in, joined across detector gaps shorter than ``Params.min_link_s``.
+segment lies in, joined across gaps shorter than ``Params.min_link_s`` and across gaps on which the hand is
+not detected at all: a hand the detector loses has not let go (a salt glass shaken over a pot while the hand
+is lost for a second is not put down where the hand was lost).
 """
 
 from __future__ import annotations
@@ -39,19 +41,35 @@ SpanCache = dict[tuple[int, int], list[tuple[int, int]]]
 
 
 def hold_of(timeline: Timeline, hand: str, name: str, segment: Segment, min_frames: int,
-            cache: SpanCache) -> tuple[int, int] | None:
+            cache: SpanCache, seen: np.ndarray | None = None) -> tuple[int, int] | None:
     """Frames ``[start, end)`` of ``hand``'s hold of ``name`` that overlaps ``segment`` (gaps shorter than
-    ``min_frames`` joined), None when it holds ``name`` there on no frame. ``cache``: spans already found
-    for this timeline, by (hand column, object column)."""
+    ``min_frames`` joined, and gaps where the hand is not detected at all: ``seen``, the frames it is, when
+    given), None when it holds ``name`` there on no frame. ``cache``: spans already found for this timeline,
+    by (hand column, object column)."""
     if name not in timeline.names or hand not in HANDS:
         return None
     key = (HANDS.index(hand), timeline.column(name))
     if key not in cache:
-        cache[key] = hold_spans(timeline.held[:, key[0]], key[1], min_frames)
+        spans = hold_spans(timeline.held[:, key[0]], key[1], min_frames)
+        cache[key] = spans if seen is None else _unbroken(spans, seen)
     for start, end in cache[key]:
         if start < segment.end and segment.start < end:
             return start, end
     return None
+
+
+def _unbroken(spans: list[tuple[int, int]], seen: np.ndarray) -> list[tuple[int, int]]:
+    """``spans`` joined across the gaps on whose frames the hand is never detected (``seen``, sorted frame
+    indices): a release is seen, a detector losing the hand is not one (the hold goes on where it was)."""
+    joined: list[tuple[int, int]] = []
+    for start, end in spans:
+        if joined:
+            lo, hi = np.searchsorted(seen, [joined[-1][1], start])
+            if hi == lo:  # not one detection of the hand between the two holds
+                joined[-1] = (joined[-1][0], end)
+                continue
+        joined.append((start, end))
+    return joined
 
 
 def _centres(boxes: np.ndarray) -> np.ndarray:
@@ -117,7 +135,9 @@ def acting_links(assoc: Associations, obs: Observations, timeline: Timeline | No
         near: Sequence[str] = links.get(held, ())
         if not near:
             continue
-        hold = hold_of(timeline, hand, held, segment, min_frames, cache)
+        track = obs.hand(hand)
+        seen = track.frames if track is not None else np.zeros(0, dtype=np.int64)
+        hold = hold_of(timeline, hand, held, segment, min_frames, cache, seen)
         if hold is None or not at_rest(obs, held, hold, segment):
             continue
         links[held] = tuple(o for o in near if not beside(obs, held, o, segment))
