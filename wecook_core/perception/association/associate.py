@@ -207,6 +207,27 @@ def frame_count(obs: Observations, segments: Sequence[Segment] = ()) -> int:
     return count
 
 
+def _tipped_from(column: int, categories: Sequence[Category], container: np.ndarray, held: np.ndarray, lo: int,
+                hi: int, reach: int) -> int:
+    """What an unseen hand holds on rows ``[lo, hi)`` of a block where object ``column`` moves by itself: the
+    object, or, for an ingredient lying in a container as the hold begins (within ``reach`` rows) that the same
+    hand holds (``held``,
+    its labels in the block) within ``reach`` rows before or after, that container. An ingredient tipped out
+    of a bowl moves more than the bowl tilting it out (the paper: a hand whose closest object is an ingredient
+    in a container is associated with the container; "what is tipped over a container goes into it")."""
+    if categories[column] is not Category.INGREDIENT:
+        return column
+    first = container[max(0, lo - reach) : min(hi, lo + max(reach, 1)), column]
+    lying = [int(c) for c in np.unique(first[first != NONE])]
+    if not lying:
+        return column
+    around = np.concatenate([held[max(0, lo - reach) : lo], held[hi : hi + reach]])
+    for candidate in lying:
+        if (around == candidate).any():
+            return candidate
+    return column
+
+
 def associate_segments(
     obs: Observations,
     segments: Sequence[Segment],
@@ -241,12 +262,17 @@ def associate_segments(
                             rate=rate)
         since, previous_end = links.since, end
         written = None  # the block's held labels with the unseen holds written in (a new array: links stay frozen)
-        for hold in unseen:
+        # the holds of ingredients last: one may turn out to be its container's, held by the same hand around it
+        for hold in sorted(unseen, key=lambda h: categories[names.index(h.obj)] is Category.INGREDIENT
+                           if h.obj in names else False):
             lo, hi = max(hold.start, start), min(hold.end, end)
             if lo < hi and hold.obj in names:
                 written = links.held.copy() if written is None else written
-                unseen_rows = written[lo - start : hi - start, HANDS.index(hold.hand)]
-                unseen_rows[unseen_rows == NONE] = names.index(hold.obj)
+                column = HANDS.index(hold.hand)
+                unseen_rows = written[lo - start : hi - start, column]
+                what = _tipped_from(names.index(hold.obj), categories, links.container, written[:, column],
+                                    lo - start, hi - start, rate.unseen_hand)
+                unseen_rows[unseen_rows == NONE] = what
         if written is not None:
             links = replace(links, held=written)
         rows = slice(start, end)
