@@ -325,6 +325,18 @@ def _holding(
             break
 
 
+def _at_exchange(handover: HandoverEvent, segment: Segment, acts: Mapping[str, Action], gap: int) -> bool:
+    """The segment tells the handover: it overlaps the exchange and the giver acts in it, or the giver still
+    holds the object in it and it ends at most ``gap`` frames (``handover_gap_s``) before the exchange begins
+    (the segmentation cut the giver's hold a few frames before it ended, and the segment with the exchange
+    has the giver's hold on too few frames to count)."""
+    if handover.giver not in acts or not segment.start < handover.end:
+        return False
+    if handover.start < segment.end:
+        return True
+    return acts[handover.giver].held == handover.obj and handover.start < segment.end + gap
+
+
 def _before_handover(acts: dict[str, Action], handover: HandoverEvent, segment: Segment) -> None:
     """In the hold that ends by passing the object on, before the exchange, the giver holds it to give it:
     a bare hand seemingly working it (a pause after the grasp, held still) is only its grasp, so the
@@ -421,7 +433,7 @@ def recognize_actions(
                 )
         for handover in handovers:
             _before_handover(acts, handover, segment)
-            if handover.start < segment.end and segment.start < handover.end and handover.giver in acts:
+            if _at_exchange(handover, segment, acts, rate.handover_gap):
                 receiver = Action(ActionKind.GRASP, handover.receiver, segment.start, segment.end, held=handover.obj)
                 acts[handover.giver] = Action(ActionKind.HANDOVER, handover.giver, segment.start, segment.end,
                                               held=handover.obj, partner=receiver)
