@@ -245,6 +245,7 @@ def analyze(
         segmentation = segment_hands(obs, segmentation_params(obs, params))
     if repairs is None:
         repairs = repaired(obs, params, shots, rate=rate)
+    detected = obs  # what the detector saw: a hand filled in across a gap (R0b) is inferred, not seen
     obs, shots, unseen = repairs.observations, repairs.shots, repairs.unseen
     segmentation = final_segments(segmentation, shots, unseen, params, obs.video.fps, corrections)
     seconds["segment"] = time.perf_counter() - clock
@@ -263,7 +264,7 @@ def analyze(
     rejected = {start for start, status in corrections.status.items() if status is SegmentStatus.REJECTED}
     actions = merge_actions(segment_actions, obs.categories, rejected,
                             min_hold=rate.min_action_frames, rejoin=rate.rejoin, shots=shots)
-    unsure = unsure_segments(obs, segmentation.segments, unseen, params.seen_share)
+    unsure = unsure_segments(detected, segmentation.segments, unseen, params.seen_share)
     actions = _without_thin_holds(actions, segmentation.segments, unsure)
     trees = tree_spans(actions)
     graph = build_graph(actions)
