@@ -26,7 +26,7 @@ from wecook_core.knowledge.relations import (
 )
 
 NOUNS = noun_table(["fish", "batter", "pan", "salt", "bowl", "egg", "fork", "spoon", "rice", "jar", "sugar",
-                    "gooseberry", "saucepan", "sieve", "water"])
+                    "gooseberry", "saucepan", "sieve", "water", "dough"])
 
 
 @pytest.mark.parametrize(("sentence", "records"), [
@@ -39,6 +39,15 @@ NOUNS = noun_table(["fish", "batter", "pan", "salt", "bowl", "egg", "fork", "spo
     ("Take the fish out of the pan", [("take", ("fish", "pan"), ("object", "source"))]),
     ("Stir the eggs until the sugar is dissolved", [("stir", ("egg", "sugar"), ("object", "aside"))]),
     ("Put a pinch of salt over the fish", [("put", ("salt", "fish"), ("object", "place"))]),
+    # a preposition that is the verb's particle names its object: stir in, roll out, cut off, not "roll in"
+    ("Stir in the sugar and the eggs", [("stir", ("sugar", "egg"), ("object", "object"))]),
+    ("Pour in the batter", [("pour", ("batter",), ("object",))]),
+    ("Roll out the dough", [("roll-out", ("dough",), ("object",))]),
+    ("Cut off the fish", [("cut", ("fish",), ("object",))]),
+    ("Roll the fish in the batter", [("roll-in", ("fish", "batter"), ("object", "place"))]),
+    ("Roll in the batter", [("roll-in", ("batter",), ("place",))]),
+    ("Pour out of the pan", [("pour", ("pan",), ("source",))]),
+    ("Take off the pan", [("take", ("pan",), ("source",))]),
 ])
 def test_each_noun_gets_its_relation_to_the_verb(sentence: str,
                                                  records: list[tuple[str, tuple[str, ...], tuple[str, ...]]]) -> None:

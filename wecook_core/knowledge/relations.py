@@ -3,7 +3,7 @@
 The baseline (:mod:`wecook_core.knowledge.recognize`) ranks P(A | O1..On) ∝ P(A) ∏ P(Ok | A) over an unordered
 set of objects. A sentence says more: "Dip the fish in the batter" and "Pour the batter over the fish" name the
 same two objects, with the roles swapped. Here each object is a feature with its relation to the verb
-(:data:`~wecook_core.knowledge.instructions.RELATIONS`: ``object:fish``, ``place:batter``, ``means:fork``), and
+(:data:`~wecook_core.knowledge.roles.RELATIONS`: ``object:fish``, ``place:batter``, ``means:fork``), and
 each pair of such features is one too (``object:egg|means:fork``: what an object is done to depends on what
 else takes part, which a product of single-object likelihoods cannot say)::
 
