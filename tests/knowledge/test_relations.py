@@ -12,6 +12,7 @@ import pytest
 from wecook_core.errors import InputError
 from wecook_core.knowledge.archive import read_archive
 from wecook_core.knowledge.build import extract_archive, recipe_nouns
+from wecook_core.knowledge.classes import ObjectClasses
 from wecook_core.knowledge.corpus import Corpus, Record, read_csv
 from wecook_core.knowledge.evaluation import split
 from wecook_core.knowledge.instructions import extract_relations, noun_table
@@ -182,6 +183,18 @@ def test_the_settings_are_tuned_without_the_held_out_collections() -> None:
     flipped = evaluate_relational(_collections(frozenset(held)))
     assert flipped.tuning == result.tuning  # what the held-out records say changes nothing of the tuning
     assert flipped.model.macro_recall < result.model.macro_recall
+
+
+def test_the_back_off_weights_are_tuned_without_the_held_out_collections_too() -> None:
+    kinds = ObjectClasses({"fish": "fish", "batter": "sauce", "bread": "bread"}, {"knife": "tool"})
+    result = evaluate_relational(_collections(), classes=kinds)
+    assert result.plain is not None and result.plain_tuning is not None
+    assert result.plain_tuning.class_weight == result.plain_tuning.role_weight == 0.0
+    assert result.model.macro_recall == pytest.approx(1.0)
+    examples, _ = fold(_collections())
+    _, test, _ = split(examples)
+    held = {e.group.split("/")[0] for e in test}
+    assert evaluate_relational(_collections(frozenset(held)), classes=kinds).tuning == result.tuning
 
 
 def test_learning_counts_a_feature_once_per_recipe_and_verb() -> None:
