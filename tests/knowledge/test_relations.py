@@ -14,6 +14,7 @@ from wecook_core.knowledge.archive import read_archive
 from wecook_core.knowledge.build import extract_archive, recipe_nouns
 from wecook_core.knowledge.classes import ObjectClasses
 from wecook_core.knowledge.corpus import Corpus, Record, read_csv
+from wecook_core.knowledge.ensemble import evaluate_ensemble
 from wecook_core.knowledge.evaluation import split
 from wecook_core.knowledge.instructions import extract_relations, noun_table
 from wecook_core.knowledge.learning import Example, fold, from_examples
@@ -195,6 +196,19 @@ def test_the_back_off_weights_are_tuned_without_the_held_out_collections_too() -
     _, test, _ = split(examples)
     held = {e.group.split("/")[0] for e in test}
     assert evaluate_relational(_collections(frozenset(held)), classes=kinds).tuning == result.tuning
+
+
+def test_the_ensemble_mixing_is_tuned_without_the_held_out_collections() -> None:
+    kinds = ObjectClasses({"fish": "fish", "batter": "sauce", "bread": "bread"}, {"knife": "tool"})
+    tuning = evaluate_relational(_collections(), classes=kinds).tuning
+    result = evaluate_ensemble(_collections(), tuning, kinds)
+    assert result.model.macro_recall == pytest.approx(1.0)
+    examples, _ = fold(_collections())
+    _, test, _ = split(examples)
+    held = {e.group.split("/")[0] for e in test}
+    flipped = evaluate_ensemble(_collections(frozenset(held)), tuning, kinds)
+    assert flipped.mixing == result.mixing
+    assert flipped.model.macro_recall < result.model.macro_recall
 
 
 def test_learning_counts_a_feature_once_per_recipe_and_verb() -> None:
