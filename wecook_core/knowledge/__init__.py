@@ -9,8 +9,12 @@
 - :mod:`.nouns`: normalising and matching object names (shared with the runtime and the categories)
 - :mod:`.learning`: counting P(A) and P(O | A)
 - :mod:`.evaluation`: held-out verb prediction against a majority baseline
+- :mod:`.roles`: how a clause names each noun (object, place, means, source, aside; a verb's particle)
+- :mod:`.classes`: object classes and roles for backing off (EPIC's noun categories, wecook's categories)
 - :mod:`.relations`: the role-aware model (relation:object features and their pairs, a tempered prior tuned on
   validation collections), measured on the held-out archive collections; not shipped
+- :mod:`.logistic`, :mod:`.ensemble`: a logistic regression over the role-aware features, mixed with the naive
+  Bayes of :mod:`.relations` (the mix picked on validation collections); not shipped
 - :mod:`.build`: rebuilding ``wecook_core/assets/knowledge/`` (tables, derived categories, recipe records)
 - :mod:`.report`: SOURCE.md (sources, licences, held-out figures per corpus)
 

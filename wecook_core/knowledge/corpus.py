@@ -17,8 +17,9 @@ from pathlib import Path
 
 from wecook_core.errors import InputError
 from wecook_core.knowledge.categories import EPIC_CATEGORIES
-from wecook_core.knowledge.instructions import RELATIONS, is_recipe_folder, recipe_files, recipe_records
+from wecook_core.knowledge.instructions import is_recipe_folder, recipe_files, recipe_records
 from wecook_core.knowledge.nouns import epic_name, match, normalise
+from wecook_core.knowledge.roles import RELATIONS
 from wecook_core.model import Category
 
 EPIC_LICENCE = "CC BY-NC 4.0"
@@ -47,7 +48,7 @@ class Record:
     """The corpus the record comes from (``epic-kitchens``, ``recipes``, a CSV's ``# corpus:`` line or file
     name), for reporting held-out figures per corpus."""
     relations: tuple[str, ...] = ()
-    """How the sentence names each of ``objects`` (:data:`~wecook_core.knowledge.instructions.RELATIONS`:
+    """How the sentence names each of ``objects`` (:data:`~wecook_core.knowledge.roles.RELATIONS`:
     ``object``, ``place``, ``means``, ``source``), one per object; empty when the corpus does not say (EPIC,
     a CSV)."""
 
@@ -161,7 +162,7 @@ def read_csv(path: Path) -> Corpus:
 
 
 def _relations(text: str, objects: str, named: Sequence[tuple[str, int]], path: Path, number: int) -> tuple[str, ...]:
-    """The relations column of a CSV row: one relation of :data:`~wecook_core.knowledge.instructions.RELATIONS`
+    """The relations column of a CSV row: one relation of :data:`~wecook_core.knowledge.roles.RELATIONS`
     per object of the objects column, ``;``-separated."""
     said = [r.strip().lower() for r in text.split(";")]
     if len(said) != len(objects.split(";")):

@@ -31,6 +31,7 @@ from pathlib import Path
 
 from wecook_core.errors import InputError
 from wecook_core.knowledge.nouns import normalise, variants
+from wecook_core.knowledge.roles import relation
 
 VERBS: frozenset[str] = frozenset({
     "add", "adjust", "allow", "arrange", "bake", "baste", "batter", "beat", "blanch", "blend", "boil", "braise",
@@ -216,46 +217,6 @@ def clause_records(sentence: str, nouns: Mapping[str, str]) -> list[tuple[str, t
     return [(verb, objects) for verb, objects, _, _ in _clauses(sentence, nouns)]
 
 
-PLACES: frozenset[str] = frozenset({"in", "into", "to", "onto", "on", "over", "upon", "inside", "through",
-                                    "under", "round", "around", "across", "between", "among", "within"})
-"""Prepositions after which a noun is where the action goes or happens ("into the pan", "over the fish")."""
-MEANS: frozenset[str] = frozenset({"with", "using", "by"})
-"""Prepositions after which a noun is what the action is done with ("with a fork", "using a brush", "dust
-the board with flour")."""
-SOURCES: frozenset[str] = frozenset({"from", "off", "out"})
-"""Prepositions after which a noun is where something comes from ("out of the pan")."""
-SUBORDINATE: frozenset[str] = frozenset({"until", "till", "when", "while", "if", "unless", "so", "as", "than",
-                                         "because", "whilst"})
-"""Words that open a subordinate clause: a noun after one is not what the verb acts on ("stir until the sugar
-is dissolved")."""
-
-RELATIONS: tuple[str, ...] = ("object", "place", "means", "source", "aside")
-"""How a clause names each of its nouns (:func:`relation`): the verb's object (none of the prepositions
-below), after a preposition of :data:`PLACES`, of :data:`MEANS` or of :data:`SOURCES`, or in a subordinate
-clause (:data:`SUBORDINATE`). Measured on the held-out archive collections (:mod:`wecook_core.knowledge.
-relations`, seed 0): giving the subordinate clause's nouns a relation of their own rather than ``object`` raised
-macro P / R from 0.463 / 0.591 to 0.468 / 0.594; dropping them, 0.467 / 0.596."""
-
-
-def relation(words: Sequence[str], at: int) -> str:
-    """How the noun starting at ``words[at]`` is named (:data:`RELATIONS`): by the nearest preposition (or
-    subordinating word) before it in its clause, up to a comma or the clause's start; "a pinch of salt over the
-    fish" names the salt as the object, the fish as the place."""
-    for k in range(at - 1, -1, -1):
-        word = words[k]
-        if word == ",":
-            break
-        if word in SUBORDINATE:
-            return "aside"
-        if word in PLACES:
-            return "place"
-        if word in MEANS:
-            return "means"
-        if word in SOURCES:
-            return "source"
-    return "object"
-
-
 Clause = tuple[str, tuple[str, ...], int, tuple[str, ...]]
 """(verb, objects, how it names ingredients by a pronoun (:func:`_refers`), relation of each object)."""
 
@@ -270,7 +231,7 @@ def _clauses(sentence: str, nouns: Mapping[str, str]) -> list[Clause]:
     for k, (i, verb) in enumerate(verbs):
         end = verbs[k + 1][0] if k + 1 < len(verbs) else len(words)
         clause = words[i + 1:end]
-        objects = [(name, relation(clause, at)) for name, at in _spans(clause, nouns, longest)]
+        objects = [(name, relation(clause, at, verb)) for name, at in _spans(clause, nouns, longest)]
         if verb in NAMING_VERBS and verb in nouns:
             objects.insert(0, (nouns[verb], "means"))
         if k == 0:

@@ -29,7 +29,8 @@ most frequent verb of each object set among the held-out records themselves, nam
 (an upper reference, loose: an object set met once there is right by construction), the same model
 learned from them 0.63 / 0.61. On the Open Recipe Archive, whose sentences say how each object takes part,
 the role-aware model of :mod:`wecook_core.knowledge.relations` does better than this one on the held-out
-collections (macro P / R 0.469 / 0.601 against 0.387 / 0.532, ``bench/recognize.py --held-out``); the shipped
+collections (macro P / R 0.493 / 0.602 with its class and role back-off, 0.474 / 0.605 without, against 0.387 /
+0.532, ``bench/recognize.py --held-out``); the shipped
 tables stay these, learned from corpora without relations (EPIC, the shipped recipes).
 """
 

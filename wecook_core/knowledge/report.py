@@ -156,7 +156,9 @@ def _licences(corpus: Corpus, context: int, held_s: float) -> list[str]:
                       "0.50, s303 0.71, tasty-a 0.50). Its held-out figures by collection: `python -m "
                       "bench.recognize --held-out` (six collections held out, seed 0: these tables' model learned "
                       "from the others, macro P 0.387 / R 0.532; the role-aware model of "
-                      "`wecook_core.knowledge.relations`, not shipped, 0.469 / 0.601)."]
+                      "`wecook_core.knowledge.relations`, not shipped, 0.474 / 0.605, 0.493 / 0.602 with its "
+                      "class and role back-off, `wecook_core.knowledge.classes`, and 0.490 / 0.618 mixed with a "
+                      "logistic model, `wecook_core.knowledge.ensemble`)."]
     other = [lic for lic in corpus.licences if lic != EPIC_LICENCE]
     if other:
         parts += ["", "Licences declared by the other corpora: " + ", ".join(other) + "."]
