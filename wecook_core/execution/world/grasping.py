@@ -69,11 +69,12 @@ def grasp(cell: Cell, action: PlanAction, pid: str, name: str, *, lift: bool = T
     least = min(grip + APPROACH_OPENING, FULL_OPEN)
     arm.set_grip(least)  # open just enough: neighbours stay clear
     h = scene.half(name)
-    boxed = scene.shape(name) == "box"  # round things are no wider across the fingers than their radius
+    # a box lying tilted is wider across the fingers than its width (round things are no wider than their radius)
+    around = scene.shape(name) == "box" and tilted(scene.pose(name))
 
     def opening(G: np.ndarray) -> float:
-        """How wide to open on the way down to ``G``: wider than the grip when the box reaches farther across."""
-        return open_around(scene.pose(name), np.array([h.hx, h.hy, h.hz]), G, least) if boxed else least
+        """How wide to open on the way down to ``G``: wider than the grip when the tilted box reaches farther."""
+        return open_around(scene.pose(name), np.array([h.hx, h.hy, h.hz]), G, least) if around else least
     # never its own obstacle: the object, what it lies in and what lies in it (that rides along) are touched
     support = scene.supports(name)
     own = [name, *(scene.contents(name) if primitive != "hold" else ())]  # a holding hand keeps off the food
