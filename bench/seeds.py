@@ -9,7 +9,7 @@
 Measured on 2026-12-04 (2 shared cores): at 4a959e4 318/320 (s304 seed 5: a6's grasp of the whisk, left on its
 edge by the knife, failed, a11 skipped); with the tilted-tool grasp 319/320 (s304 seed 0 a11: the spoon's grasp
 blocked by the whisk the saw had pushed beside it); with the margin ladder of the actuations 320/320; with the
-fingers opened wider only around tilted boxes (46bcdac, for synthetic plan 9) 319/320 (s304 seed 5 a11: the
+fingers opened wider only around tilted boxes (afca5ba, for synthetic plan 9) 319/320 (s304 seed 5 a11: the
 spoon's grasp blocked by the whisk). No recorded step over a joint limit, no arm contact, every recording passing
 the check, in all four.
 

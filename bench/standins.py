@@ -16,7 +16,7 @@ checked by ``wecook runs check``. The classes (:data:`CLASSES`):
 Rows: ``standins_done_<class>`` (share of the actions done, the note lists the failures) and ``standins_done``
 (all classes); ratio: against :data:`BAR` (0.98, the held-out bar).
 
-Measured on 2026-12-04 (share of actions done, run seed 0), at 4a959e4 -> at 46bcdac (the tilted-tool grasp,
+Measured on 2026-12-04 (share of actions done, run seed 0), at 4a959e4 -> at afca5ba (the tilted-tool grasp,
 the margin ladder of the actuations): shifted 124/128 -> 124/128, scaled 76/82 -> 81/82, mirrored 41/41 -> 41/41,
 crowded 42/49 -> 42/49, second person 11/11 -> 11/11; all 294/311 (0.945) -> 299/311 (0.961). No arm contact, no
 step over a limit, every recording passing the check. The failures left: a tool's grasp with a tall container
