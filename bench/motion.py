@@ -44,6 +44,8 @@ from pathlib import Path
 import numpy as np
 
 from bench.recording import Discard
+from bench.standins import SHIFT as VARIANT_SHIFT
+from bench.standins import SHIFT_DRAWS as VARIANT_DRAWS
 from wecook_core.execution.bullet.planning_scene import PlanningScene
 from wecook_core.execution.bullet.robot import HOME, LOWER, UPPER
 from wecook_core.execution.plan_samples import synthetic_plan
@@ -59,10 +61,6 @@ VIDEO_SEEDS = tuple(range(10))
 """Synthetic videos (``wecook synth --seed``) whose exported plans are run."""
 DYNAMICS_SEEDS = tuple(range(6))
 """Run seeds of the demo's plan run in both modes (the kinematic and the physics one)."""
-VARIANT_DRAWS = (1, 2, 3)
-"""Draws of shifted object boxes per shared scenario (``scenario_variants_done``)."""
-VARIANT_SHIFT = 0.04
-"""Largest shift of an object's boxes in a scenario variant, as a share of the frame's width and height."""
 
 def planning_queries(n: int = 15) -> tuple[list[float], list[float], int]:
     scene = PlanningScene(demo_plan())  # the demo's table: 16 objects
@@ -170,33 +168,11 @@ def scenario_plans() -> list[tuple[str, Plan]]:
 def scenario_variants() -> list[tuple[str, Plan]]:
     """(name, plan) of variants of every shared scenario: each object's boxes shifted by its own constant offset,
     up to :data:`VARIANT_SHIFT` of the frame on each axis (draws :data:`VARIANT_DRAWS`), the hands as they are;
-    analysed with the default parameters and laid out as :func:`scenario_plans` does."""
-    import dataclasses
+    analysed with the default parameters and laid out as :func:`scenario_plans` does (the ``shifted`` class of
+    :mod:`bench.standins`)."""
+    from bench.standins import standin_plans
 
-    from wecook_core.knowledge.recognize import load_knowledge
-    from wecook_core.observations.importer import load_observations
-    from wecook_core.perception.params import Params
-    from wecook_core.perception.segmentation.shots import shot_cuts
-    from wecook_core.resources import shared_dir
-    from wecook_core.workflows import analyse, plan_of
-
-    root = shared_dir() / "data" / "scenarios"
-    knowledge = load_knowledge()
-    out = []
-    for folder in sorted(p for p in root.iterdir() if (p / "objects.xml").is_file()):
-        obs = load_observations(folder / "video.mp4", folder / "objects.xml", folder / "openpose")
-        shots = shot_cuts(folder / "video.mp4")
-        frame = np.array([obs.video.width, obs.video.height, obs.video.width, obs.video.height], dtype=float)
-        for draw in VARIANT_DRAWS:
-            rng = np.random.default_rng(1000 + draw)
-            objects = []
-            for track in obs.objects:
-                dx, dy = rng.uniform(-VARIANT_SHIFT, VARIANT_SHIFT, 2) * frame[:2]
-                objects.append(dataclasses.replace(track, boxes=track.boxes + np.array([dx, dy, dx, dy])))
-            shifted = dataclasses.replace(obs, objects=tuple(objects))
-            plan = plan_of(analyse(shifted, knowledge, Params(), shots=shots), shifted)
-            out.append((f"{folder.name} draw {draw}", plan))
-    return out
+    return [(name, plan) for _, name, plan in standin_plans(["shifted"])]
 
 
 def _recorded(plans: list[tuple[str, Plan]], dynamics: bool) -> dict[str, object]:

@@ -15,6 +15,7 @@ import pytest
 from wecook_core.execution.schedule.program import WAIT, WORK, ActionFailed, Program
 from wecook_core.execution.skills.library import Half, load_skills, object_kind
 from wecook_core.execution.skills.tsr import sample
+from wecook_core.execution.world.fingers import FINGER_CLEARANCE
 from wecook_core.execution.world.primitives import Primitives
 from wecook_core.execution.world.protocols import Cell, Hand, Riding
 from wecook_core.execution.world.roles import RolePlayer
@@ -345,6 +346,42 @@ def test_grasp_then_release_changes_what_the_scene_says_is_held():
     assert scene.arm_collisions[("P1", "knife")] is True
     assert scene.pose("knife")[2, 3] == pytest.approx(start[2, 3] + SKILLS.lift)  # let go where it was
     assert ops(w, "P1")[-2:] == ["detach knife", "linear retreat"]
+
+
+FINGER_TIPS = 0.007
+"""Metres the Panda's fingertips reach below its grasp target."""
+
+
+def _fingers_above_table(T: np.ndarray, opening: float = 0.03) -> bool:
+    """Whether both fingertips of an ee at ``T``, ``opening`` apart from its axis, stay above the table."""
+    tips = [T[:3, 3] + T[:3, :3] @ np.array([0.0, side * opening, FINGER_TIPS]) for side in (-1, 1)]
+    return all(tip[2] > 0.0 for tip in tips)
+
+
+def test_a_tool_lying_tilted_is_taken_from_above_not_along_its_leaning_axis():
+    """A whisk knocked by the knife sawing beside it rests on its long edge, rolled 45 degrees; taken along its
+    own z axis, the hand's low finger meets the table at every sample (s304 run seed 5: 'in the way: table
+    (panda_hand), table (panda_leftfinger)'). Taken from above at its handle, it is grasped, the fingers opened
+    wide enough to pass down beside it (rolled, it is wider across than its width)."""
+    w = world(P1={"reachable": _fingers_above_table})
+    lean = math.radians(45)
+    tilted = w.scene.poses["knife"].copy()
+    tilted[:3, :3] = tilted[:3, :3] @ np.array([[1, 0, 0], [0, math.cos(lean), -math.sin(lean)],
+                                                 [0, math.sin(lean), math.cos(lean)]])
+    tilted[2, 3] = (0.015 + 0.0125) * math.sin(lean)  # on its edge
+    w.scene.poses["knife"] = tilted
+    run(w.primitives.grasp(ACTION, "P1", "knife", lift=False))
+    assert w.scene.hand("P1").carried == "knife"
+    ee = w.scene.ees["P1"]
+    assert ee[2, 2] < -0.999  # straight down
+    handle = tilted @ np.array([-0.55 * 0.12, 0.0, 0.0, 1.0])  # its grasp point, on the leaning handle
+    assert np.linalg.norm(ee[:2, 3] - handle[:2]) < 0.03
+    grips = [float(what) for p, op, what in w.scene.calls if p == "P1" and op == "grip"]
+    across = (0.015 + 0.0125) * math.sin(lean)  # half its width across, at its middle
+    assert grips[-2] >= across + FINGER_CLEARANCE - 1e-3  # the opening it went down with (then it closed)
+    flat = world(P1={"reachable": _fingers_above_table})  # lying flat, the grasp is as it was: along its z axis
+    run(flat.primitives.grasp(ACTION, "P1", "knife", lift=False))
+    assert flat.scene.ees["P1"][2, 2] < -0.999
 
 
 def test_a_container_grasped_carries_what_lies_in_it_and_lets_it_go_with_it():

@@ -17,7 +17,7 @@ from tests.execution.world.test_world_fake import (
     run,
     world,
 )
-from wecook_core.execution.schedule.program import ActionFailed
+from wecook_core.execution.schedule.program import ActionFailed, PathBlocked
 from wecook_core.execution.skills.library import evaluate
 from wecook_core.execution.skills.motions import actuation_path
 from wecook_core.execution.world import actuating
@@ -126,3 +126,30 @@ def test_a_rolling_pin_may_lie_across_the_dough_any_way_round():
     roles = {"tool": "rolling_pin", "ingredient": "dough", "location": "dough", "source": None}
     goal = actuating.engage_goal(w.cell, "P2", engage.tsr, roles, None, None, strokes)
     assert goal.q is not None, goal
+
+
+class _Neighbourly(FakeArm):
+    """Its first goal's actuation passes 1 mm into a neighbour, every later goal's keeps 3 mm from it."""
+
+    def cartesian_path(self, q, poses, ignore, what, margin=-0.01):
+        distance = -0.001 if q[3] == 0 else 0.003
+        if distance < margin:
+            raise PathBlocked(f"{what}: the straight path collides with knife")
+        return super().cartesian_path(q, poses, ignore, what, margin)
+
+
+def test_an_actuation_keeps_clear_of_its_neighbours_when_a_pose_lets_it():
+    """A knife sawing meat 3 cm from a whisk passed 1 mm into it at each stroke (taken as clear) and walked it
+    1 cm away, onto its edge (s304 run seed 0). A pose whose path keeps clear of every neighbour comes before one
+    that touches one; one that touches before one that grazes."""
+    scene = FakeScene()
+    w = FakeWorld(scene, {pid: _Neighbourly(pid, scene) for pid in ("P1", "P2")})
+    run(w.primitives.grasp(ACTION, "P1", "spoon"))
+    engage, stir = SKILLS.skills["stir"].steps
+    roles = {"tool": "spoon", "ingredient": "bowl", "location": "bowl", "source": None}
+    goal = actuating.engage_goal(w.cell, "P1", engage.tsr, roles, None, None, stir)
+    assert goal.q is not None and goal.q[3] != 0 and goal.margin == actuating.CLEAR_MARGIN > 0
+    only = FakeWorld(scene, {pid: _Neighbourly(pid, scene, reachable=lambda T, n=[0]: n.append(1) or len(n) == 2)
+                             for pid in ("P1", "P2")})  # one goal only, the touching one
+    goal = actuating.engage_goal(only.cell, "P1", engage.tsr, roles, None, None, stir)
+    assert goal.q is not None and goal.margin == actuating.TOUCH_MARGIN

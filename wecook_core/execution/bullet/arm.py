@@ -68,7 +68,10 @@ class BulletArm:
         return self.robot.ee()
 
     def set_grip(self, width: float) -> None:
+        """Drive both fingers to ``width``; the planning copy has them there at once (what is planned from now on
+        is for when they are)."""
         self.scene.set_grip(self.pid, width)
+        self.planning.arms[self.pid].set_fingers((width, width))
 
     def close_on(self, name: str, width: float) -> tuple[float, float]:
         """Each finger closed until it touches ``name`` (found in the planning client: the finger moved by its

@@ -22,12 +22,21 @@ from wecook_core.plan import PlanAction
 
 DROP_INSIDE = 0.6
 """Share of a destination's half extents, about its middle, that what is tipped into it must fall within."""
-CLEAR_MARGIN = -0.002
-"""Metres an actuation's straight path may pass into an object it does not touch, on a pose chosen clear of its
-neighbours (its contact pairs and what lies with them are passed through on purpose)."""
+CLEAR_MARGIN = 0.002
+"""Metres an actuation's straight path keeps from every object it does not touch, on a pose chosen clear of its
+neighbours (its contact pairs and what lies with them are passed through on purpose). Kinematic arms push what
+they pass into even by a millimetre: a knife sawing meat 3 cm from a whisk, 1 mm into it at each stroke, walked
+it 1 cm away and onto its edge (s304 run seed 0, a1 and a9)."""
+TOUCH_MARGIN = -0.002
+"""Metres it may pass into one when no pose keeps clear: it touches a neighbour, and may nudge it."""
+BRUSH_MARGIN = -0.005
+"""Metres it may pass into one when no pose only touches: it brushes a neighbour."""
 GRAZE_MARGIN = -0.01
-"""Metres it may pass into one when no pose keeps clear (a crowded table): it grazes a neighbour and may push it
-(a knife sawing meat 3 cm from a whisk rolled the whisk onto the spoon beside it), so such poses come last."""
+"""Metres it may pass into one when no pose even brushes (a crowded table): it grazes a neighbour and may push it
+(the knife rolled the whisk onto the spoon beside it), so such poses come last."""
+MARGINS = (CLEAR_MARGIN, TOUCH_MARGIN, BRUSH_MARGIN, GRAZE_MARGIN)
+"""The margins an actuation's pose is sought with, in turn, the least intrusion first: every sample with one
+before any with the next. A pose taken at the first margin some sample keeps pushes its neighbours least."""
 TABLE_CLEARANCE = 0.005
 """Metres above the table that the carried object's lowest point keeps during an actuation: a spoon stirring a
 low pan goes no deeper than the pan's floor lets it."""
@@ -52,8 +61,7 @@ class EngageGoal:
     about_actuation: bool = False
     """``reason`` is the actuation's, not the goals' (what blocked the goals is no longer news)."""
     margin: float = CLEAR_MARGIN
-    """How far the actuation from there may pass into its neighbours (:data:`CLEAR_MARGIN`, else
-    :data:`GRAZE_MARGIN`)."""
+    """How close the actuation from there may come to its neighbours (one of :data:`MARGINS`)."""
 
 
 def engage(cell: Cell, action: PlanAction, pid: str, spec: TSRSpec, roles: Roles,
@@ -89,8 +97,8 @@ def engage_goal(cell: Cell, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[s
                 accept: Accept | None, then: Step | None) -> EngageGoal:
     """Joints of a collision-free pose of the TSR from which ``then`` is feasible (its straight path, and what it
     tips falling into the destination), with the actuation's axis option and margin: a path clear of the
-    neighbours (:data:`CLEAR_MARGIN`) first, one grazing them (:data:`GRAZE_MARGIN`) only when no sample has
-    one; else why not (the commonest reason over the samples). A query: it reads the scene and asks the arm for
+    neighbours first, then one intruding on them as little as any sample's does (:data:`MARGINS`); else why not
+    (the commonest reason over the samples). A query: it reads the scene and asks the arm for
     samples, IK and straight paths, and reports nothing (:func:`engage` does)."""
     scene, arm = cell.scene, cell.arms[pid]
     hand = scene.hand(pid)
@@ -125,7 +133,23 @@ def engage_goal(cell: Cell, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[s
                                       f"{roles['location']}")
     why: Counter[str] = Counter()
     unreached = 0
-    grazing: list[tuple[np.ndarray, list[Waypoint], int]] = []  # (joints, waypoints, variant) not clear
+
+    def check(q: np.ndarray, waypoints: list[Waypoint], margin: float, last: bool) -> bool | None:
+        """Whether the actuation's path from ``q`` keeps ``margin`` (None: it fails whatever the margin)."""
+        assert then is not None
+        try:
+            arm.cartesian_path(q, [w.pose @ T_eff_ee for w in waypoints], touched(scene, then, roles), "actuate",
+                               margin=margin)
+        except PathBlocked as error:  # may yet do, nearer its neighbours
+            if last:
+                why[str(error)] += 1
+            return False
+        except ActionFailed as error:
+            why[str(error)] += 1
+            return None
+        return True
+
+    nearer: list[tuple[np.ndarray, list[Waypoint], int]] = []  # (joints, waypoints, variant) not clear
     for G in candidates:
         found = arm.ik_goal([G], [])
         if found is None:
@@ -135,25 +159,20 @@ def engage_goal(cell: Cell, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[s
             return EngageGoal(found[0])
         for variant in (lands(G) if tips else options):
             waypoints = actuation_waypoints(scene, pid, then, roles, G, variant)
-            try:
-                arm.cartesian_path(found[0], [w.pose @ T_eff_ee for w in waypoints], touched(scene, then, roles),
-                                   "actuate", margin=CLEAR_MARGIN)
-            except PathBlocked:  # may yet do, grazing
-                grazing.append((found[0], waypoints, variant))
-                continue
-            except ActionFailed as error:
-                why[str(error)] += 1
-                continue
-            return EngageGoal(found[0], variant)
-    for q, waypoints, variant in grazing:  # a crowded table: grazing a neighbour it is
-        assert then is not None
-        try:
-            arm.cartesian_path(q, [w.pose @ T_eff_ee for w in waypoints], touched(scene, then, roles), "actuate",
-                               margin=GRAZE_MARGIN)
-        except ActionFailed as error:
-            why[str(error)] += 1
-            continue
-        return EngageGoal(q, variant, margin=GRAZE_MARGIN)
+            ok = check(found[0], waypoints, MARGINS[0], False)
+            if ok:
+                return EngageGoal(found[0], variant, margin=MARGINS[0])
+            if ok is False:
+                nearer.append((found[0], waypoints, variant))
+    for k, margin in enumerate(MARGINS[1:], start=2):  # touching a neighbour, else brushing, else grazing it
+        blocked = []
+        for q, waypoints, variant in nearer:
+            ok = check(q, waypoints, margin, k == len(MARGINS))
+            if ok:
+                return EngageGoal(q, variant, margin=margin)
+            if ok is False:
+                blocked.append((q, waypoints, variant))
+        nearer = blocked
     if then is None or unreached >= why.total():  # most samples were unreachable or in collision
         return EngageGoal(None, unreached=len(candidates))
     text, count = why.most_common(1)[0]
@@ -261,8 +280,9 @@ def actuation_waypoints(scene: Scene, pid: str, step: Step, roles: Roles, ee: np
 def actuate(cell: Cell, action: PlanAction, pid: str, step: Step, roles: Roles, variant: int = 0,
             margin: float = GRAZE_MARGIN) -> Program:
     """The step's motion (its axis option ``variant``) from where the hand is, its contact pairs passing through
-    each other and ``margin`` into its neighbours at the most; then what it attaches rides on the tool, and what
-    it lets go of must land in the location (else :class:`Missed`)."""
+    each other and ``margin`` into its neighbours at the most (never less than :data:`TOUCH_MARGIN`: a pose chosen
+    clear of them is reached within a millimetre of where it was planned); then what it attaches rides on the
+    tool, and what it lets go of must land in the location (else :class:`Missed`)."""
     assert step.motion is not None
     scene, arm = cell.scene, cell.arms[pid]
     scene.event("primitive_start", action, pid, step.motion, "actuate")
@@ -290,7 +310,8 @@ def actuate(cell: Cell, action: PlanAction, pid: str, step: Step, roles: Roles, 
                     scene.ride(pid, n)
             yield from arm.linear([w.pose @ T_eff_ee for w in waypoints], ignore=touched(scene, step, roles),
                                   holds=[w.hold for w in waypoints], fingers=[w.fingers for w in waypoints],
-                                  what=f"actuate {step.motion}", margin=margin, reached=let_go if tips else None)
+                                  what=f"actuate {step.motion}", margin=min(margin, TOUCH_MARGIN),
+                                  reached=let_go if tips else None)
             if not tips:
                 break
             yield from scene.hold(0.6)  # let it land

@@ -12,7 +12,8 @@ import numpy as np
 from wecook_core.execution.schedule.program import ActionFailed, Program, Tick, waiting
 from wecook_core.execution.skills.library import evaluate
 from wecook_core.execution.skills.tsr import TSR
-from wecook_core.execution.world.frames import skill_frame
+from wecook_core.execution.world.fingers import FULL_OPEN, open_around
+from wecook_core.execution.world.frames import levelled, skill_frame, tilted
 from wecook_core.execution.world.protocols import YIELD_SECONDS, Accept, Cell, Rank
 from wecook_core.execution.world.retry import retrying
 from wecook_core.plan import PlanAction
@@ -30,12 +31,22 @@ def grasp_tsrs(cell: Cell, name: str, pid: str, kinds: Sequence[str] | None = No
     for kind in kinds or [scene.kind(name)]:
         for spec in cell.skills.grasps[kind]:
             T0_w, sizes = skill_frame(scene, spec, {"object": name}, pid)
-            if spec.frame.startswith("object") and flip:
-                T0_w = T0_w @ np.diag([-1.0, -1.0, 1.0, 1.0])
-            out.append(spec.tsr(T0_w, sizes))
-            if flip and spec.frame.startswith("object"):
-                out.append(spec.tsr(scene.pose(name), sizes))
+            if not spec.frame.startswith("object"):
+                out.append(spec.tsr(T0_w, sizes))
+                continue
+            if flip:
+                out.append(from_above(spec.tsr(T0_w @ np.diag([-1.0, -1.0, 1.0, 1.0]), sizes)))
+            out.append(from_above(spec.tsr(T0_w, sizes)))
     return out
+
+
+def from_above(region: TSR) -> TSR:
+    """An object-framed grasp of an object lying tilted, taken from above: the TSR frame stood upright
+    (:func:`~.frames.levelled`) at its origin on the object (the grasp point on a tool's handle). Taken along its
+    own leaning axis, a whisk resting tilted on the spoon beside it brought the hand's low side into the table."""
+    if not tilted(region.T0_w):
+        return region
+    return TSR(levelled(region.T0_w), region.Tw_e, region.Bw)
 
 
 def grasp(cell: Cell, action: PlanAction, pid: str, name: str, *, lift: bool = True,
@@ -54,8 +65,16 @@ def grasp(cell: Cell, action: PlanAction, pid: str, name: str, *, lift: bool = T
             raise ActionFailed(f"{primitive} {name}: {holder} kept holding it")
     kind = scene.kind(name)
     regions = tsrs or grasp_tsrs(cell, name, pid)
-    grip = min(max(evaluate(skills.grip[kind], {"f": scene.half(name)}), 0.0), 0.04)
-    arm.set_grip(min(grip + APPROACH_OPENING, 0.04))  # open just enough: neighbours stay clear
+    grip = min(max(evaluate(skills.grip[kind], {"f": scene.half(name)}), 0.0), FULL_OPEN)
+    least = min(grip + APPROACH_OPENING, FULL_OPEN)
+    arm.set_grip(least)  # open just enough: neighbours stay clear
+    h = scene.half(name)
+    # a box lying tilted is wider across the fingers than its width (round things are no wider than their radius)
+    around = scene.shape(name) == "box" and tilted(scene.pose(name))
+
+    def opening(G: np.ndarray) -> float:
+        """How wide to open on the way down to ``G``: wider than the grip when the tilted box reaches farther."""
+        return open_around(scene.pose(name), np.array([h.hx, h.hy, h.hz]), G, least) if around else least
     # never its own obstacle: the object, what it lies in and what lies in it (that rides along) are touched
     support = scene.supports(name)
     own = [name, *(scene.contents(name) if primitive != "hold" else ())]  # a holding hand keeps off the food
@@ -68,6 +87,9 @@ def grasp(cell: Cell, action: PlanAction, pid: str, name: str, *, lift: bool = T
         pre_goal = None
         blocked = None
         for G in candidates:
+            width = opening(G)
+            if abs(width - scene.hand(pid).grip) > 1e-6:  # the goal is checked with the fingers that wide
+                arm.set_grip(width)
             found = arm.ik_goal([G], ignore)
             if found is None:
                 continue

@@ -171,7 +171,9 @@ class Arm(Protocol):
 
     def ee(self) -> np.ndarray: ...
 
-    def set_grip(self, width: float) -> None: ...
+    def set_grip(self, width: float) -> None:
+        """Drive both fingers to ``width`` (metres each); goals and paths checked from now on have them there."""
+        ...
 
     def close_on(self, name: str, width: float) -> tuple[float, float]:
         """Close each finger until it touches ``name`` (never into it; to ``width``, metres per finger, when

@@ -16,7 +16,7 @@ import numpy as np
 from wecook_core.execution.schedule.program import ActionFailed, Meeting, Program, waiting
 from wecook_core.execution.skills.library import skill_name
 from wecook_core.execution.skills.tsr import TSR
-from wecook_core.execution.world.frames import skill_frame
+from wecook_core.execution.world.frames import levelled, skill_frame, tilted
 from wecook_core.execution.world.primitives import Missed, Primitives
 from wecook_core.execution.world.protocols import Cell
 from wecook_core.model import Category
@@ -29,8 +29,6 @@ ZONE_MARGIN = 0.08
 """Metres around the objects of an action that its arm may sweep over while working."""
 HAND_OVER_ROOM = 0.02
 """Metres, beyond the receiver's clearance, between the two hands' grasp points on a tool handed over mid-air."""
-TILTED = math.cos(math.radians(5))
-"""An object whose z axis leans more than 5 degrees from the vertical lies tilted (see :meth:`RolePlayer._rest`)."""
 ZONE_WAIT_SECONDS = 120.0
 """Longest wait for the other arm to leave an overlapping zone (then the action goes ahead, reservations still
 keep the arms apart)."""
@@ -167,14 +165,9 @@ class RolePlayer:
         spoon beside it rests tilted, and put back so its hand meets the table): turned about z as it lies, on
         its container's floor as it is, else on the table. A sphere's turn says nothing: it goes back as it is."""
         T = self.scene.pose(name)
-        if T[2, 2] > TILTED or self.scene.shape(name) == "sphere":
+        if not tilted(T) or self.scene.shape(name) == "sphere":
             return T
-        along = float(np.hypot(*T[:2, 0])) > 0.3  # its x axis lies along the table, unless it stands up
-        x = T[:2, 0] if along else T[:2, 1]
-        yaw = math.atan2(x[1], x[0]) - (0.0 if along else math.pi / 2)
-        rest = np.eye(4)
-        rest[:2, :2] = [[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]]
-        rest[:3, 3] = T[:3, 3]
+        rest = levelled(T)
         if self.scene.container_of(name) is None:
             rest[2, 3] = self.scene.table_height + self.scene.half(name).hz
         return rest
