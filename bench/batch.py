@@ -87,8 +87,6 @@ def _speed_up_on_cluster() -> list[dict[str, object]]:
     items = read_manifest(shared_dir() / "data" / "scenarios")
     root = Path(tempfile.mkdtemp(prefix="wecook-bench-batch-cluster-"))
     best: dict[int, tuple[BatchRun, float]] = {}
-    mode = os.environ.get("RAY_AUTH_MODE")
-    os.environ["RAY_AUTH_MODE"] = mode or "token"  # the driver's, as the cluster's nodes have it
     try:
         with local_cluster(cpus_per_node=2, nodes=1) as (address, _):
             load0 = _load()
@@ -100,8 +98,6 @@ def _speed_up_on_cluster() -> list[dict[str, object]]:
             load1 = _load()
     finally:
         shutil.rmtree(root, ignore_errors=True)
-        if mode is None:
-            del os.environ["RAY_AUTH_MODE"]
     (one, one_began), (two, two_began) = best[1], best[2]
     b1, b2 = breakdown(one, one_began), breakdown(two, two_began)
     n = len(items)
@@ -211,6 +207,9 @@ def run() -> list[dict[str, object]]:
     scenarios = shared_dir() / "data" / "scenarios"
     if not scenarios.is_dir():
         return [{"benchmark": "batch", "value": "skipped", "note": f"{scenarios} is missing"}]
+    # the driver's authentication mode, read when Ray is imported, as the running cluster's nodes have it
+    # (tests.batch.cluster starts them with RAY_AUTH_MODE, token unless set)
+    os.environ.setdefault("RAY_AUTH_MODE", "token")
     try:
         import ray  # noqa: F401
     except ImportError:

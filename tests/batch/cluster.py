@@ -20,10 +20,20 @@ from pathlib import Path
 ROOT = Path(__file__).parents[2]
 
 
+_TAKEN: set[int] = set()
+"""Ports this process has handed out: the OS may offer a port again once its probe socket is closed, and two
+of a cluster's components on one port make `ray start` fail."""
+
+
 def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
+    """A free port on this machine, never one handed out before by this process."""
+    while True:
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            port = int(s.getsockname()[1])
+        if port not in _TAKEN:
+            _TAKEN.add(port)
+            return port
 
 
 def _wait_for(path: Path, text: str, process: subprocess.Popen[bytes], timeout: float = 120.0) -> None:
