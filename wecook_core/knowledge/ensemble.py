@@ -31,6 +31,7 @@ from wecook_core.knowledge.relations import (
     family_scores,
     goal,
     learn_tuned,
+    relational_split,
 )
 from wecook_core.knowledge.synonyms import RECOGNISED
 
@@ -161,15 +162,9 @@ def evaluate_ensemble(corpus: Corpus, tuning: Tuning, classes: ObjectClasses | N
     """Held-out figures of the ensemble on the split of
     :func:`~wecook_core.knowledge.relations.evaluate_relational` (same records, same validation collections),
     naive Bayes with ``tuning`` (picked there on the validation collections)."""
-    from wecook_core.knowledge.evaluation import score, split
-    from wecook_core.knowledge.learning import fold
+    from wecook_core.knowledge.evaluation import score
 
-    examples, _ = fold(corpus, verbs=verbs)
-    examples = tuple(e for e in examples if len(e.relations) == len(e.objects))
-    train, test, _ = split(examples, seed=seed, fraction=fraction)
-    fit, validation, _ = split(train, seed=seed + 1, fraction=fraction)
-    if not test or not validation:
-        raise ValueError("the corpus has too few groups with relations to hold some out")
+    train, test, fit, validation, _, _ = relational_split(corpus, seed, fraction, verbs)
     mixing = tune_mixing(fit, validation, tuning, classes, verbs)
     model = learn_ensemble(train, tuning, mixing, classes, verbs)
     return EnsembleEvaluation(mixing, score([e.action for e in test], predict_ensemble(model, test), verbs))

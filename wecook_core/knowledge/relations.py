@@ -316,6 +316,24 @@ class RelationalEvaluation:
     plain_tuning: Tuning | None = None
 
 
+def relational_split(corpus: Corpus, seed: int, fraction: float, verbs: Sequence[str]) -> tuple[
+        tuple[Example, ...], tuple[Example, ...], tuple[Example, ...], tuple[Example, ...], int, tuple[str, ...]]:
+    """``(train, test, fit, validation, units held out for validation, vocabulary)`` of the corpus's records that carry
+    relations: ``test`` a ``fraction`` of the collections (:func:`~wecook_core.knowledge.evaluation.split` with
+    ``seed``), ``fit`` and ``validation`` the training ones split again with ``seed + 1`` (where settings are
+    picked). ValueError when too few groups are left to hold some out."""
+    from wecook_core.knowledge.evaluation import split
+    from wecook_core.knowledge.learning import fold
+
+    examples, vocabulary = fold(corpus, verbs=verbs)
+    examples = tuple(e for e in examples if len(e.relations) == len(e.objects))
+    train, test, _ = split(examples, seed=seed, fraction=fraction)
+    fit, validation, groups = split(train, seed=seed + 1, fraction=fraction)
+    if not test or not validation:
+        raise ValueError("the corpus has too few groups with relations to hold some out")
+    return train, test, fit, validation, groups, vocabulary
+
+
 def evaluate_relational(corpus: Corpus, *, seed: int = 0, fraction: float = 0.2,
                         verbs: Sequence[str] = RECOGNISED, classes: ObjectClasses | None = None,
                         back_off: bool = False) -> RelationalEvaluation:
@@ -324,15 +342,10 @@ def evaluate_relational(corpus: Corpus, *, seed: int = 0, fraction: float = 0.2,
     (split again with ``seed + 1``), then learned from all training collections. ``back_off`` (or ``classes``
     given): with the class and role families (:func:`~wecook_core.knowledge.classes.object_classes` of the
     vocabulary unless ``classes``), and the model without them reported as :attr:`RelationalEvaluation.plain`."""
-    from wecook_core.knowledge.evaluation import object_oracle, predict, score, split
-    from wecook_core.knowledge.learning import fold, from_examples
+    from wecook_core.knowledge.evaluation import object_oracle, predict, score
+    from wecook_core.knowledge.learning import from_examples
 
-    examples, vocabulary = fold(corpus, verbs=verbs)
-    examples = tuple(e for e in examples if len(e.relations) == len(e.objects))
-    train, test, _ = split(examples, seed=seed, fraction=fraction)
-    fit, validation, groups = split(train, seed=seed + 1, fraction=fraction)
-    if not test or not validation:
-        raise ValueError("the corpus has too few groups with relations to hold some out")
+    train, test, fit, validation, groups, vocabulary = relational_split(corpus, seed, fraction, verbs)
     if classes is None and back_off:
         classes = object_classes(vocabulary)
     truth = [e.action for e in test]
