@@ -306,7 +306,7 @@ def run_execute(args: argparse.Namespace) -> int:
             server.close()
 
     clock = time.perf_counter()
-    _interrupt_on_sigterm()
+    _interrupt_on_signals()
     result = recorded_run(plan, record_path, observers, replace=replacing, camera_hz=args.camera_hz, over=over,
                           say=console.print, seed=args.seed, realtime=args.realtime, images=not args.camera_hz,
                           timeout=args.timeout, stop_at_first_failure=args.stop_at_first_failure,
@@ -356,19 +356,22 @@ def _rate(text: str) -> float:
 
 
 class RunStopped(KeyboardInterrupt):
-    """A SIGTERM stopped the run. Handled wherever Ctrl-C is; a subclass, not KeyboardInterrupt itself, because
-    CPython kills a process with SIGINT at exit when a bare KeyboardInterrupt once escaped code that an extension
-    ran (the planner's callbacks), whatever exit code `main` returned afterwards."""
+    """A SIGTERM or Ctrl-C stopped the run. Handled wherever Ctrl-C is; a subclass, not KeyboardInterrupt
+    itself, because CPython kills a process with SIGINT at exit when a bare KeyboardInterrupt once escaped code
+    that an extension ran (the planner's callbacks), whatever exit code `main` returned afterwards (Ctrl-C
+    left to Python's own handler exited -2 instead of 130 on two runs in three)."""
 
 
-def _interrupt_on_sigterm() -> None:
-    """SIGTERM (a workbench stopping the run) ends the run like Ctrl-C: the recording is closed properly."""
+def _interrupt_on_signals() -> None:
+    """SIGTERM (a workbench stopping the run) and Ctrl-C end the run with :class:`RunStopped`: the recording is
+    closed properly and `main` returns 130."""
     import signal
     import threading
 
     if threading.current_thread() is threading.main_thread():
         def interrupt(signum: int, frame: object) -> None:
-            signal.signal(signal.SIGTERM, signal.SIG_IGN)  # one stop is enough
+            signal.signal(signum, signal.SIG_IGN)  # one stop is enough
             raise RunStopped
 
         signal.signal(signal.SIGTERM, interrupt)
+        signal.signal(signal.SIGINT, interrupt)
