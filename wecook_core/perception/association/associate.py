@@ -211,8 +211,8 @@ def _tipped_from(column: int, categories: Sequence[Category], container: np.ndar
                 hi: int, reach: int) -> int:
     """What an unseen hand holds on rows ``[lo, hi)`` of a block where object ``column`` moves by itself: the
     object, or, for an ingredient lying in a container as the hold begins (within ``reach`` rows) that the same
-    hand holds (``held``,
-    its labels in the block) within ``reach`` rows before or after, that container. An ingredient tipped out
+    hand holds within ``reach`` rows before or after (``held``: its labels in the block), that container.
+    An ingredient tipped out
     of a bowl moves more than the bowl tilting it out (the paper: a hand whose closest object is an ingredient
     in a container is associated with the container; "what is tipped over a container goes into it")."""
     if categories[column] is not Category.INGREDIENT:
