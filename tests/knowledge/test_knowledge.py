@@ -393,19 +393,30 @@ def test_build_from_a_csv_writes_tables_and_source(tmp_path: Path) -> None:
     assert [e.seed for e in built.evaluations] == [0, 1, 2, 3, 4]
     source = (tmp_path / "out" / "SOURCE.md").read_text()
     assert "c.csv (8 records, CSV)" in source and "CC BY-NC" not in source
+    assert len(knowledge.components) == 1 and "mixture" in source  # one corpus: one component
+    assert "| mixed by corpus, objects in their roles | all |" in source
+    assert "| pooled, uniform, per group | all |" in source and "ceiling" in source
+    pooled = build([corpus], tmp_path / "pooled", mixed=False)
+    assert not pooled.knowledge.components and pooled.knowledge.alpha == 1.0
+    source = (tmp_path / "pooled" / "SOURCE.md").read_text()
     assert "| uniform, per group | all |" in source and "| corpus, per group | all |" in source
-    assert "| uniform, per record | all |" in source and "ceiling" in source
+    assert "| uniform, per record | all |" in source
 
 
 @pytest.mark.slow
 def test_shipped_tables_are_what_the_shared_corpora_teach(shared: Path) -> None:
     """The shipped counts are reproducible from the corpora read in place (same defaults as `learn`)."""
+    from wecook_core.knowledge.mixture import ALPHA, learn_mixed
+
     shipped = json.loads((ASSETS_DIR / "knowledge" / "commonsense.json").read_text())
-    knowledge = learn(read_corpora(default_corpora()), prior="uniform")
+    knowledge = learn_mixed(read_corpora(default_corpora()))
     assert list(knowledge.verbs) == shipped["verbs"]
     assert list(knowledge.objects) == shipped["objects"]
     assert knowledge.action_counts.tolist() == shipped["action_counts"]
     assert knowledge.pair_counts.tolist() == shipped["pair_counts"]
-    assert shipped["prior"] == "uniform"
+    assert shipped["prior"] == "uniform" and shipped["alpha"] == ALPHA
+    assert [c.source for c in knowledge.components] == [c["source"] for c in shipped["components"]]
+    for mine, theirs in zip(knowledge.components, shipped["components"], strict=True):
+        assert mine.pair_counts.tolist() == theirs["pair_counts"] and mine.totals.tolist() == theirs["totals"]
     source = (ASSETS_DIR / "knowledge" / "SOURCE.md").read_text()
     assert "CC BY-NC 4.0" in source and "public domain" in source and "recipes.csv" in source

@@ -74,8 +74,20 @@ def test_learn_and_evaluate_own_corpus(tmp_path: Path, capsys: pytest.CaptureFix
 def test_evaluate_corpus_prior(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     corpus = tmp_path / "mine.csv"
     corpus.write_text(CSV)
-    assert main(["knowledge", "evaluate", "--corpus", str(corpus), "--prior", "corpus", "--fraction", "0.5"]) == 0
+    assert main(["knowledge", "evaluate", "--corpus", str(corpus), "--pooled", "--prior", "corpus",
+                 "--fraction", "0.5"]) == 0
     assert "prior corpus" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("option", [["--prior", "corpus"], ["--per-record"]])
+def test_pooled_options_without_pooled_are_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                                   option: list[str]) -> None:
+    """The mixed tables (the default) have a uniform prior and count per group: an option of the pooled tables
+    would be silently ignored, so it is refused, and nothing is written."""
+    corpus = tmp_path / "mine.csv"
+    corpus.write_text(CSV)
+    assert main(["knowledge", "learn", "--corpus", str(corpus), "-o", str(tmp_path / "t"), *option]) == 2
+    assert "--pooled" in capsys.readouterr().err and not (tmp_path / "t").exists()
 
 
 RECIPE = """---

@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from wecook_core.files import write_atomic
 from wecook_core.knowledge.archive import ARCHIVE_LICENCE, ARCHIVE_SOURCE, is_archive, read_archive
@@ -64,14 +65,11 @@ def default_archive() -> Path:
 
 
 def default_corpora() -> list[Path]:
-    """What `wecook knowledge learn` reads by default: the EPIC-KITCHENS annotations and the shipped
-    records of the recipe instructions (Public Domain Recipes).
-
-    The Open Recipe Archive (:func:`default_archive`) is learned from only when named (``--corpus``): pooled
-    with EPIC it outweighs the videos ten to one, and as the archive's text hardly names tools, its
-    few knives and spoons took over the tools' verbs (knife + meat + board ranked roll, spoon + pot transfer),
-    and the shared scenarios dropped (SOURCE.md, "Open Recipe Archive")."""
-    return [default_corpus(), RECIPES_PATH]
+    """What `wecook knowledge learn` reads by default: the EPIC-KITCHENS annotations, the shipped records of
+    the recipe instructions (Public Domain Recipes) and the Open Recipe Archive (:func:`default_archive`, read
+    in place), each its own table (:mod:`~wecook_core.knowledge.mixture`: pooled, the archive outweighed the
+    videos ten to one and the shared scenarios dropped)."""
+    return [default_corpus(), RECIPES_PATH, default_archive()]
 
 
 def recipe_nouns() -> dict[str, str]:
@@ -159,21 +157,34 @@ class Built:
     :attr:`evaluation`)."""
 
 
-def build(paths: Sequence[Path], out: Path = KNOWLEDGE_DIR, *, alpha: float = 1.0, context: int = 0,
+def build(paths: Sequence[Path], out: Path = KNOWLEDGE_DIR, *, alpha: float | None = None, context: int = 0,
           held_s: float = HELD_S, seed: int = 0, fraction: float = 0.2, prior: str = "uniform", per_group: bool = True,
-          command: str = "wecook knowledge learn") -> Built:
+          mixed: bool = True, command: str = "wecook knowledge learn") -> Built:
     """Learn the tables from ``paths`` into ``out``: ``commonsense.json``, ``epic_categories.yaml`` (when
     the corpus has noun categories) and ``SOURCE.md`` (sources, licences, counts, held-out evaluation over
-    five seeds, with ``prior`` and ``per_group``, and for comparison with the other prior and the other way of
-    counting, see :func:`~wecook_core.knowledge.learning.count`)."""
+    five seeds). ``mixed`` (the default): one table per corpus, mixed (:mod:`~wecook_core.knowledge.mixture`;
+    ``alpha`` default its :data:`~wecook_core.knowledge.mixture.ALPHA`), evaluated beside the pooled tables;
+    else the corpora's counts pooled (``alpha`` default 1) with ``prior`` and ``per_group``, evaluated beside
+    the other prior and the other way of counting (:func:`~wecook_core.knowledge.learning.count`)."""
+    from wecook_core.knowledge.mixture import ALPHA, learn_mixed
+
     corpus = read_corpora(paths, context=context, held_s=held_s)
-    knowledge = learn(corpus, alpha=alpha, source="; ".join(corpus.sources), prior=prior, per_group=per_group)
     seeds = range(seed, seed + 5)
-    variants = dict.fromkeys([(prior, per_group), *((p, per_group) for p in PRIORS), (prior, not per_group)])
+    if mixed:
+        alpha = ALPHA if alpha is None else alpha
+        knowledge = learn_mixed(corpus, alpha=alpha, source="; ".join(corpus.sources))
+        settings: dict[str, dict[str, Any]] = {
+            "mixed by corpus, objects in their roles": dict(alpha=alpha, mixed=True),
+            "pooled, uniform, per group": dict(alpha=1.0, prior="uniform")}
+    else:
+        alpha = 1.0 if alpha is None else alpha
+        knowledge = learn(corpus, alpha=alpha, source="; ".join(corpus.sources), prior=prior, per_group=per_group)
+        variants = dict.fromkeys([(prior, per_group), *((p, per_group) for p in PRIORS), (prior, not per_group)])
+        settings = {f"{p}, {'per group' if g else 'per record'}": dict(alpha=alpha, prior=p, per_group=g)
+                    for p, g in variants}
     try:
-        runs = {f"{p}, {'per group' if g else 'per record'}":
-                tuple(evaluate(corpus, seed=s, fraction=fraction, alpha=alpha, prior=p, per_group=g) for s in seeds)
-                for p, g in variants}
+        runs = {name: tuple(evaluate(corpus, seed=s, fraction=fraction, **kind) for s in seeds)
+                for name, kind in settings.items()}
     except ValueError:
         runs = {}
     out.mkdir(parents=True, exist_ok=True)

@@ -149,16 +149,26 @@ def score(truth: Sequence[str], predicted: Sequence[str], verbs: Sequence[str]) 
 
 def evaluate(corpus: Corpus, *, seed: int = 0, fraction: float = 0.2, alpha: float = 1.0,
              folder: VerbFolder | None = None, verbs: Sequence[str] = RECOGNISED,
-             prior: str = "corpus", per_group: bool = True) -> Evaluation:
+             prior: str = "corpus", per_group: bool = True, mixed: bool = False) -> Evaluation:
     """Learn on the train groups of ``corpus``, score verb prediction on the held-out groups (``per_group``:
-    see :func:`~wecook_core.knowledge.learning.count`; the held-out records are scored one by one)."""
+    see :func:`~wecook_core.knowledge.learning.count`; the held-out records are scored one by one). ``mixed``:
+    the tables of :mod:`~wecook_core.knowledge.mixture` (one per corpus, objects in their roles, uniform prior;
+    ``prior`` and ``per_group`` do not apply), as shipped."""
     examples, vocabulary = fold(corpus, folder, verbs)
     train, test, groups = split(examples, seed=seed, fraction=fraction)
     if not train or not test:
         raise ValueError("the corpus has too few groups to hold some out")
-    knowledge = from_examples(train, vocabulary, corpus, alpha=alpha, verbs=verbs, prior=prior, per_group=per_group)
-    resubstituted = from_examples(test, vocabulary, corpus, alpha=alpha, verbs=verbs, prior=prior,
+    if mixed:
+        from wecook_core.knowledge.mixture import mixed_from_examples, object_roles
+
+        roles = object_roles(vocabulary)
+        knowledge = mixed_from_examples(train, vocabulary, corpus, alpha=alpha, verbs=verbs, roles=roles)
+        resubstituted = mixed_from_examples(test, vocabulary, corpus, alpha=alpha, verbs=verbs, roles=roles)
+    else:
+        knowledge = from_examples(train, vocabulary, corpus, alpha=alpha, verbs=verbs, prior=prior,
                                   per_group=per_group)
+        resubstituted = from_examples(test, vocabulary, corpus, alpha=alpha, verbs=verbs, prior=prior,
+                                      per_group=per_group)
     truth = [e.action for e in test]
     predicted = predict(knowledge, test)
     ceiling = predict(resubstituted, test)

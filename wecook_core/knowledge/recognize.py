@@ -1,10 +1,11 @@
 """The commonsense model at run time: rank actions by P(A | O1..On) ∝ P(A) ∏ P(Ok | A).
 
 The tables come from a corpus of (action, objects) records (:mod:`wecook_core.knowledge`); the shipped
-ones are learned from EPIC-KITCHENS and recipe instructions (``wecook_core/assets/knowledge/``), with a
-uniform P(A) (see :class:`Knowledge`). Object labels are free text: each is matched
-to a corpus noun (exact, the corpus's own aliases, shorter tails down to the head noun, singular/plural);
-labels that match nothing are ignored and reported by :func:`unknown_objects`.
+ones are learned from EPIC-KITCHENS, recipe instructions and the Open Recipe Archive
+(``wecook_core/assets/knowledge/``), each corpus its own table with every object in its role, P(O | A) their
+mean (:mod:`wecook_core.knowledge.mixture`, :attr:`Knowledge.components`), with a uniform P(A). Object labels are
+free text: each is matched to a corpus noun (exact, the corpus's own aliases, shorter tails down to the head
+noun, singular/plural); labels that match nothing are ignored and reported by :func:`unknown_objects`.
 
 The counts are per group (a video or a recipe that repeats a verb with an object counts once, see
 :func:`wecook_core.knowledge.learning.count`). Measured against this model on the same held-out splits
@@ -30,8 +31,11 @@ most frequent verb of each object set among the held-out records themselves, nam
 learned from them 0.63 / 0.61. On the Open Recipe Archive, whose sentences say how each object takes part,
 the role-aware model of :mod:`wecook_core.knowledge.relations` does better than this one on the held-out
 collections (macro P / R 0.493 / 0.602 with its class and role back-off, 0.474 / 0.605 without, against 0.387 /
-0.532, ``bench/recognize.py --held-out``); the shipped
-tables stay these, learned from corpora without relations (EPIC, the shipped recipes).
+0.532, ``bench/recognize.py --held-out``); it is not shipped, as its tables (sentence relations for every
+object) ask more of a video than a role per object. The shipped mixture reads the archive's relations only
+to count an object where it is in its role (held-out per corpus, seed 0, against the tables pooled from EPIC
+and the recipes before the archive: EPIC 0.452 / 0.423 -> 0.447 / 0.609, recipes 0.432 / 0.376 -> 0.455 /
+0.489, archive 0.336 / 0.323 -> 0.352 / 0.450; ``bench/recognize.py --corpora``).
 """
 
 from __future__ import annotations
@@ -60,6 +64,22 @@ PRIORS: tuple[str, ...] = ("corpus", "uniform")
 
 Ranking = tuple[tuple[str, float], ...]
 """(verb, probability) pairs, best first, probabilities summing to 1."""
+
+
+@dataclass(frozen=True, eq=False)
+class Component:
+    """One corpus's own counts in tables that mix corpora (:attr:`Knowledge.components`)."""
+
+    source: str
+    """The corpus (``epic-kitchens``, ``open-recipe-archive``)."""
+    pair_counts: np.ndarray
+    """int64 ``(len(verbs), len(objects))``: groups in which an action names an object in the relation of its
+    role (:func:`wecook_core.knowledge.roles.role_relation`: a tool as what it is done with, a container as
+    where, an ingredient as what it is done to)."""
+    totals: np.ndarray
+    """int64 ``(len(verbs),)``: the action's (relation, object) features over its groups, every relation
+    counted (so ``pair_counts`` over ``totals`` is the share of the action's features that the object in its
+    role takes)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -98,6 +118,13 @@ class Knowledge:
     """Where the counts come from, one line."""
     prior_kind: str = "corpus"
     """``"corpus"``: P(A) from the action counts; ``"uniform"``: every action equally likely a priori."""
+    components: tuple[Component, ...] = ()
+    """Per corpus, its own counts: when given, P(O | A) is the mean over the corpora of each one's
+    (n_{s,A,O} + alpha) / (T_{s,A} + alpha F) (every corpus one vote, however many records it has; F:
+    :attr:`features`), and :attr:`pair_counts` is their sum, for showing."""
+    features: int = 0
+    """With components: the number of distinct (relation, object) features of all corpora (the smoothing's
+    vocabulary)."""
     log_prior: np.ndarray = field(init=False, repr=False)
     """float64 ``(len(verbs),)``: natural log of P(A)."""
     log_likelihood: np.ndarray = field(init=False, repr=False)
@@ -119,7 +146,10 @@ class Knowledge:
             prior = np.full(len(self.verbs), 1.0 / max(1, len(self.verbs)))
         else:
             prior = (actions + self.alpha) / (actions.sum() + self.alpha * len(self.verbs))
-        likelihood = (counts + self.alpha) / (counts.sum(axis=1, keepdims=True) + self.alpha * len(self.objects))
+        if self.components:
+            likelihood = self._mixed()
+        else:
+            likelihood = (counts + self.alpha) / (counts.sum(axis=1, keepdims=True) + self.alpha * len(self.objects))
         rows = {name: i for i, name in enumerate(self.objects)}
         index = {alias: rows[name] for alias, name in self.aliases.items() if name in rows}
         index.update(rows)
@@ -128,6 +158,25 @@ class Knowledge:
         object.__setattr__(self, "log_prior", np.log(prior))
         object.__setattr__(self, "log_likelihood", np.ascontiguousarray(np.log(likelihood).T))
         object.__setattr__(self, "index", index)
+
+    def _mixed(self) -> np.ndarray:
+        """The mean of the components' smoothed P(O | A), ``(len(verbs), len(objects))``."""
+        shape = (len(self.verbs), len(self.objects))
+        if self.features < len(self.objects):
+            raise ValueError("features must count at least every object")
+        total = np.zeros(shape)
+        for component in self.components:
+            counts = np.asarray(component.pair_counts, dtype=np.int64)
+            totals = np.asarray(component.totals, dtype=np.int64)
+            if counts.shape != shape or totals.shape != (len(self.verbs),):
+                raise ValueError(f"component {component.source!r}: expected counts of shape {shape[0]}x{shape[1]} "
+                                 f"and {shape[0]} totals")
+            if (counts < 0).any() or (counts.sum(axis=1) > totals).any():
+                raise ValueError(f"component {component.source!r}: counts must be non-negative and within the "
+                                 "totals")
+            total += (counts + self.alpha) / (totals[:, None] + self.alpha * self.features)
+        result: np.ndarray = total / len(self.components)
+        return result
 
     def prior(self) -> dict[str, float]:
         """P(A) for every verb."""
@@ -158,6 +207,16 @@ def knowledge_to_json(knowledge: Knowledge) -> str:
     rows = [f"  {json.dumps(row)}" for row in knowledge.pair_counts.tolist()]
     lines.append(",\n".join(rows))
     lines.append(" ],")
+    if knowledge.components:
+        lines.append(f' "features": {knowledge.features},')
+        lines.append(' "components": [')
+        parts = []
+        for component in knowledge.components:
+            table = ",\n".join(f"    {json.dumps(row)}" for row in component.pair_counts.tolist())
+            parts.append(f'  {{"source": {json.dumps(component.source)}, "totals": '
+                         f'{json.dumps(component.totals.tolist())}, "pair_counts": [\n{table}\n  ]}}')
+        lines.append(",\n".join(parts))
+        lines.append(" ],")
     lines.append(f' "aliases": {json.dumps(dict(sorted(knowledge.aliases.items())), indent=None)}')
     lines.append("}")
     return "\n".join(lines) + "\n"
@@ -188,12 +247,33 @@ def knowledge_from_json(data: Any, path: Path) -> Knowledge:
     aliases = data.get("aliases") or {}
     if not isinstance(aliases, dict):
         raise InputError(path, "expected a mapping alias -> object", place="aliases")
+    components = _components(data.get("components"), path)
     try:
         return Knowledge(verbs, objects, actions, counts, alpha=float(data.get("alpha", 1.0)),
                          aliases={str(k): str(v) for k, v in aliases.items()}, source=str(data.get("source", "")),
-                         prior_kind=str(data.get("prior", "corpus")))
-    except ValueError as error:
-        raise InputError(path, str(error)) from None
+                         prior_kind=str(data.get("prior", "corpus")), components=components,
+                         features=int(data.get("features", 0)))
+    except (ValueError, TypeError) as error:
+        raise InputError(path, str(error), place="components" if components else None) from None
+
+
+def _components(data: Any, path: Path) -> tuple[Component, ...]:
+    """The ``components`` of a knowledge file (absent: none); InputError naming the entry when malformed."""
+    if data is None:
+        return ()
+    if not isinstance(data, list):
+        raise InputError(path, "expected a list of components", place="components")
+    found = []
+    for i, entry in enumerate(data):
+        if not isinstance(entry, dict) or not isinstance(entry.get("pair_counts"), list) or not isinstance(
+                entry.get("totals"), list):
+            raise InputError(path, "expected source, totals and pair_counts", place=f"components[{i}]")
+        try:
+            found.append(Component(str(entry.get("source", "")), np.asarray(entry["pair_counts"], dtype=np.int64),
+                                   np.asarray(entry["totals"], dtype=np.int64)))
+        except (ValueError, TypeError):
+            raise InputError(path, "counts must be integers", place=f"components[{i}]") from None
+    return tuple(found)
 
 
 _CACHE: dict[tuple[str, int], Knowledge] = {}

@@ -43,11 +43,8 @@ from wecook_core.knowledge.evaluation import Metrics
 from wecook_core.knowledge.learning import Example
 from wecook_core.knowledge.nouns import match
 from wecook_core.knowledge.recognize import Ranking, _ordered, _posterior
+from wecook_core.knowledge.roles import VIDEO_RELATIONS as VIDEO_RELATIONS  # re-exported
 from wecook_core.knowledge.synonyms import RECOGNISED
-
-VIDEO_RELATIONS: Mapping[str, str] = {"tool": "means", "ingredient": "object", "container": "place"}
-"""The role an object has in a video segment (a held tool, an ingredient worked or held, the container) -> the
-relation a sentence gives it."""
 
 FAMILIES: tuple[str, ...] = ("single", "pair", "class", "role")
 """Feature families: each related object, each pair of them, and the two back-offs of each related object, its

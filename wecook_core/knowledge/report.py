@@ -6,7 +6,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from wecook_core.knowledge.archive import ARCHIVE_SOURCE
+from wecook_core.knowledge.archive import ARCHIVE_LICENCE, ARCHIVE_SOURCE
 from wecook_core.knowledge.corpus import EPIC_CITATION, EPIC_LICENCE, EPIC_SOURCE, RECIPES_SOURCE, Corpus
 from wecook_core.knowledge.evaluation import Evaluation, Metrics
 from wecook_core.knowledge.recognize import Knowledge, rank
@@ -94,14 +94,26 @@ def seeds_summary(runs: Mapping[str, Sequence[Evaluation]]) -> str:
     return "\n".join(lines)
 
 
-def _files(alpha: float, prior: str, categories: int, recipes: bool, per_group: bool) -> list[str]:
+def _files(alpha: float, prior: str, categories: int, recipes: bool, per_group: bool,
+           mixed: bool = False) -> list[str]:
     counted = ("groups (EPIC videos, recipes) per action and per action and object: a group that repeats a verb "
                "with an object counts once" if per_group else "records per action, records per action and object")
+    if mixed:
+        table = ("- `commonsense.json`: per corpus, its own counts (`components`: groups per action and object, "
+                 "an object counted where its record names it in the relation of its role, a tool as what the "
+                 "action is done with, a container as where, an ingredient as what it is done to; and each "
+                 "action's (relation, object) features, `totals`) and the object aliases; "
+                 "`wecook_core.knowledge.recognize.load_knowledge` reads it and takes P(O | A) as the mean over the "
+                 f"corpora of each one's additively smoothed share (alpha = {alpha:g}, over `features`), every "
+                 "corpus one vote (`wecook_core.knowledge.mixture`); P(A) is uniform.")
+    else:
+        table = (f"- `commonsense.json`: counts learned from the corpora ({counted}) and the object aliases; "
+                 "`wecook_core.knowledge.recognize.load_knowledge` reads it and derives "
+                 f"P(O | A) with additive smoothing (alpha = {alpha:g}) over the object vocabulary; P(A) is "
+                 + ("uniform (`\"prior\": \"uniform\"`)." if prior == "uniform"
+                    else "learned from the action counts."))
     parts = [
-        f"- `commonsense.json`: counts learned from the corpora ({counted}) and the object aliases; "
-        "`wecook_core.knowledge.recognize.load_knowledge` reads it and derives "
-        f"P(O | A) with additive smoothing (alpha = {alpha:g}) over the object vocabulary; P(A) is "
-        + ("uniform (`\"prior\": \"uniform\"`)." if prior == "uniform" else "learned from the action counts."),
+        table,
         "- `synonyms.yaml`: hand-written, how corpus verbs fold into wecook's actions (input of the learner); "
         "a verb named after its tool (whisk, spoon, ladle) adds the tool to its record's objects "
         "(`wecook_core.knowledge.learning.INSTRUMENTS`).",
@@ -144,7 +156,9 @@ def _licences(corpus: Corpus, context: int, held_s: float) -> list[str]:
         parts += ["", "**Open Recipe Archive**: public-domain cookbooks (1800s to early 1900s, 31 collections), "
                       "under the **Unlicense** (public domain dedication); read in place from "
                       "`../shared/data/recipes/` (`wecook_core.knowledge.archive`: every clause of every step, "
-                      "old spellings joined, a pronoun takes the ingredients of the recipe's list named last)."]
+                      "old spellings joined, a pronoun takes the ingredients of the recipe's list named last; "
+                      "each object with its relation to the verb: object, place, means, source). Counts learned "
+                      "from it carry no restriction; the recipes themselves are not in this repository."]
     else:
         parts += ["", "**Open Recipe Archive** (`../shared/data/recipes/`, the Unlicense): not learned from by "
                       "these tables. `wecook knowledge extract` reads it in place (54,843 recipes, 440,937 "
@@ -159,12 +173,14 @@ def _licences(corpus: Corpus, context: int, held_s: float) -> list[str]:
                       "`wecook_core.knowledge.relations`, not shipped, 0.474 / 0.605, 0.493 / 0.602 with its "
                       "class and role back-off, `wecook_core.knowledge.classes`, and 0.490 / 0.618 mixed with a "
                       "logistic model, `wecook_core.knowledge.ensemble`)."]
-    other = [lic for lic in corpus.licences if lic != EPIC_LICENCE]
+    named = {EPIC_LICENCE} | ({ARCHIVE_LICENCE} if ARCHIVE_SOURCE in sources else set())
+    other = [lic for lic in corpus.licences if lic not in named]
     if other:
         parts += ["", "Licences declared by the other corpora: " + ", ".join(other) + "."]
-    if sources - {EPIC_SOURCE, RECIPES_SOURCE}:
+    described = {EPIC_SOURCE, RECIPES_SOURCE, ARCHIVE_SOURCE}
+    if sources - described:
         parts += ["", "Other corpora (no licence declared unless listed above): "
-                      + ", ".join(sorted(sources - {EPIC_SOURCE, RECIPES_SOURCE})) + "."]
+                      + ", ".join(sorted(sources - described)) + "."]
     return parts
 
 
@@ -176,7 +192,8 @@ def source_markdown(corpus: Corpus, knowledge: Knowledge, runs: Mapping[str, Seq
     recipes = any(r.source == RECIPES_SOURCE for r in corpus.records)
     parts = ["# Commonsense knowledge tables: source", "",
              f"Generated by `{command}` (do not edit by hand; rebuild). Files:", "",
-             *_files(alpha, knowledge.prior_kind, categories, recipes, per_group), "", "## Sources", ""]
+             *_files(alpha, knowledge.prior_kind, categories, recipes, per_group, bool(knowledge.components)),
+             "", "## Sources", ""]
     parts += [f"- {s}" for s in corpus.sources]
     parts += _licences(corpus, context, held_s)
     parts += ["", "## What was learned", "",
@@ -187,8 +204,10 @@ def source_markdown(corpus: Corpus, knowledge: Knowledge, runs: Mapping[str, Seq
     if evaluation is None:
         parts.append("Not evaluated: the corpus has too few groups to hold some out.")
     else:
-        parts += [f"Split by group (EPIC: video; recipes: recipe), seed {evaluation.seed}: {evaluation.test_groups} "
-                  f"groups ({evaluation.fraction:.0%}) held out, {evaluation.train_records} training records, "
+        parts += [f"Split by unit, corpus by corpus (EPIC: video; recipes: recipe; the Open Recipe Archive: "
+                  f"collection, a book never both learned from and tested on), seed {evaluation.seed}: "
+                  f"{evaluation.test_groups} units ({evaluation.fraction:.0%} of each corpus's) held out, "
+                  f"{evaluation.train_records} training records, "
                   f"{evaluation.test_records} held-out records; the tables are learned from the training records "
                   f"of all corpora. Prediction: argmax of P(A | objects), prior `{knowledge.prior_kind}`. Macro "
                   "averages run over the verbs present in the held-out records (a verb never predicted has "

@@ -29,6 +29,17 @@ clause (:data:`SUBORDINATE`). Measured on the held-out archive collections (:mod
 relations`, seed 0): giving the subordinate clause's nouns a relation of their own rather than ``object`` raised
 macro P / R from 0.463 / 0.591 to 0.468 / 0.594; dropping them, 0.467 / 0.596."""
 
+VIDEO_RELATIONS: Mapping[str, str] = {"tool": "means", "ingredient": "object", "container": "place"}
+"""The role an object has in a video segment (a held tool, an ingredient worked or held, the container) -> the
+relation a sentence gives it."""
+
+
+def role_relation(role: str) -> str:
+    """The relation an object of ``role`` (tool, container, ingredient; anything else an ingredient) has in
+    what a video shows: a tool is what the action is done with, a container where it happens, an ingredient
+    what it is done to."""
+    return VIDEO_RELATIONS.get(role, "object")
+
 _MIXING = frozenset({"stir", "mix", "beat", "whisk", "whip", "blend", "fold", "cream", "pour", "drizzle",
                      "sprinkle", "scatter", "strew", "squeeze", "add", "work", "rub"})
 _TRIMMING = frozenset({"cut", "chop", "slice", "trim", "snip", "peel", "pare", "skin", "pour", "skim", "drain",

@@ -76,10 +76,17 @@ def register(sub: Any) -> None:
 def _corpus_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--corpus", type=Path, action="append", default=None, metavar="PATH",
                         help="EPIC-KITCHENS folder, folder of Markdown recipes or CSV file; repeat to combine "
-                             "(default: ../shared/data/epic-kitchens and the shipped recipes.csv)")
-    parser.add_argument("--alpha", type=float, default=1.0, help="additive smoothing pseudo-count (1.0)")
+                             "(default: ../shared/data/epic-kitchens, the shipped recipes.csv and "
+                             "../shared/data/recipes, the Open Recipe Archive)")
+    parser.add_argument("--alpha", type=float, default=None,
+                        help="additive smoothing pseudo-count (default: 0.03 for the tables mixed by corpus, "
+                             "1.0 with --pooled)")
+    parser.add_argument("--pooled", action="store_true",
+                        help="count all corpora together in one table (the tables before the Open Recipe Archive) "
+                             "instead of one table per corpus, mixed, with each object in its role")
     parser.add_argument("--prior", choices=("uniform", "corpus"), default="uniform",
-                        help="P(A): uniform, or learned from the action counts (uniform)")
+                        help="with --pooled, P(A): uniform, or learned from the action counts (uniform); the mixed "
+                             "tables' is uniform")
     parser.add_argument("--held", type=float, default=None, metavar="SECONDS",
                         help="EPIC: a tool taken at most this long before an action and not put down since counts "
                              "as one of its objects (the held tool); 0 turns it off (default: "
@@ -105,13 +112,22 @@ def _corpora(args: argparse.Namespace) -> list[Path]:
     return list(args.corpus or default_corpora())
 
 
+def _check_pooled(args: argparse.Namespace) -> None:
+    """``--prior corpus`` and ``--per-record`` describe pooled counts: without ``--pooled`` they would be
+    ignored, so they are refused (exit 2)."""
+    from wecook_core.errors import InputError
+
+    if not args.pooled and (args.prior != "uniform" or not args.per_group):
+        raise InputError(None, "--prior corpus and --per-record apply to pooled tables: add --pooled")
+
+
 def run_learn(args: argparse.Namespace) -> int:
     from wecook_core.knowledge.build import KNOWLEDGE_DIR, build
 
     out = args.out or KNOWLEDGE_DIR
+    _check_pooled(args)
     built = build(_corpora(args), out, alpha=args.alpha, context=args.context, held_s=_held(args), seed=args.seed,
-                  prior=args.prior,
-                  per_group=args.per_group)
+                  prior=args.prior, per_group=args.per_group, mixed=not args.pooled)
     k = built.knowledge
     counts = ", ".join(f"{v} {n}" for v, n in zip(k.verbs, k.action_counts.tolist(), strict=True))
     unit = "groups" if args.per_group else "records"
@@ -179,17 +195,26 @@ def run_evaluate(args: argparse.Namespace) -> int:
     from wecook_core.knowledge.evaluation import evaluate
     from wecook_core.knowledge.report import metrics_table
 
+    _check_pooled(args)
     corpus = read_corpora(_corpora(args), context=args.context, held_s=_held(args))
     try:
-        result = evaluate(corpus, seed=args.seed, fraction=args.fraction, alpha=args.alpha, prior=args.prior,
-                          per_group=args.per_group)
+        if args.pooled:
+            result = evaluate(corpus, seed=args.seed, fraction=args.fraction,
+                              alpha=1.0 if args.alpha is None else args.alpha, prior=args.prior,
+                              per_group=args.per_group)
+        else:
+            from wecook_core.knowledge.mixture import ALPHA
+
+            result = evaluate(corpus, seed=args.seed, fraction=args.fraction,
+                              alpha=ALPHA if args.alpha is None else args.alpha, mixed=True)
     except ValueError as error:
         raise InputError(None, str(error)) from None
     if args.json:
         print(json.dumps(asdict(result)))
     else:
-        print(f"{result.test_groups} groups held out (seed {result.seed}, prior {args.prior}, counted "
-              f"{'per group' if args.per_group else 'per record'}): "
+        kind = (f"pooled, prior {args.prior}, counted {'per group' if args.per_group else 'per record'}"
+                if args.pooled else "mixed by corpus")
+        print(f"{result.test_groups} groups held out (seed {result.seed}, {kind}): "
               f"{result.train_records} training records, {result.test_records} held-out records\n")
         print(metrics_table(result))
     return 0
