@@ -41,6 +41,14 @@ def test_old_hyphenated_spellings_are_the_one_word_noun() -> None:
     assert "spider" not in with_old_spellings(NOUNS)  # frying_pan is not a class of this table
 
 
+def test_an_egg_plant_is_no_egg() -> None:
+    # the books' "egg-plant" (and the American "eggplant") is the aubergine: its peeling is not an egg's
+    nouns = with_old_spellings(noun_table(["egg", "aubergine", "knife"]))
+    for text in ("Peel the egg-plant", "Peel the egg plants", "Peel the eggplant"):
+        assert clause_records(text, nouns) == [("peel", ("aubergine",))]
+    assert clause_records("Peel the eggs", nouns) == [("peel", ("egg",))]
+
+
 def test_pronouns_take_the_ingredients_named_last() -> None:
     steps = ["Put the gooseberries into a saucepan with water.", "When soft, stir them through a sieve."]
     assert extract(steps, NOUNS, ["gooseberries", "water"]) == [

@@ -43,6 +43,7 @@ OLD_SPELLINGS: Mapping[str, str] = {
     "baking_dish": "dish", "pie_dish": "dish", "gravy_boat": "jug", "sauceboat": "jug", "tureen": "bowl",
     "cloth": "towel", "napkin": "towel", "muslin": "towel", "rolling_pin": "rolling_pin", "paste_board": "board",
     "pasteboard": "board", "skimmer": "ladle", "egg_beater": "whisk", "eggbeater": "whisk",
+    "egg_plant": "aubergine", "eggplant": "aubergine",
 }
 """Old cookbook words -> the object class they are (a stew-pan is a pan, a spider a frying pan, a basin a bowl),
 added to the noun table where it does not know the word; only classes the table has are kept."""
