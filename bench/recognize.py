@@ -215,9 +215,9 @@ def corpus_mixture(seed: int = 0) -> list[dict[str, object]]:
     three corpora's plain object-set tables (:func:`_source_likelihoods`, alpha picked on validation units
     carved from the training ones by the goal of :func:`~wecook_core.knowledge.relations.goal`).
 
-    Measured on 2026-12-06 (seed 0; ``python -m bench.recognize --corpora``), before -> shipped -> plain mean
-    (alpha 0.1): EPIC 0.452/0.423 -> 0.447/0.609 -> 0.454/0.565, recipes 0.432/0.376 -> 0.455/0.489 ->
-    0.438/0.504, archive 0.336/0.323 -> 0.352/0.450 -> 0.366/0.496; EPIC's wrap 0.00 -> 1.00 recall, the
+    Measured on 2026-12-06 (seed 0, with the aubergine of 3edf82b; ``python -m bench.recognize --corpora``), before -> shipped -> plain mean
+    (alpha 0.1): EPIC 0.452/0.423 -> 0.447/0.609 -> 0.454/0.565, recipes 0.432/0.376 -> 0.449/0.471 ->
+    0.438/0.504, archive 0.336/0.323 -> 0.353/0.449 -> 0.366/0.496; EPIC's wrap 0.00 -> 1.00 recall, the
     archive's dip 0.00 -> 0.05 -> 0.31. The plain mean is not shipped: learned from every record, the pipeline
     (``bench.quality``) drops s301's "peel egg" to wrap (11/12; the cookbooks wrap eggs, Scotch eggs, in 74 of
     their 1,055 wrapping recipes, in the place relation: "wrap in beaten egg") and tasty-a's wooden spoon

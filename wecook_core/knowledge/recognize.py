@@ -34,8 +34,8 @@ collections (macro P / R 0.493 / 0.602 with its class and role back-off, 0.474 /
 0.532, ``bench/recognize.py --held-out``); it is not shipped, as its tables (sentence relations for every
 object) ask more of a video than a role per object. The shipped mixture reads the archive's relations only
 to count an object where it is in its role (held-out per corpus, seed 0, against the tables pooled from EPIC
-and the recipes before the archive: EPIC 0.452 / 0.423 -> 0.447 / 0.609, recipes 0.432 / 0.376 -> 0.455 /
-0.489, archive 0.336 / 0.323 -> 0.352 / 0.450; ``bench/recognize.py --corpora``).
+and the recipes before the archive: EPIC 0.452 / 0.423 -> 0.447 / 0.609, recipes 0.432 / 0.376 -> 0.449 /
+0.471, archive 0.336 / 0.323 -> 0.353 / 0.449; ``bench/recognize.py --corpora``).
 """
 
 from __future__ import annotations
