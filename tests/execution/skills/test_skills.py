@@ -91,3 +91,23 @@ def test_contact_pairs_are_read_and_checked(library, tmp_path):
     bad.write_text(text)
     with pytest.raises(InputError, match=r"verbs.transfer.steps\[1\].contact\[1\].*'lid'"):
         load_skills(bad)
+
+
+@pytest.mark.parametrize(("old", "new", "place"), [
+    ("crowded: {x: [-0.04, 0.04], roll: [-30, 30], yaw: [-45, 45]}}", "crowded: {x: [-0.01, 0.04]}}",
+     r"grasps.tool\[0\].crowded.x: a crowded table's bounds must contain the bounds"),
+    ("crowded: {x: [-0.04, 0.04], roll: [-30, 30], yaw: [-45, 45]}}", "crowded: {spin: [-1, 1]}}",
+     r"grasps.tool\[0\].crowded.spin: unknown bound"),
+    ("crowded: {x: [-0.04, 0.04], roll: [-30, 30], yaw: [-45, 45]}}", "crowded: [-0.04, 0.04]}",
+     r"grasps.tool\[0\].crowded: expected a mapping"),
+    ("bounds: {x: [-0.01, 0.01], yaw: [-100, 100]}}}", "bounds: {yaw: [-100, 100]}, crowded: {yaw: [-180, 180]}}}",
+     r"verbs.cut.steps\[0\].tsr.crowded: only a grasp"),
+])
+def test_bad_bounds_for_a_crowded_table_name_the_place(tmp_path, old, new, place):
+    """Only a grasp has bounds for a crowded table, each containing its own bound."""
+    text = (load_skills.__globals__["SKILLS_PATH"]).read_text()
+    assert old in text
+    bad = tmp_path / "skills.yaml"
+    bad.write_text(text.replace(old, new, 1))
+    with pytest.raises(InputError, match=place):
+        load_skills(bad)

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -29,6 +29,8 @@ SKILLS_PATH = ASSETS_DIR / "skills.yaml"
 KINDS: tuple[str, ...] = ("tool", "ingredient", "tall", "open_container", "flat_container")
 FRAME_RE = re.compile(r"^(object|facing):(tool|ingredient|location|source|object)$|^(meet|drop)$")
 EXPR_RE = re.compile(r"^[0-9a-z_.+\-*/(), ]*$")
+BOUND_KEYS: tuple[str, ...] = ("x", "y", "z", "roll", "pitch", "yaw")
+"""A TSR spec's bounds, in the order of :attr:`TSRSpec.bounds`."""
 ROLES: tuple[str, ...] = ("tool", "ingredient", "location", "source")
 """The objects an action names, as skills refer to them."""
 Expr = float | str
@@ -65,6 +67,13 @@ class TSRSpec:
     """x y z (metres), roll pitch yaw (radians)."""
     origin: tuple[Expr, Expr, Expr] = (0.0, 0.0, 0.0)
     """Metres in the frame: where the TSR frame really sits (rotations of the bounds turn about it)."""
+    crowded: tuple[tuple[float, float], ...] | None = None
+    """A grasp's looser bounds (as ``bounds``, each containing its own), for a crowded table: tried only when a
+    neighbour blocked every sample of ``bounds`` (see :meth:`on_a_crowded_table`); None: the same bounds."""
+
+    def on_a_crowded_table(self) -> TSRSpec:
+        """The spec with its :attr:`crowded` bounds (itself when it has none)."""
+        return self if self.crowded is None else replace(self, bounds=self.crowded, crowded=None)
 
     @property
     def role(self) -> str | None:
@@ -174,7 +183,8 @@ def _direction(value: Any, path: Path, place: str) -> tuple[float, float, float]
     raise _bad(path, place, f"expected an axis like -z or a vector [a, b, c], got {value!r}")
 
 
-def _tsr_spec(data: Any, path: Path, place: str) -> TSRSpec:
+def _tsr_spec(data: Any, path: Path, place: str, may_crowd: bool = False) -> TSRSpec:
+    """A TSR spec read and checked; ``may_crowd``: it is a grasp's, and may give bounds for a crowded table."""
     if not isinstance(data, dict):
         raise _bad(path, place, "expected a mapping {frame, at, axes, bounds}")
     frame = data.get("frame")
@@ -190,24 +200,39 @@ def _tsr_spec(data: Any, path: Path, place: str) -> TSRSpec:
     cross = np.cross(pairs[0][1], pairs[1][1])
     if np.linalg.norm(cross) < 1e-6:
         raise _bad(path, f"{place}.axes", "the two axes are parallel")
-    bounds = [[0.0, 0.0] for _ in range(6)]
-    raw = data.get("bounds") or {}
-    if not isinstance(raw, dict):
-        raise _bad(path, f"{place}.bounds", "expected a mapping")
-    keys = ("x", "y", "z", "roll", "pitch", "yaw")
-    for key, value in raw.items():
-        if key not in keys:
-            raise _bad(path, f"{place}.bounds.{key}", f"unknown bound, expected one of {', '.join(keys)}")
-        if not (isinstance(value, list) and len(value) == 2 and value[0] <= value[1]):
-            raise _bad(path, f"{place}.bounds.{key}", f"expected [low, high], got {value!r}")
-        scale = 1.0 if keys.index(key) < 3 else math.pi / 180
-        bounds[keys.index(key)] = [value[0] * scale, value[1] * scale]
+    bounds = _bounds(data.get("bounds"), path, f"{place}.bounds")
+    crowded = None
+    if data.get("crowded") is not None:
+        if not may_crowd:
+            raise _bad(path, f"{place}.crowded", "only a grasp has bounds for a crowded table")
+        crowded = _bounds(data["crowded"], path, f"{place}.crowded")
+        for key, (lo, hi), (wide_lo, wide_hi) in zip(BOUND_KEYS, bounds, crowded, strict=True):
+            if wide_lo > lo + 1e-12 or wide_hi < hi - 1e-12:
+                raise _bad(path, f"{place}.crowded.{key}", "a crowded table's bounds must contain the bounds")
     origin = data.get("origin", [0, 0, 0])
     if not isinstance(origin, list) or len(origin) != 3:
         raise _bad(path, f"{place}.origin", f"expected [x, y, z], got {origin!r}")
     return TSRSpec(frame, tuple(_expr(v, path, f"{place}.at") for v in at),  # type: ignore[arg-type]
-                   pairs, tuple((lo, hi) for lo, hi in bounds),
-                   tuple(_expr(v, path, f"{place}.origin") for v in origin))  # type: ignore[arg-type]
+                   pairs, bounds, tuple(_expr(v, path, f"{place}.origin") for v in origin),  # type: ignore[arg-type]
+                   crowded)
+
+
+def _bounds(raw: Any, path: Path, place: str) -> tuple[tuple[float, float], ...]:
+    """Bounds ``{x: [lo, hi], ..., yaw: [lo, hi]}`` (metres, degrees) as six (low, high) pairs (metres,
+    radians); those not given are zero."""
+    bounds = [(0.0, 0.0)] * 6
+    raw = raw or {}
+    if not isinstance(raw, dict):
+        raise _bad(path, place, "expected a mapping")
+    for key, value in raw.items():
+        if key not in BOUND_KEYS:
+            raise _bad(path, f"{place}.{key}", f"unknown bound, expected one of {', '.join(BOUND_KEYS)}")
+        if not (isinstance(value, list) and len(value) == 2 and all(isinstance(v, int | float) for v in value)
+                and value[0] <= value[1]):
+            raise _bad(path, f"{place}.{key}", f"expected [low, high], got {value!r}")
+        scale = 1.0 if BOUND_KEYS.index(key) < 3 else math.pi / 180
+        bounds[BOUND_KEYS.index(key)] = (value[0] * scale, value[1] * scale)
+    return tuple(bounds)
 
 
 def _step(data: Any, path: Path, place: str) -> Step:
@@ -251,7 +276,7 @@ def load_skills(path: str | Path = SKILLS_PATH) -> SkillLibrary:
         specs = (data.get("grasps") or {}).get(kind)
         if not specs:
             raise _bad(path, f"grasps.{kind}", "missing")
-        grasps[kind] = tuple(_tsr_spec(s, path, f"grasps.{kind}[{k}]") for k, s in enumerate(specs))
+        grasps[kind] = tuple(_tsr_spec(s, path, f"grasps.{kind}[{k}]", may_crowd=True) for k, s in enumerate(specs))
     grip = {kind: _expr((data.get("grip") or {}).get(kind, 0.0), path, f"grip.{kind}") for kind in KINDS}
     skills = {}
     for name, raw in (data.get("verbs") or {}).items():
