@@ -13,6 +13,7 @@ from wecook_core.knowledge.archive import ARCHIVE_SOURCE, is_archive, read_archi
 from wecook_core.knowledge.evaluation import split, unit
 from wecook_core.knowledge.instructions import clause_records, extract, noun_table
 from wecook_core.knowledge.learning import Example
+from wecook_core.knowledge.synonyms import load_synonyms
 
 NOUNS = noun_table(["saucepan", "sauce", "pan", "gooseberry", "water", "sieve", "flour", "egg", "sugar", "dish",
                     "bowl", "fork"])
@@ -87,3 +88,13 @@ def test_split_holds_out_whole_collections_per_corpus() -> None:
     assert len(books) == 2 and not books & {unit(e.group) for e in train}
     assert sum(e.source == "epic" for e in test) == 2
     assert unit("victorian-britain/toad") == "victorian-britain" and unit("P01_01") == "P01_01"
+
+
+def test_wrapping_in_egg_is_a_coating() -> None:
+    # the books' "wrap them in beaten egg" (before frying) coats; "wrap the fish in paper" wraps
+    nouns = noun_table(["egg", "fish", "paper", "batter"])
+    assert clause_records("Wrap them in beaten egg", nouns) == [("wrap-coat", ("egg",))]
+    assert clause_records("Wrap the fish in batter", nouns) == [("wrap-coat", ("fish", "batter"))]
+    assert clause_records("Wrap the fish in paper", nouns) == [("wrap", ("fish", "paper"))]
+    assert clause_records("Wrap the egg in paper", nouns) == [("wrap", ("egg", "paper"))]  # the egg is wrapped
+    assert load_synonyms().fold("wrap-coat") == "dip"

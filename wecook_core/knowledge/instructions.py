@@ -31,7 +31,7 @@ from pathlib import Path
 
 from wecook_core.errors import InputError
 from wecook_core.knowledge.nouns import normalise, variants
-from wecook_core.knowledge.roles import relation
+from wecook_core.knowledge.roles import coating, relation
 
 VERBS: frozenset[str] = frozenset({
     "add", "adjust", "allow", "arrange", "bake", "baste", "batter", "beat", "blanch", "blend", "boil", "braise",
@@ -236,7 +236,7 @@ def _clauses(sentence: str, nouns: Mapping[str, str]) -> list[Clause]:
             objects.insert(0, (nouns[verb], "means"))
         if k == 0:
             objects = [(name, relation(words[:i], at)) for name, at in _spans(words[:i], nouns, longest)] + objects
-        records.append((_sense(verb, clause), objects))
+        records.append((coating(_sense(verb, clause), objects), objects))
         refers.append(_refers(clause))
     for k in range(len(records) - 2, -1, -1):  # "peel and cut the apples": peel shares cut's objects
         i, next_i = verbs[k][0], verbs[k + 1][0]

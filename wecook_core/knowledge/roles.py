@@ -59,6 +59,20 @@ fire"). Measured on the held-out archive collections (``bench/recognize.py --hel
 role-aware model of :mod:`wecook_core.knowledge.relations` 0.469 / 0.601 -> 0.474 / 0.605 (macro P / R)."""
 
 
+COATINGS: frozenset[str] = frozenset({"egg", "batter", "breadcrumb", "flour"})
+"""What a thing is coated with, not wrapped in: "wrap them in beaten egg" (the old books, translated, wrap in
+egg, in batter, in crumbs before frying) is a coating, a dip; "wrap the fish in paper" is wrapping. A clause of
+"wrap" whose place is one of these is ``wrap-coat`` (folded into dip in ``synonyms.yaml``)."""
+
+
+def coating(verb: str, objects: Sequence[tuple[str, str]]) -> str:
+    """``wrap-coat`` for a ``wrap`` whose place (``objects``: (noun, relation)) is a :data:`COATINGS`, else the
+    verb."""
+    if verb == "wrap" and any(rel == "place" and name in COATINGS for name, rel in objects):
+        return "wrap-coat"
+    return verb
+
+
 def particle(words: Sequence[str], k: int, verb: str) -> bool:
     """Whether ``words[k]`` is the particle of ``verb`` (the clause's verb, ``words`` the clause after it):
     the clause's first word, a particle of :data:`PARTICLES` for this verb, not followed by "of"."""
