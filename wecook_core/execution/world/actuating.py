@@ -13,6 +13,7 @@ import numpy as np
 
 from wecook_core.execution.schedule.program import ActionFailed, PathBlocked, Program, Tick
 from wecook_core.execution.skills.library import Step, TSRSpec, Waypoint, actuation_path, evaluate
+from wecook_core.execution.world import sliding
 from wecook_core.execution.world.frames import skill_frame
 from wecook_core.execution.world.grasping import release
 from wecook_core.execution.world.protocols import Accept, Cell, Riding, Roles, Scene
@@ -62,6 +63,8 @@ class EngageGoal:
     """``reason`` is the actuation's, not the goals' (what blocked the goals is no longer news)."""
     margin: float = CLEAR_MARGIN
     """How close the actuation from there may come to its neighbours (one of :data:`MARGINS`)."""
+    slide: float = 0.0
+    """Metres the pose was slid along the tool (:mod:`.sliding`; 0: a pose of the TSR itself)."""
 
 
 def engage(cell: Cell, action: PlanAction, pid: str, spec: TSRSpec, roles: Roles,
@@ -83,6 +86,9 @@ def engage(cell: Cell, action: PlanAction, pid: str, spec: TSRSpec, roles: Roles
             return goal.reason
         if goal.variant is not None and chose is not None:
             chose(goal.variant, goal.margin)
+        if goal.slide and then is not None:
+            scene.log("info", f"{pid}: no pose at {spec.frame} let the {then.motion} pass its neighbours: the "
+                              f"{roles.get('tool')} slid {100 * goal.slide:.1f} cm along itself")
         try:
             yield from arm.transit(goal.q, what="engage")
         except ActionFailed as error:
@@ -97,8 +103,10 @@ def engage_goal(cell: Cell, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[s
                 accept: Accept | None, then: Step | None) -> EngageGoal:
     """Joints of a collision-free pose of the TSR from which ``then`` is feasible (its straight path, and what it
     tips falling into the destination), with the actuation's axis option and margin: a path clear of the
-    neighbours first, then one intruding on them as little as any sample's does (:data:`MARGINS`); else why not
-    (the commonest reason over the samples). A query: it reads the scene and asks the arm for
+    neighbours first, then one intruding on them as little as any sample's does (:data:`MARGINS`); when no
+    sample's passes, a tool working an ingredient is slid along itself (:mod:`.sliding`: :data:`~.sliding.SLIDE`,
+    :data:`~.sliding.SLIDE_SAMPLES` times the samples, the clearest first); else why not (the commonest reason
+    over the samples). A query: it reads the scene and asks the arm for
     samples, IK and straight paths, and reports nothing (:func:`engage` does)."""
     scene, arm = cell.scene, cell.arms[pid]
     hand = scene.hand(pid)
@@ -149,31 +157,53 @@ def engage_goal(cell: Cell, pid: str, spec: TSRSpec, roles: Roles, meet: tuple[s
             return None
         return True
 
-    nearer: list[tuple[np.ndarray, list[Waypoint], int]] = []  # (joints, waypoints, variant) not clear
-    for G in candidates:
-        found = arm.ik_goal([G], [])
-        if found is None:
+    def first(goals: Sequence[tuple[np.ndarray, float]]) -> EngageGoal | None:
+        """The first of ``goals`` (each with the metres it was slid) whose actuation keeps the first margin of
+        :data:`MARGINS` any of them keeps."""
+        nonlocal unreached
+        assert then is not None
+        nearer: list[tuple[np.ndarray, list[Waypoint], int, float]] = []  # (joints, waypoints, variant, slide)
+        for G, slide in goals:
+            found = arm.ik_goal([G], [])
+            if found is None:
+                unreached += 1
+                continue
+            for variant in (lands(G) if tips else options):
+                waypoints = actuation_waypoints(scene, pid, then, roles, G, variant)
+                ok = check(found[0], waypoints, MARGINS[0], False)
+                if ok:
+                    return EngageGoal(found[0], variant, margin=MARGINS[0], slide=slide)
+                if ok is False:
+                    nearer.append((found[0], waypoints, variant, slide))
+        for k, margin in enumerate(MARGINS[1:], start=2):  # touching a neighbour, else brushing, else grazing it
+            blocked = []
+            for q, waypoints, variant, slide in nearer:
+                ok = check(q, waypoints, margin, k == len(MARGINS))
+                if ok:
+                    return EngageGoal(q, variant, margin=margin, slide=slide)
+                if ok is False:
+                    blocked.append((q, waypoints, variant, slide))
+            nearer = blocked
+        return None
+
+    if then is None:
+        for G in candidates:
+            found = arm.ik_goal([G], [])
+            if found is not None:
+                return EngageGoal(found[0])
             unreached += 1
-            continue
-        if then is None:
-            return EngageGoal(found[0])
-        for variant in (lands(G) if tips else options):
-            waypoints = actuation_waypoints(scene, pid, then, roles, G, variant)
-            ok = check(found[0], waypoints, MARGINS[0], False)
-            if ok:
-                return EngageGoal(found[0], variant, margin=MARGINS[0])
-            if ok is False:
-                nearer.append((found[0], waypoints, variant))
-    for k, margin in enumerate(MARGINS[1:], start=2):  # touching a neighbour, else brushing, else grazing it
-        blocked = []
-        for q, waypoints, variant in nearer:
-            ok = check(q, waypoints, margin, k == len(MARGINS))
-            if ok:
-                return EngageGoal(q, variant, margin=margin)
-            if ok is False:
-                blocked.append((q, waypoints, variant))
-        nearer = blocked
-    if then is None or unreached >= why.total():  # most samples were unreachable or in collision
+        return EngageGoal(None, unreached=len(candidates))
+    goal = first([(G, 0.0) for G in candidates])
+    if goal is None and sliding.slides(scene, pid, then, roles):  # the tool slid along itself, clearest first
+        drawn = arm.goal_samples([region], T_eff_ee, sliding.SLIDE_SAMPLES * cell.samples, keep, None, spin)
+        touching = {*touched(scene, then, roles), *(r.name for r in hand.riding)}
+        step = then
+        goal = first(sliding.slid(scene, pid, step, roles, drawn,
+                                  lambda G: actuation_waypoints(scene, pid, step, roles, G, 0),
+                                  [n for n in scene.names() if n not in touching]))
+    if goal is not None:
+        return goal
+    if unreached >= why.total():  # most samples were unreachable or in collision
         return EngageGoal(None, unreached=len(candidates))
     text, count = why.most_common(1)[0]
     return EngageGoal(None, None, f"the {then.motion} from there: {text} ({count} of {why.total()} tries)",
