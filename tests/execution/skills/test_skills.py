@@ -94,11 +94,11 @@ def test_contact_pairs_are_read_and_checked(library, tmp_path):
 
 
 @pytest.mark.parametrize(("old", "new", "place"), [
-    ("crowded: {x: [-0.04, 0.04], roll: [-30, 30], yaw: [-45, 45]}}", "crowded: {x: [-0.01, 0.04]}}",
+    ("crowded: {x: [-0.04, 0.04], yaw: [-45, 45]}}", "crowded: {x: [-0.01, 0.04]}}",
      r"grasps.tool\[0\].crowded.x: a crowded table's bounds must contain the bounds"),
-    ("crowded: {x: [-0.04, 0.04], roll: [-30, 30], yaw: [-45, 45]}}", "crowded: {spin: [-1, 1]}}",
+    ("crowded: {x: [-0.04, 0.04], yaw: [-45, 45]}}", "crowded: {spin: [-1, 1]}}",
      r"grasps.tool\[0\].crowded.spin: unknown bound"),
-    ("crowded: {x: [-0.04, 0.04], roll: [-30, 30], yaw: [-45, 45]}}", "crowded: [-0.04, 0.04]}",
+    ("crowded: {x: [-0.04, 0.04], yaw: [-45, 45]}}", "crowded: [-0.04, 0.04]}",
      r"grasps.tool\[0\].crowded: expected a mapping"),
     ("bounds: {x: [-0.01, 0.01], yaw: [-100, 100]}}}", "bounds: {yaw: [-100, 100]}, crowded: {yaw: [-180, 180]}}}",
      r"verbs.cut.steps\[0\].tsr.crowded: only a grasp"),

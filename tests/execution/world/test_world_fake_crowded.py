@@ -30,7 +30,7 @@ SPOON = next(o for o in OBJECTS if o.name == "spoon")
 POT = SceneObject("pot", Category.CONTAINER, "cylinder", (0.12, 0.1, 0.12), 0.1005, 0.335)
 """A tall pot beside the spoon's handle (taken at x 0.1005), its near side 8.5 cm across from the handle's middle:
 the palm of a hand taking the handle within the bounds meets it at every sample (0 of 3000 clear), one within the
-looser bounds misses it at a third of them (the stand-in crowded s304, a7: the spoon beside the bowl, 'in the way:
+looser bounds misses it at 3 in 10 (the stand-in crowded s304, a7: the spoon beside the bowl, 'in the way:
 bowl' at every sample of three attempts)."""
 
 
