@@ -11,7 +11,10 @@ edge by the knife, failed, a11 skipped); with the tilted-tool grasp 319/320 (s30
 blocked by the whisk the saw had pushed beside it); with the margin ladder of the actuations 320/320; with the
 fingers opened wider only around tilted boxes (afca5ba, for synthetic plan 9) 319/320 (s304 seed 5 a11: the
 spoon's grasp blocked by the whisk). No recorded step over a joint limit, no arm contact, every recording passing
-the check, in all four.
+the check, in all four. At c71b40f (plans of 312 actions) 311/312, the same failure; with the crowded table's
+grasp bounds and the slide of an engage 312/312 (the last attempt at the spoon, every sample of its bounds
+blocked by the whisk, takes it slid along the handle and turned), again no step over a limit, no arm contact,
+every recording passing.
 
 Run: ``.venv/bin/python -m bench.seeds`` (all), or ``python -m bench.seeds s304 5`` (plans named ``demo`` or
 ``s30x``, then seeds) to repeat one run; each run's line is printed as it ends.
