@@ -215,16 +215,16 @@ def corpus_mixture(seed: int = 0) -> list[dict[str, object]]:
     three corpora's plain object-set tables (:func:`_source_likelihoods`, alpha picked on validation units
     carved from the training ones by the goal of :func:`~wecook_core.knowledge.relations.goal`).
 
-    Measured on 2026-12-06 (seed 0, with the aubergine of 3edf82b; ``python -m bench.recognize --corpora``), before -> shipped -> plain mean
-    (alpha 0.1): EPIC 0.452/0.423 -> 0.447/0.609 -> 0.454/0.565, recipes 0.432/0.376 -> 0.449/0.471 ->
-    0.438/0.504, archive 0.336/0.323 -> 0.353/0.449 -> 0.366/0.496; EPIC's wrap 0.00 -> 1.00 recall, the
-    archive's dip 0.00 -> 0.05 -> 0.31. The plain mean is not shipped: learned from every record, the pipeline
-    (``bench.quality``) drops s301's "peel egg" to wrap (11/12; the cookbooks wrap eggs, Scotch eggs, in 74 of
-    their 1,055 wrapping recipes, in the place relation: "wrap in beaten egg") and tasty-a's wooden spoon
-    stirring turkey in the pan to spread (11/14; "spread ... in the pan" is the cookbooks' batter), the issue's
-    bar being that no scenario drops. With the shipped tables every scenario keeps its figures (own 220/220,
-    s301 12/12, s302 11/12, s303 7/7, s304 11/11, tasty-a 12/14, kfc-b 11/22 recall); with alpha 0.1 or 0.01
-    instead of the 0.03 picked on validation s301's egg goes to wrap again: the margin is thin."""
+    Measured on 2026-12-06 (seed 0, with the aubergine of 3edf82b; ``python -m bench.recognize --corpora``), before
+    -> shipped -> plain mean (alpha 0.1): EPIC 0.452/0.423 -> 0.447/0.609 -> 0.454/0.565, recipes 0.432/0.376 ->
+    0.449/0.471 -> 0.438/0.504, archive 0.336/0.323 -> 0.353/0.449 -> 0.366/0.496; EPIC's wrap 0.00 -> 1.00 recall,
+    the archive's dip 0.00 -> 0.05 -> 0.31. The plain mean is not shipped: learned from every record, the pipeline
+    (``bench.quality``) drops s301's "peel egg" to wrap (11/12; the cookbooks wrap eggs, Scotch eggs, in 74 of their
+    1,055 wrapping recipes, in the place relation: "wrap in beaten egg") and tasty-a's wooden spoon stirring turkey
+    in the pan to spread (11/14; "spread ... in the pan" is the cookbooks' batter), the issue's bar being that no
+    scenario drops. With the shipped tables every scenario keeps its figures (own 220/220, s301 12/12, s302 11/12,
+    s303 7/7, s304 11/11, tasty-a 12/14, kfc-b 11/22 recall); with alpha 0.1 or 0.01 instead of the 0.03 picked on
+    validation s301's egg goes to wrap again: the margin is thin."""
     from wecook_core.knowledge.archive import read_archive
     from wecook_core.knowledge.build import RECIPES_PATH, default_archive, default_corpus, read_corpora, recipe_nouns
     from wecook_core.knowledge.corpus import merge
