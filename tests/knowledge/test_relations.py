@@ -20,12 +20,12 @@ from wecook_core.knowledge.instructions import extract_relations, noun_table
 from wecook_core.knowledge.learning import Example, fold, from_examples
 from wecook_core.knowledge.recognize import rank
 from wecook_core.knowledge.relations import (
-    VIDEO_RELATIONS,
     evaluate_relational,
     features,
     learn_relational,
     rank_relational,
 )
+from wecook_core.knowledge.roles import VIDEO_RELATIONS
 
 NOUNS = noun_table(["fish", "batter", "pan", "salt", "bowl", "egg", "fork", "spoon", "rice", "jar", "sugar",
                     "gooseberry", "saucepan", "sieve", "water", "dough"])

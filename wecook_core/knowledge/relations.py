@@ -26,7 +26,7 @@ them (alpha 0.1, tau 0.5, w 0.5, c 0.5, r 0.5 picked on the validation collectio
 
 The video side can name these relations: a held tool is what the action is done with (``means``), the
 ingredient a tool works or the held ingredient is the verb's ``object``, and the container it goes into or lies
-in is the ``place`` (:data:`VIDEO_RELATIONS`).
+in is the ``place`` (:data:`~wecook_core.knowledge.roles.VIDEO_RELATIONS`).
 """
 
 from __future__ import annotations
@@ -43,7 +43,6 @@ from wecook_core.knowledge.evaluation import Metrics
 from wecook_core.knowledge.learning import Example
 from wecook_core.knowledge.nouns import match
 from wecook_core.knowledge.recognize import Ranking, _ordered, _posterior
-from wecook_core.knowledge.roles import VIDEO_RELATIONS as VIDEO_RELATIONS  # re-exported
 from wecook_core.knowledge.synonyms import RECOGNISED
 
 FAMILIES: tuple[str, ...] = ("single", "pair", "class", "role")
